@@ -1,0 +1,388 @@
+"""Craft specifications: a rigid body and the fluid samples, buoyancy and thrusters it carries.
+
+A craft is data. It is written in a TOML file under ``fluidsim_envs/craft/`` (or built in code)
+and validated once into a frozen :class:`Craft`; the simulator packs it into flat tables for the
+kernels. Every length is in the body frame (x forward, y left, z up) relative to the center of
+mass, in SI units; units are in the key names.
+
+File layout (every table optional except the top-level keys)::
+
+    name = "glider"
+    mass_kg = 0.005
+    inertia_kgm2 = [1e-6, 4e-6, 5e-6]      # principal moments about x, y, z, or a 3x3 tensor
+
+    [[plates]]        # flat plate: name, offset_m, normal, area_m2, efficiency, hinge_axis
+    [[cylinders]]     # cross-flow cylinder: name, offset_m, axis, area_m2
+    [[buoyancy]]      # name, offset_m, kind = "volume" (volume_m3) or "area" (area_m2)
+    [[thrusters]]     # name, offset_m, direction, max_thrust_n, min_thrust_n, control
+    [[controls]]      # name, max_deflection_deg, surfaces = [{sample=..., gain=...}, ...]
+
+Directions (normal, axis, hinge_axis, direction) may have any non-zero length and are
+normalized on load.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import MISSING, dataclass, field, fields
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+Vec3 = tuple[float, float, float]
+
+
+class CraftError(ValueError):
+    """A craft specification that is incomplete or not physical."""
+
+
+# --------------------------------------------------------------------------------------------
+# small validators: each names the offending value
+
+
+def _finite(where: str, key: str, value: Any) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise CraftError(f"{where}: {key} must be a number, got {value!r}") from None
+    if not math.isfinite(x):
+        raise CraftError(f"{where}: {key} must be finite, got {value!r}")
+    return x
+
+
+def _positive(where: str, key: str, value: Any) -> float:
+    x = _finite(where, key, value)
+    if x <= 0.0:
+        raise CraftError(f"{where}: {key} must be > 0, got {value!r}")
+    return x
+
+
+def _vec3(where: str, key: str, value: Any) -> Vec3:
+    if not isinstance(value, (list, tuple, np.ndarray)) or len(value) != 3:
+        raise CraftError(f"{where}: {key} must be a list of 3 numbers, got {value!r}")
+    return tuple(_finite(where, f"{key}[{i}]", v) for i, v in enumerate(value))  # type: ignore[return-value]
+
+
+def _unit(where: str, key: str, value: Any) -> Vec3:
+    v = _vec3(where, key, value)
+    n = math.sqrt(sum(c * c for c in v))
+    if n < 1e-9:
+        raise CraftError(f"{where}: {key} must be a non-zero direction, got {value!r}")
+    return (v[0] / n, v[1] / n, v[2] / n)
+
+
+def _check_keys(where: str, data: dict, cls: type, required: tuple[str, ...]) -> None:
+    if not isinstance(data, dict):
+        raise CraftError(f"{where}: expected a table, got {data!r}")
+    valid = [f.name for f in fields(cls)]
+    unknown = sorted(set(data) - set(valid))
+    if unknown:
+        raise CraftError(f"{where}: unknown key(s) {unknown}; valid keys are {valid}")
+    missing = [k for k in required if k not in data]
+    if missing:
+        raise CraftError(f"{where}: missing required key(s) {missing}")
+
+
+# --------------------------------------------------------------------------------------------
+# the parts of a craft
+
+
+@dataclass(frozen=True)
+class Plate:
+    """A flat plate: force along its normal, ``F = -1/2 rho A (v|v| . n) n``.
+
+    ``efficiency`` in [0, 1] removes that fraction of the force's component along the flow
+    (1: pure lift, 0: lift and drag of a bare plate). ``hinge_axis`` is the axis its normal
+    turns about when a control channel deflects it.
+    """
+
+    name: str
+    offset_m: Vec3
+    normal: Vec3
+    area_m2: float
+    efficiency: float = 0.0
+    hinge_axis: Vec3 | None = None
+
+    def __post_init__(self) -> None:
+        where = f"plate {self.name!r}"
+        object.__setattr__(self, "offset_m", _vec3(where, "offset_m", self.offset_m))
+        object.__setattr__(self, "normal", _unit(where, "normal", self.normal))
+        object.__setattr__(self, "area_m2", _positive(where, "area_m2", self.area_m2))
+        eff = _finite(where, "efficiency", self.efficiency)
+        if not 0.0 <= eff <= 1.0:
+            raise CraftError(f"{where}: efficiency must be in [0, 1], got {self.efficiency!r}")
+        object.__setattr__(self, "efficiency", eff)
+        if self.hinge_axis is not None:
+            object.__setattr__(self, "hinge_axis", _unit(where, "hinge_axis", self.hinge_axis))
+
+
+@dataclass(frozen=True)
+class Cylinder:
+    """A slender cylinder: cross-flow drag ``F = -1/2 rho A |v_perp| v_perp``.
+
+    ``v_perp`` is the part of the relative velocity across the axis (Hoerner's cross-flow
+    principle), ``area_m2`` the projected side area times its drag coefficient.
+    """
+
+    name: str
+    offset_m: Vec3
+    axis: Vec3
+    area_m2: float
+
+    def __post_init__(self) -> None:
+        where = f"cylinder {self.name!r}"
+        object.__setattr__(self, "offset_m", _vec3(where, "offset_m", self.offset_m))
+        object.__setattr__(self, "axis", _unit(where, "axis", self.axis))
+        object.__setattr__(self, "area_m2", _positive(where, "area_m2", self.area_m2))
+
+
+@dataclass(frozen=True)
+class Buoyancy:
+    """Buoyancy under the water surface, acting upward at the sample's point.
+
+    ``kind="volume"``: ``rho_water g volume_m3`` once submerged (blended across the surface
+    layer). ``kind="area"``: ``rho_water g area_m2 depth``, a spring (the hydrostatic
+    pressure on a horizontal area).
+    """
+
+    name: str
+    offset_m: Vec3
+    kind: str
+    volume_m3: float | None = None
+    area_m2: float | None = None
+
+    def __post_init__(self) -> None:
+        where = f"buoyancy {self.name!r}"
+        object.__setattr__(self, "offset_m", _vec3(where, "offset_m", self.offset_m))
+        if self.kind == "volume":
+            if self.volume_m3 is None or self.area_m2 is not None:
+                raise CraftError(f"{where}: kind 'volume' needs volume_m3 (and no area_m2)")
+            object.__setattr__(self, "volume_m3", _positive(where, "volume_m3", self.volume_m3))
+        elif self.kind == "area":
+            if self.area_m2 is None or self.volume_m3 is not None:
+                raise CraftError(f"{where}: kind 'area' needs area_m2 (and no volume_m3)")
+            object.__setattr__(self, "area_m2", _positive(where, "area_m2", self.area_m2))
+        else:
+            raise CraftError(f"{where}: kind must be 'volume' or 'area', got {self.kind!r}")
+
+    @property
+    def size(self) -> float:
+        """Volume (m^3) or area (m^2), by kind."""
+        return self.volume_m3 if self.kind == "volume" else self.area_m2  # type: ignore[return-value]
+
+
+@dataclass(frozen=True)
+class Thruster:
+    """A force ``thrust * direction`` at a point; thrust maps the channel's [-1, 1] linearly
+    onto ``[min_thrust_n, max_thrust_n]`` (a thruster without a channel runs at max)."""
+
+    name: str
+    offset_m: Vec3
+    direction: Vec3
+    max_thrust_n: float
+    min_thrust_n: float = 0.0
+    control: str | None = None
+
+    def __post_init__(self) -> None:
+        where = f"thruster {self.name!r}"
+        object.__setattr__(self, "offset_m", _vec3(where, "offset_m", self.offset_m))
+        object.__setattr__(self, "direction", _unit(where, "direction", self.direction))
+        hi = _finite(where, "max_thrust_n", self.max_thrust_n)
+        lo = _finite(where, "min_thrust_n", self.min_thrust_n)
+        if hi < lo:
+            raise CraftError(f"{where}: max_thrust_n ({hi}) must be >= min_thrust_n ({lo})")
+        object.__setattr__(self, "max_thrust_n", hi)
+        object.__setattr__(self, "min_thrust_n", lo)
+
+
+@dataclass(frozen=True)
+class Surface:
+    """A plate driven by a control channel; ``gain`` scales (and may flip) the deflection."""
+
+    sample: str
+    gain: float = 1.0
+
+
+@dataclass(frozen=True)
+class Control:
+    """A control channel: action in [-1, 1] deflects each surface by
+    ``gain * action * max_deflection_deg`` about the plate's hinge axis (right-hand rule)."""
+
+    name: str
+    max_deflection_deg: float = 0.0
+    surfaces: tuple[Surface, ...] = ()
+
+    def __post_init__(self) -> None:
+        where = f"control {self.name!r}"
+        d = _finite(where, "max_deflection_deg", self.max_deflection_deg)
+        if not 0.0 <= d <= 90.0:
+            raise CraftError(f"{where}: max_deflection_deg must be in [0, 90], got {d!r}")
+        object.__setattr__(self, "max_deflection_deg", d)
+        surfaces = []
+        for i, s in enumerate(self.surfaces):
+            if isinstance(s, dict):
+                _check_keys(f"{where}: surfaces[{i}]", s, Surface, ("sample",))
+                s = Surface(**s)
+            if not isinstance(s, Surface):
+                raise CraftError(f"{where}: surfaces[{i}] must be a table, got {s!r}")
+            surfaces.append(Surface(s.sample, _finite(where, "gain", s.gain)))
+        object.__setattr__(self, "surfaces", tuple(surfaces))
+
+
+# --------------------------------------------------------------------------------------------
+# the craft
+
+
+def _inertia_tensor(where: str, value: Any) -> np.ndarray:
+    arr = np.asarray(value, dtype=float) if value is not None else None
+    if arr is None or arr.shape not in ((3,), (3, 3)) or not np.all(np.isfinite(arr)):
+        raise CraftError(
+            f"{where}: inertia_kgm2 must be 3 principal moments or a 3x3 tensor, got {value!r}"
+        )
+    tensor = np.diag(arr) if arr.shape == (3,) else arr
+    if not np.allclose(tensor, tensor.T, rtol=1e-9, atol=0.0):
+        raise CraftError(f"{where}: inertia_kgm2 tensor must be symmetric, got {value!r}")
+    moments = np.linalg.eigvalsh(tensor)
+    if moments[0] <= 0.0:
+        raise CraftError(f"{where}: inertia_kgm2 must be positive definite, got {value!r}")
+    # A real mass distribution has I1 + I2 >= I3 for its principal moments.
+    if moments[0] + moments[1] < moments[2] * (1.0 - 1e-9):
+        raise CraftError(
+            f"{where}: inertia_kgm2 principal moments {moments.tolist()} break the triangle "
+            "inequality I1 + I2 >= I3: no mass distribution has them"
+        )
+    return tensor
+
+
+@dataclass(frozen=True)
+class Craft:
+    """A rigid body with the samples, controls and thrusters it carries.
+
+    Examples:
+        >>> box = Craft(name="box", mass_kg=1.0, inertia_kgm2=(1.0, 2.0, 3.0))
+        >>> box.control_names
+        ()
+        >>> glider = Craft.load("paper_airplane")
+        >>> glider.control_names
+        ('aileron', 'elevator', 'rudder')
+    """
+
+    name: str
+    mass_kg: float
+    inertia_kgm2: tuple
+    plates: tuple[Plate, ...] = ()
+    cylinders: tuple[Cylinder, ...] = ()
+    buoyancy: tuple[Buoyancy, ...] = ()
+    thrusters: tuple[Thruster, ...] = ()
+    controls: tuple[Control, ...] = ()
+    description: str = ""
+    _tensor: np.ndarray = field(default=None, repr=False, compare=False)  # type: ignore[assignment]
+
+    def __post_init__(self) -> None:
+        where = f"craft {self.name!r}"
+        object.__setattr__(self, "mass_kg", _positive(where, "mass_kg", self.mass_kg))
+        tensor = _inertia_tensor(where, self.inertia_kgm2)
+        tensor.setflags(write=False)
+        object.__setattr__(self, "_tensor", tensor)
+        inertia = np.asarray(self.inertia_kgm2, dtype=float)
+        as_tuple = tuple(map(tuple, inertia.tolist())) if inertia.ndim == 2 else tuple(inertia.tolist())
+        object.__setattr__(self, "inertia_kgm2", as_tuple)
+        for key, cls in (("plates", Plate), ("cylinders", Cylinder), ("buoyancy", Buoyancy),
+                         ("thrusters", Thruster), ("controls", Control)):
+            items = []
+            for i, item in enumerate(getattr(self, key)):
+                if isinstance(item, dict):
+                    required = tuple(f.name for f in fields(cls) if f.default is MISSING)
+                    _check_keys(f"{where}: {key}[{i}]", item, cls, required)
+                    item = cls(**item)
+                if not isinstance(item, cls):
+                    raise CraftError(f"{where}: {key}[{i}] must be a {cls.__name__}, got {item!r}")
+                items.append(item)
+            object.__setattr__(self, key, tuple(items))
+        self._check_references(where)
+
+    def _check_references(self, where: str) -> None:
+        names = [s.name for s in (*self.plates, *self.cylinders, *self.buoyancy, *self.thrusters)]
+        dup = sorted({n for n in names if names.count(n) > 1})
+        if dup:
+            raise CraftError(f"{where}: sample names must be unique, repeated: {dup}")
+        channels = [c.name for c in self.controls]
+        if len(set(channels)) != len(channels):
+            raise CraftError(f"{where}: control names must be unique, got {channels}")
+        plates = {p.name: p for p in self.plates}
+        for c in self.controls:
+            for s in c.surfaces:
+                if s.sample not in plates:
+                    raise CraftError(f"{where}: control {c.name!r} drives {s.sample!r}, which is "
+                                     f"not a plate; plates are {sorted(plates)}")
+                if plates[s.sample].hinge_axis is None:
+                    raise CraftError(f"{where}: plate {s.sample!r} is driven by control "
+                                     f"{c.name!r} but has no hinge_axis")
+        for t in self.thrusters:
+            if t.control is not None and t.control not in channels:
+                raise CraftError(f"{where}: thruster {t.name!r} is bound to unknown control "
+                                 f"{t.control!r}; controls are {channels}")
+
+    # ---- derived quantities -------------------------------------------------------------
+
+    @property
+    def control_names(self) -> tuple[str, ...]:
+        """The control channels in order: the columns of the action this craft takes."""
+        return tuple(c.name for c in self.controls)
+
+    @property
+    def inertia_tensor(self) -> np.ndarray:
+        """The body-frame inertia tensor about the center of mass, 3x3 (kg m^2), read-only."""
+        return self._tensor
+
+    @property
+    def num_samples(self) -> int:
+        return len(self.plates) + len(self.cylinders) + len(self.buoyancy) + len(self.thrusters)
+
+    # ---- loading ------------------------------------------------------------------------
+
+    @classmethod
+    def from_dict(cls, data: dict, source: str = "<dict>") -> Craft:
+        """Validate a parsed craft file; errors name the file, the part and the value."""
+        if not isinstance(data, dict):
+            raise CraftError(f"{source}: expected a table at the top level")
+        valid = [f.name for f in fields(cls) if not f.name.startswith("_")]
+        unknown = sorted(set(data) - set(valid))
+        if unknown:
+            raise CraftError(f"{source}: unknown key(s) {unknown}; valid keys are {valid}")
+        missing = [k for k in ("name", "mass_kg", "inertia_kgm2") if k not in data]
+        if missing:
+            raise CraftError(f"{source}: missing required key(s) {missing}")
+        try:
+            return cls(**data)
+        except CraftError as err:
+            raise CraftError(f"{source}: {err}") from None
+
+    @classmethod
+    def load(cls, name_or_path: str | Path) -> Craft:
+        """Load a shipped craft by name (see :func:`available`) or a TOML file by path."""
+        path = Path(name_or_path)
+        if path.suffix != ".toml":
+            shipped = resources.files("fluidsim_envs.craft") / f"{name_or_path}.toml"
+            if not shipped.is_file():
+                raise CraftError(f"unknown craft {str(name_or_path)!r}; shipped crafts are "
+                                 f"{available()} (or pass a path to a .toml file)")
+            text, source = shipped.read_text(), f"{name_or_path}.toml"
+        else:
+            if not path.is_file():
+                raise CraftError(f"craft file {str(path)!r} does not exist")
+            text, source = path.read_text(), str(path)
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as err:
+            raise CraftError(f"{source}: not valid TOML: {err}") from None
+        return cls.from_dict(data, source)
+
+
+def available() -> list[str]:
+    """Names of the crafts shipped in ``fluidsim_envs/craft/``."""
+    root = resources.files("fluidsim_envs.craft")
+    return sorted(p.name[:-5] for p in root.iterdir() if p.name.endswith(".toml"))

@@ -1,0 +1,456 @@
+"""The step kernel: all environments, all bodies, ``steps`` time steps in one compiled call.
+
+Layout (why it is fast). The state lives in one array ``st[13, B, E]``: rows x(3) q(4) v(3)
+L(3), then body slot, then environment, so that the innermost index runs over environments.
+Environments are cut into blocks of ``BLOCK``; a block's state is copied into a small scratch
+``scr[block, B, ROWS * BLOCK]`` that stays in cache for all the steps of the call. Every loop
+over a block runs over bodies innermost with straight-line arithmetic, so the compiler
+vectorizes it across bodies: the sample loops are outside (``for sample: for body:``),
+accumulating each sample's force into per-body rows. No allocation, no Python, no branch on
+data. Each body's arithmetic is independent of its neighbours, of the block it falls in and of
+the thread that runs it, so results are bit-identical for any batch size and thread count
+(no fast-math: no reassociation or fused multiply-add contraction).
+
+State per body: position x, orientation quaternion q (w, x, y, z; body -> world), linear
+velocity v and angular momentum L about the center of mass, all in the world frame. Angular
+velocity is derived, ``w = R I^-1 R^T L``, so torque-free motion conserves L exactly.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .forces import (
+    HALF,
+    ONE,
+    TWO,
+    ZERO,
+    buoyancy_force,
+    cylinder_force,
+    plate_force,
+    rotate_about_axis,
+    water_fraction,
+)
+
+BLOCK = 64  # environments per block: a multiple of the SIMD width, scratch fits in L1/L2
+NSTATE = 13
+# A slot's scratch is one flat row-major array S[row * BLOCK + i]: with the row length a
+# compile-time constant the compiler can prove that rows do not overlap, and vectorizes.
+Y, Y0, ACC, D, R, W = 0, 13, 26, 39, 52, 61  # state, step start, RK sum, derivative, R, w
+ROWS = 64
+OX, OQ, OV, OL = 0, 3, 7, 10  # offsets inside a 13-row state
+
+INTEGRATORS = {
+    "explicit_euler": 0,
+    "symplectic_euler": 1,
+    "velocity_verlet": 2,
+    "rk2": 3,
+    "rk4": 4,
+}
+# Force evaluations per step, for cost accounting in benchmarks.
+EVALS_PER_STEP = {"explicit_euler": 1, "symplectic_euler": 1, "velocity_verlet": 2, "rk2": 2,
+                  "rk4": 4}
+
+# prm[] slots: world and step parameters, in the simulation dtype
+P_G, P_RHO_AIR, P_RHO_WATER, P_WATER = 0, 1, 2, 3
+P_WIND, P_CURRENT = 4, 7  # 3 each
+P_INV_BLEND, P_VMAX, P_FMAX, P_DT = 10, 11, 12, 13
+NPRM = 14
+
+SIX = np.float32(6.0)
+_JIT = dict(cache=True, error_model="numpy")
+_INLINE = dict(cache=True, error_model="numpy", inline="always")
+
+
+# --------------------------------------------------------------------------------------------
+# rigid-body kinematics (scalar; shared by the kernel and the public accessors)
+
+
+@njit(**_INLINE)
+def quat_to_matrix(qw, qx, qy, qz):
+    """Rotation matrix (row-major 9-tuple) of q / |q|: body -> world."""
+    s = TWO / (qw * qw + qx * qx + qy * qy + qz * qz)
+    return (ONE - s * (qy * qy + qz * qz), s * (qx * qy - qw * qz), s * (qx * qz + qw * qy),
+            s * (qx * qy + qw * qz), ONE - s * (qx * qx + qz * qz), s * (qy * qz - qw * qx),
+            s * (qx * qz - qw * qy), s * (qy * qz + qw * qx), ONE - s * (qx * qx + qy * qy))
+
+
+@njit(**_INLINE)
+def world_omega(r0, r1, r2, r3, r4, r5, r6, r7, r8, lx, ly, lz, ixx, iyy, izz, ixy, ixz, iyz):
+    """Angular velocity w = R I_body^-1 R^T L from world angular momentum L; (ixx..iyz) are the
+    entries of the symmetric inverse body inertia tensor."""
+    bx = r0 * lx + r3 * ly + r6 * lz
+    by = r1 * lx + r4 * ly + r7 * lz
+    bz = r2 * lx + r5 * ly + r8 * lz
+    wx = ixx * bx + ixy * by + ixz * bz
+    wy = ixy * bx + iyy * by + iyz * bz
+    wz = ixz * bx + iyz * by + izz * bz
+    return (r0 * wx + r1 * wy + r2 * wz, r3 * wx + r4 * wy + r5 * wz,
+            r6 * wx + r7 * wy + r8 * wz)
+
+
+@njit(**_INLINE)
+def quat_rate(qw, qx, qy, qz, wx, wy, wz):
+    """dq/dt = 1/2 [0, w] (x) q for a world-frame angular velocity w."""
+    return (-HALF * (wx * qx + wy * qy + wz * qz),
+            HALF * (qw * wx + wy * qz - wz * qy),
+            HALF * (qw * wy + wz * qx - wx * qz),
+            HALF * (qw * wz + wx * qy - wy * qx))
+
+
+# --------------------------------------------------------------------------------------------
+# block loops (inlined into the integrators)
+
+
+@njit(**_INLINE)
+def _omega_row(S, body, b, n):
+    """Rotation matrix rows R and angular velocity rows W from the state rows Y."""
+    ixx, iyy, izz = body[b, 1], body[b, 2], body[b, 3]
+    ixy, ixz, iyz = body[b, 4], body[b, 5], body[b, 6]
+    for i in range(n):
+        m = quat_to_matrix(S[(Y + OQ) * BLOCK + i], S[(Y + OQ + 1) * BLOCK + i], S[(Y + OQ + 2) * BLOCK + i],
+                           S[(Y + OQ + 3) * BLOCK + i])
+        for k in range(9):
+            S[(R + k) * BLOCK + i] = m[k]
+        w = world_omega(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8],
+                        S[(Y + OL) * BLOCK + i], S[(Y + OL + 1) * BLOCK + i], S[(Y + OL + 2) * BLOCK + i],
+                        ixx, iyy, izz, ixy, ixz, iyz)
+        S[(W) * BLOCK + i] = w[0]
+        S[(W + 1) * BLOCK + i] = w[1]
+        S[(W + 2) * BLOCK + i] = w[2]
+
+
+@njit(**_INLINE)
+def _add_force(S, i, rx, ry, rz, fx, fy, fz):
+    """Accumulate a force applied at world offset r from the center of mass (and its torque)."""
+    S[(D + OV) * BLOCK + i] += fx
+    S[(D + OV + 1) * BLOCK + i] += fy
+    S[(D + OV + 2) * BLOCK + i] += fz
+    S[(D + OL) * BLOCK + i] += ry * fz - rz * fy
+    S[(D + OL + 1) * BLOCK + i] += rz * fx - rx * fz
+    S[(D + OL + 2) * BLOCK + i] += rx * fy - ry * fx
+
+
+@njit(**_INLINE)
+def _rotate(S, i, x, y, z):
+    """World vector of the body vector (x, y, z)."""
+    return (S[(R) * BLOCK + i] * x + S[(R + 1) * BLOCK + i] * y + S[(R + 2) * BLOCK + i] * z,
+            S[(R + 3) * BLOCK + i] * x + S[(R + 4) * BLOCK + i] * y + S[(R + 5) * BLOCK + i] * z,
+            S[(R + 6) * BLOCK + i] * x + S[(R + 7) * BLOCK + i] * y + S[(R + 8) * BLOCK + i] * z)
+
+
+@njit(**_INLINE)
+def _fluid(prm):
+    """Fluid parameters as scalars (read once, outside the loops): water flag, 1/blend,
+    densities, wind, and current minus wind."""
+    return (prm[P_WATER], prm[P_INV_BLEND], prm[P_RHO_AIR], prm[P_RHO_WATER],
+            prm[P_WIND], prm[P_WIND + 1], prm[P_WIND + 2],
+            prm[P_CURRENT] - prm[P_WIND], prm[P_CURRENT + 1] - prm[P_WIND + 1],
+            prm[P_CURRENT + 2] - prm[P_WIND + 2])
+
+
+@njit(**_INLINE)
+def _flow(S, i, rx, ry, rz, fl):
+    """At the sample point x + r: water fraction, density and velocity relative to the fluid.
+    ``fl`` is the tuple of fluid parameters from ``_fluid(prm)``."""
+    water, inv_blend, rho_a, rho_w, wdx, wdy, wdz, dux, duy, duz = fl
+    z = S[(Y + OX + 2) * BLOCK + i] + rz
+    frac = water_fraction(z, water, inv_blend)
+    rho = rho_a + frac * (rho_w - rho_a)
+    wx, wy, wz = S[(W) * BLOCK + i], S[(W + 1) * BLOCK + i], S[(W + 2) * BLOCK + i]
+    ux = wdx + frac * dux
+    uy = wdy + frac * duy
+    uz = wdz + frac * duz
+    vx = S[(Y + OV) * BLOCK + i] + wy * rz - wz * ry - ux
+    vy = S[(Y + OV + 1) * BLOCK + i] + wz * rx - wx * rz - uy
+    vz = S[(Y + OV + 2) * BLOCK + i] + wx * ry - wy * rx - uz
+    return vx, vy, vz, rho, z, frac
+
+
+@njit(**_JIT)
+def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
+    """Derivative rows D of the state rows Y: dx = v, dq, dv = F/m + g, dL = torque."""
+    body, fpl, fpl_at, cpl, cpl_at, cyl, cyl_at, buo, buo_at, thr, thr_ch, thr_at = tables
+    vmax, fmax = prm[P_VMAX], prm[P_FMAX]
+    fl = _fluid(prm)
+    _omega_row(S, body, b, n)
+    for i in range(n):
+        for k in range(3):
+            S[(D + OX + k) * BLOCK + i] = S[(Y + OV + k) * BLOCK + i]
+            S[(D + OV + k) * BLOCK + i] = ZERO
+            S[(D + OL + k) * BLOCK + i] = ZERO
+        dq = quat_rate(S[(Y + OQ) * BLOCK + i], S[(Y + OQ + 1) * BLOCK + i], S[(Y + OQ + 2) * BLOCK + i],
+                       S[(Y + OQ + 3) * BLOCK + i], S[(W) * BLOCK + i], S[(W + 1) * BLOCK + i], S[(W + 2) * BLOCK + i])
+        for k in range(4):
+            S[(D + OQ + k) * BLOCK + i] = dq[k]
+
+    for p in range(fpl_at[b], fpl_at[b + 1]):  # fixed plates
+        ox, oy, oz, bx, by, bz = fpl[0, p], fpl[1, p], fpl[2, p], fpl[3, p], fpl[4, p], fpl[5, p]
+        area, eff = fpl[6, p], fpl[7, p]
+        for i in range(n):
+            rx, ry, rz = _rotate(S, i, ox, oy, oz)
+            nx, ny, nz = _rotate(S, i, bx, by, bz)
+            vx, vy, vz, rho, _, _ = _flow(S, i, rx, ry, rz, fl)
+            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, area, eff, vmax, fmax)
+            _add_force(S, i, rx, ry, rz, fx, fy, fz)
+
+    for p in range(cpl_at[b], cpl_at[b + 1]):  # control surfaces: normals deflected per env
+        ox, oy, oz, area, eff = cpl[0, p], cpl[1, p], cpl[2, p], cpl[9, p], cpl[10, p]
+        for i in range(n):
+            rx, ry, rz = _rotate(S, i, ox, oy, oz)
+            nx, ny, nz = _rotate(S, i, cnorm[0, p, e0 + i], cnorm[1, p, e0 + i],
+                                 cnorm[2, p, e0 + i])
+            vx, vy, vz, rho, _, _ = _flow(S, i, rx, ry, rz, fl)
+            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, area, eff, vmax, fmax)
+            _add_force(S, i, rx, ry, rz, fx, fy, fz)
+
+    for p in range(cyl_at[b], cyl_at[b + 1]):
+        ox, oy, oz, bx, by, bz = cyl[0, p], cyl[1, p], cyl[2, p], cyl[3, p], cyl[4, p], cyl[5, p]
+        area = cyl[6, p]
+        for i in range(n):
+            rx, ry, rz = _rotate(S, i, ox, oy, oz)
+            ax, ay, az = _rotate(S, i, bx, by, bz)
+            vx, vy, vz, rho, _, _ = _flow(S, i, rx, ry, rz, fl)
+            fx, fy, fz = cylinder_force(vx, vy, vz, ax, ay, az, rho, area, vmax, fmax)
+            _add_force(S, i, rx, ry, rz, fx, fy, fz)
+
+    g, rho_w, water = prm[P_G], prm[P_RHO_WATER], prm[P_WATER]
+    inv_blend = prm[P_INV_BLEND]
+    for p in range(buo_at[b], buo_at[b + 1]):
+        ox, oy, oz, vol, area = buo[0, p], buo[1, p], buo[2, p], buo[3, p], buo[4, p]
+        for i in range(n):
+            rx, ry, rz = _rotate(S, i, ox, oy, oz)
+            z = S[(Y + OX + 2) * BLOCK + i] + rz
+            frac = water_fraction(z, water, inv_blend)
+            fz = buoyancy_force(z, frac, water, rho_w, g, vol, area)
+            _add_force(S, i, rx, ry, rz, ZERO, ZERO, fz)
+
+    for p in range(thr_at[b], thr_at[b + 1]):
+        ox, oy, oz, bx, by, bz = thr[0, p], thr[1, p], thr[2, p], thr[3, p], thr[4, p], thr[5, p]
+        lo, hi, ch = thr[6, p], thr[7, p], thr_ch[p]
+        for i in range(n):
+            a = ctrl[ch, e0 + i] if ch >= 0 else ONE
+            thrust = lo + HALF * (a + ONE) * (hi - lo)
+            rx, ry, rz = _rotate(S, i, ox, oy, oz)
+            dx, dy, dz = _rotate(S, i, bx, by, bz)
+            _add_force(S, i, rx, ry, rz, thrust * dx, thrust * dy, thrust * dz)
+
+    inv_m = ONE / body[b, 0]
+    for i in range(n):
+        for k in range(3):
+            S[(D + OV + k) * BLOCK + i] *= inv_m
+        S[(D + OV + 2) * BLOCK + i] -= g
+
+
+@njit(**_INLINE)
+def _normalize_quat(S, row, n):
+    for i in range(n):
+        qw, qx, qy, qz = S[(row) * BLOCK + i], S[(row + 1) * BLOCK + i], S[(row + 2) * BLOCK + i], S[(row + 3) * BLOCK + i]
+        s = ONE / math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
+        S[(row) * BLOCK + i] = qw * s
+        S[(row + 1) * BLOCK + i] = qx * s
+        S[(row + 2) * BLOCK + i] = qy * s
+        S[(row + 3) * BLOCK + i] = qz * s
+
+
+@njit(**_INLINE)
+def _copy(S, dst, src, n):
+    """State rows dst = src (all 13 rows)."""
+    for k in range(NSTATE):
+        for i in range(n):
+            S[(dst + k) * BLOCK + i] = S[(src + k) * BLOCK + i]
+
+
+@njit(**_INLINE)
+def _axpy(S, dst, src, h, n):
+    """State rows dst = src + h * D (all 13 rows)."""
+    for k in range(NSTATE):
+        for i in range(n):
+            S[(dst + k) * BLOCK + i] = S[(src + k) * BLOCK + i] + h * S[(D + k) * BLOCK + i]
+
+
+@njit(**_INLINE)
+def _rotate_by_omega(S, body, b, n, h):
+    """q <- normalize(q + h/2 [0, w] (x) q) with w from the current L and the R rows (old q)."""
+    ixx, iyy, izz = body[b, 1], body[b, 2], body[b, 3]
+    ixy, ixz, iyz = body[b, 4], body[b, 5], body[b, 6]
+    for i in range(n):
+        w = world_omega(S[(R) * BLOCK + i], S[(R + 1) * BLOCK + i], S[(R + 2) * BLOCK + i], S[(R + 3) * BLOCK + i], S[(R + 4) * BLOCK + i],
+                        S[(R + 5) * BLOCK + i], S[(R + 6) * BLOCK + i], S[(R + 7) * BLOCK + i], S[(R + 8) * BLOCK + i],
+                        S[(Y + OL) * BLOCK + i], S[(Y + OL + 1) * BLOCK + i], S[(Y + OL + 2) * BLOCK + i],
+                        ixx, iyy, izz, ixy, ixz, iyz)
+        dq = quat_rate(S[(Y + OQ) * BLOCK + i], S[(Y + OQ + 1) * BLOCK + i], S[(Y + OQ + 2) * BLOCK + i], S[(Y + OQ + 3) * BLOCK + i],
+                       w[0], w[1], w[2])
+        for k in range(4):
+            S[(Y + OQ + k) * BLOCK + i] += h * dq[k]
+    _normalize_quat(S, Y + OQ, n)
+
+
+@njit(**_INLINE)
+def _kick(S, n, h):
+    """v += h dv, L += h dL."""
+    for k in range(OV, NSTATE):
+        for i in range(n):
+            S[(Y + k) * BLOCK + i] += h * S[(D + k) * BLOCK + i]
+
+
+@njit(**_INLINE)
+def _drift(S, n, h):
+    """x += h v."""
+    for k in range(3):
+        for i in range(n):
+            S[(Y + OX + k) * BLOCK + i] += h * S[(Y + OV + k) * BLOCK + i]
+
+
+@njit(**_JIT)
+def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, method):
+    """One time step of every body slot in a block (stage-synchronous across slots, so that
+    forces coupling bodies of one environment can be added per stage)."""
+    body = tables[0]
+    dt = prm[P_DT]
+    h2 = HALF * dt
+    if method == 0:  # explicit Euler: everything from the old state
+        for b in range(nb):
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm)
+        for b in range(nb):
+            _axpy(scr_blk[b], Y, Y, dt, n)
+            _normalize_quat(scr_blk[b], Y + OQ, n)
+    elif method == 1:  # symplectic Euler: velocities first, then positions with new velocities
+        for b in range(nb):
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm)
+        for b in range(nb):
+            S = scr_blk[b]
+            _kick(S, n, dt)
+            _drift(S, n, dt)
+            _rotate_by_omega(S, body, b, n, dt)
+    elif method == 2:  # velocity Verlet: half kick, drift, new forces, half kick
+        for b in range(nb):
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm)
+        for b in range(nb):
+            S = scr_blk[b]
+            _kick(S, n, h2)
+            _drift(S, n, dt)
+            _rotate_by_omega(S, body, b, n, dt)
+        for b in range(nb):
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm)
+        for b in range(nb):
+            _kick(scr_blk[b], n, h2)
+    elif method == 3:  # RK2, explicit midpoint: Y0 keeps the step's start
+        for b in range(nb):
+            _copy(scr_blk[b], Y0, Y, n)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm)
+        for b in range(nb):
+            _axpy(scr_blk[b], Y, Y0, h2, n)
+        for b in range(nb):
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm)
+        for b in range(nb):
+            _axpy(scr_blk[b], Y, Y0, dt, n)
+            _normalize_quat(scr_blk[b], Y + OQ, n)
+    else:  # classic RK4: ACC sums k1 + 2 k2 + 2 k3 + k4
+        for b in range(nb):
+            _copy(scr_blk[b], Y0, Y, n)
+        for stage in range(4):
+            for b in range(nb):
+                _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm)
+            for b in range(nb):
+                S = scr_blk[b]
+                weight = ONE if stage == 0 or stage == 3 else TWO
+                for k in range(NSTATE):
+                    for i in range(n):
+                        acc = S[(D + k) * BLOCK + i] * weight
+                        S[(ACC + k) * BLOCK + i] = acc if stage == 0 else \
+                            S[(ACC + k) * BLOCK + i] + acc
+                if stage < 2:
+                    _axpy(S, Y, Y0, h2, n)
+                elif stage == 2:
+                    _axpy(S, Y, Y0, dt, n)
+                else:
+                    h6 = dt / SIX
+                    for k in range(NSTATE):
+                        for i in range(n):
+                            S[(Y + k) * BLOCK + i] = S[(Y0 + k) * BLOCK + i] + \
+                                h6 * S[(ACC + k) * BLOCK + i]
+                    _normalize_quat(S, Y + OQ, n)
+
+
+@njit(**_JIT)
+def _deflect(e0, n, cpl, cmix, ctrl, cnorm):
+    """Body-frame normals of the control surfaces for this block's environments."""
+    for p in range(cpl.shape[1]):
+        for i in range(n):
+            theta = ZERO * cpl[0, p]  # zero in the simulation dtype
+            for c in range(cmix.shape[1]):
+                theta += cmix[p, c] * ctrl[c, e0 + i]
+            nx, ny, nz = rotate_about_axis(cpl[3, p], cpl[4, p], cpl[5, p], cpl[6, p],
+                                           cpl[7, p], cpl[8, p], math.cos(theta),
+                                           math.sin(theta))
+            cnorm[0, p, e0 + i] = nx
+            cnorm[1, p, e0 + i] = ny
+            cnorm[2, p, e0 + i] = nz
+
+
+@njit(**_JIT)
+def _advance_block(blk, st, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged):
+    nb, ne = st.shape[1], st.shape[2]
+    e0 = blk * BLOCK
+    n = min(BLOCK, ne - e0)
+    scr_blk = scr[blk]
+    _deflect(e0, n, tables[3], cmix, ctrl, cnorm)
+    for b in range(nb):
+        for k in range(NSTATE):
+            for i in range(n):
+                scr_blk[b, (Y + k) * BLOCK + i] = st[k, b, e0 + i]
+    for _ in range(steps):
+        _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, method)
+    for i in range(n):
+        diverged[e0 + i] = False
+    for b in range(nb):
+        for k in range(NSTATE):
+            for i in range(n):
+                x = scr_blk[b, (Y + k) * BLOCK + i]
+                st[k, b, e0 + i] = x
+                diverged[e0 + i] |= not math.isfinite(x)
+
+
+@njit(**_JIT)
+def step_serial(st, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged):
+    """Advance every environment ``steps`` steps on the calling thread."""
+    for blk in range(scr.shape[0]):
+        _advance_block(blk, st, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged)
+
+
+@njit(parallel=True, **_JIT)
+def step_parallel(st, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged):
+    """Advance every environment ``steps`` steps, blocks spread over numba's threads."""
+    for blk in prange(scr.shape[0]):
+        _advance_block(blk, st, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged)
+
+
+@njit(**_JIT)
+def body_omega(st, body, out):
+    """World angular velocity of every body, out[3, B, E] from st[13, B, E]."""
+    for b in range(st.shape[1]):
+        for e in range(st.shape[2]):
+            m = quat_to_matrix(st[OQ, b, e], st[OQ + 1, b, e], st[OQ + 2, b, e],
+                               st[OQ + 3, b, e])
+            w = world_omega(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8],
+                            st[OL, b, e], st[OL + 1, b, e], st[OL + 2, b, e],
+                            body[b, 1], body[b, 2], body[b, 3], body[b, 4], body[b, 5],
+                            body[b, 6])
+            out[0, b, e] = w[0]
+            out[1, b, e] = w[1]
+            out[2, b, e] = w[2]
+
+
+@njit(**_JIT)
+def quat_matrices(q):
+    """Rotation matrices [N, 3, 3] of quaternions [N, 4] (w, x, y, z)."""
+    out = np.empty((q.shape[0], 3, 3), dtype=q.dtype)
+    for j in range(q.shape[0]):
+        m = quat_to_matrix(q[j, 0], q[j, 1], q[j, 2], q[j, 3])
+        for k in range(9):
+            out[j, k // 3, k % 3] = m[k]
+    return out

@@ -1,0 +1,273 @@
+"""Simulator: E environments of B rigid bodies each, advanced by one compiled call per step."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from . import kernels as K
+from .craft import Craft
+from .world import World
+
+_BATCH_PARALLEL_MIN = 1024  # below this many bodies the serial kernel wins (thread start-up)
+
+
+def _pack(crafts: Sequence[Craft], dtype) -> tuple[tuple, np.ndarray, list[str]]:
+    """Flatten the crafts' samples into the kernel's tables (field-major, slot ranges)."""
+    names: list[str] = []
+    offsets = []
+    for c in crafts:
+        offsets.append(len(names))
+        names.extend(c.control_names if len(crafts) == 1
+                     else (f"{c.name}.{n}" for n in c.control_names))
+    n_ch = len(names)
+
+    body = np.zeros((len(crafts), 7))
+    fpl, cpl, cyl, buo, thr, thr_ch, mix = [], [], [], [], [], [], []
+    at = {k: [0] for k in ("fpl", "cpl", "cyl", "buo", "thr")}
+    for b, c in enumerate(crafts):
+        inv = np.linalg.inv(c.inertia_tensor)
+        body[b] = (c.mass_kg, inv[0, 0], inv[1, 1], inv[2, 2], inv[0, 1], inv[0, 2], inv[1, 2])
+        drive: dict[str, np.ndarray] = {}
+        for j, ctl in enumerate(c.controls):
+            for s in ctl.surfaces:
+                row = drive.setdefault(s.sample, np.zeros(n_ch))
+                row[offsets[b] + j] += s.gain * math.radians(ctl.max_deflection_deg)
+        for p in c.plates:
+            if p.name in drive:
+                cpl.append((*p.offset_m, *p.normal, *p.hinge_axis, p.area_m2, p.efficiency))
+                mix.append(drive[p.name])
+            else:
+                fpl.append((*p.offset_m, *p.normal, p.area_m2, p.efficiency))
+        cyl.extend((*s.offset_m, *s.axis, s.area_m2) for s in c.cylinders)
+        buo.extend((*s.offset_m, s.volume_m3 or 0.0, s.area_m2 or 0.0) for s in c.buoyancy)
+        channels = c.control_names
+        for t in c.thrusters:
+            thr.append((*t.offset_m, *t.direction, t.min_thrust_n, t.max_thrust_n))
+            thr_ch.append(-1 if t.control is None else offsets[b] + channels.index(t.control))
+        for key, table in (("fpl", fpl), ("cpl", cpl), ("cyl", cyl), ("buo", buo),
+                           ("thr", thr)):
+            at[key].append(len(table))
+
+    def table(rows, width):
+        return np.ascontiguousarray(np.asarray(rows, dtype=dtype).reshape(-1, width).T)
+
+    def ranges(key):
+        return np.asarray(at[key], dtype=np.int64)
+
+    tables = (body.astype(dtype), table(fpl, 8), ranges("fpl"), table(cpl, 11), ranges("cpl"),
+              table(cyl, 7), ranges("cyl"), table(buo, 5), ranges("buo"), table(thr, 8),
+              np.asarray(thr_ch, dtype=np.int64), ranges("thr"))
+    cmix = np.asarray(mix, dtype=dtype).reshape(len(mix), n_ch)
+    return tables, cmix, names
+
+
+class Simulator:
+    """Rigid bodies with fluid samples, stepped in batches.
+
+    Args:
+        crafts: one :class:`Craft`, or a list of them: the bodies of every environment.
+        world: the :class:`World` (gravity, fluids, surface, clamps); default ``World()``.
+        num_envs: E, the number of independent environments.
+        dt: time step (s); ``step(steps=k)`` advances k of them.
+        integrator: one of ``explicit_euler``, ``symplectic_euler`` (default),
+            ``velocity_verlet``, ``rk2``, ``rk4``.
+        dtype: ``np.float64`` (default) or ``np.float32``.
+        parallel: run blocks of environments on numba's threads; default: when E * B >= 1024.
+
+    State (world frame, arrays ``[E, B, ...]``, read-only views): ``pos``, ``quat`` (w, x, y,
+    z), ``lin_vel``, ``ang_vel``, and ``diverged`` ``[E]`` (a non-finite state).
+
+    Examples:
+        >>> import numpy as np
+        >>> from fluidsim_envs.physics import Craft, Simulator, World
+        >>> ball = Craft(name="ball", mass_kg=1.0, inertia_kgm2=(0.4, 0.4, 0.4))
+        >>> sim = Simulator(ball, World(), num_envs=2, dt=0.01)
+        >>> sim.reset(lin_vel=(1.0, 0.0, 0.0))
+        >>> sim.step(steps=100)
+        >>> np.round(sim.pos[0, 0], 5)          # 1 s of flight: x = 1, z = -g t(t+dt)/2
+        array([ 1.     ,  0.     , -4.95405])
+    """
+
+    def __init__(self, crafts: Craft | Sequence[Craft], world: World | None = None,
+                 num_envs: int = 1, dt: float = 1.0 / 120.0,
+                 integrator: str = "symplectic_euler", dtype=np.float64,
+                 parallel: bool | None = None) -> None:
+        crafts = [crafts] if isinstance(crafts, Craft) else list(crafts)
+        if not crafts or not all(isinstance(c, Craft) for c in crafts):
+            raise TypeError(f"crafts must be a Craft or a non-empty list of Crafts, got {crafts!r}")
+        world = World() if world is None else world
+        if not isinstance(world, World):
+            raise TypeError(f"world must be a World, got {world!r}")
+        if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) \
+                or num_envs < 1:
+            raise ValueError(f"num_envs must be a positive integer, got {num_envs!r}")
+        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
+            raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
+        if integrator not in K.INTEGRATORS:
+            raise ValueError(f"unknown integrator {integrator!r}; choose one of "
+                             f"{sorted(K.INTEGRATORS)}")
+        dtype = np.dtype(dtype)
+        if dtype not in (np.float32, np.float64):
+            raise ValueError(f"dtype must be float32 or float64, got {dtype}")
+
+        self.crafts = tuple(crafts)
+        self.world = world
+        self.num_envs = E = int(num_envs)
+        self.num_bodies = B = len(crafts)
+        self.dt = float(dt)
+        self.integrator = integrator
+        self.dtype = dtype
+        self.parallel = E * B >= _BATCH_PARALLEL_MIN if parallel is None else bool(parallel)
+        self._method = K.INTEGRATORS[integrator]
+        self._kernel = K.step_parallel if self.parallel else K.step_serial
+
+        self._tables, self._cmix, names = _pack(crafts, dtype)
+        self.control_names: tuple[str, ...] = tuple(names)
+        self._mass = np.array([c.mass_kg for c in crafts])
+
+        prm = np.zeros(K.NPRM)
+        prm[K.P_G] = world.gravity_mps2
+        prm[K.P_RHO_AIR] = world.air_density_kgm3
+        prm[K.P_RHO_WATER] = world.water_density_kgm3
+        prm[K.P_WATER] = 1.0 if world.water else 0.0
+        prm[K.P_WIND:K.P_WIND + 3] = world.wind_mps
+        prm[K.P_CURRENT:K.P_CURRENT + 3] = world.current_mps
+        # a sharp surface is a layer thin enough that the blend is a step
+        prm[K.P_INV_BLEND] = 1.0 / world.surface_blend_m if world.surface_blend_m > 0 else 1e30
+        prm[K.P_VMAX] = world.max_fluid_speed_mps
+        prm[K.P_FMAX] = world.max_sample_force_n
+        prm[K.P_DT] = dt
+        self._prm = prm.astype(dtype)
+
+        # buffers, allocated once
+        n_blocks = -(-E // K.BLOCK)
+        self._st = np.zeros((K.NSTATE, B, E), dtype=dtype)
+        self._st[K.OQ] = 1.0
+        self._ctrl = np.zeros((len(names), E), dtype=dtype)
+        self._cnorm = np.zeros((3, self._cmix.shape[0], E), dtype=dtype)
+        self._scr = np.zeros((n_blocks, B, K.ROWS * K.BLOCK), dtype=dtype)
+        self._diverged = np.zeros(E, dtype=np.bool_)
+        self._omega = np.zeros((3, B, E), dtype=dtype)
+
+    # ---- state ----------------------------------------------------------------------------
+
+    def _view(self, rows: slice) -> np.ndarray:
+        v = self._st[rows].transpose(2, 1, 0)
+        v.flags.writeable = False
+        return v
+
+    @property
+    def pos(self) -> np.ndarray:
+        """Center-of-mass positions [E, B, 3] (m)."""
+        return self._view(slice(K.OX, K.OX + 3))
+
+    @property
+    def quat(self) -> np.ndarray:
+        """Orientations [E, B, 4], unit quaternions (w, x, y, z), body -> world."""
+        return self._view(slice(K.OQ, K.OQ + 4))
+
+    @property
+    def lin_vel(self) -> np.ndarray:
+        """Center-of-mass velocities [E, B, 3] (m/s)."""
+        return self._view(slice(K.OV, K.OV + 3))
+
+    @property
+    def ang_vel(self) -> np.ndarray:
+        """Angular velocities [E, B, 3] (rad/s), world frame (derived from L)."""
+        K.body_omega(self._st, self._tables[0], self._omega)
+        v = self._omega.transpose(2, 1, 0)
+        v.flags.writeable = False
+        return v
+
+    def angular_momentum(self) -> np.ndarray:
+        """Angular momentum about each center of mass [E, B, 3] (kg m^2/s), world frame."""
+        return self._view(slice(K.OL, K.OL + 3)).copy()
+
+    def kinetic_energy(self) -> np.ndarray:
+        """Kinetic energy of each body [E, B] (J): 1/2 m v^2 + 1/2 L . w."""
+        v, w, L = self.lin_vel, self.ang_vel, self._view(slice(K.OL, K.OL + 3))
+        return 0.5 * self._mass * np.einsum("ebk,ebk->eb", v, v) \
+            + 0.5 * np.einsum("ebk,ebk->eb", L, w)
+
+    @property
+    def diverged(self) -> np.ndarray:
+        """[E] True where the last step left a non-finite state (that env needs a reset)."""
+        v = self._diverged.view()
+        v.flags.writeable = False
+        return v
+
+    # ---- reset and step -------------------------------------------------------------------
+
+    def _broadcast(self, name: str, value, width: int, n: int) -> np.ndarray:
+        arr = np.asarray(value, dtype=np.float64)
+        try:
+            arr = np.broadcast_to(arr, (n, self.num_bodies, width))
+        except ValueError:
+            raise ValueError(f"reset: {name} of shape {arr.shape} does not broadcast to "
+                             f"[{n}, {self.num_bodies}, {width}]") from None
+        if not np.all(np.isfinite(arr)):
+            raise ValueError(f"reset: {name} has non-finite values: {value!r}")
+        return arr
+
+    def reset(self, pos=(0.0, 0.0, 0.0), quat=(1.0, 0.0, 0.0, 0.0), lin_vel=(0.0, 0.0, 0.0),
+              ang_vel=(0.0, 0.0, 0.0), env_ids=None) -> None:
+        """Set the state of all environments, or of ``env_ids`` only.
+
+        Each argument broadcasts to ``[n, B, 3]`` (``[n, B, 4]`` for quat), n the number of
+        environments being reset. Quaternions are normalized; ``ang_vel`` is in the world frame.
+        """
+        ids = np.arange(self.num_envs) if env_ids is None else np.asarray(env_ids)
+        if ids.ndim != 1 or ids.dtype.kind not in "iu" or \
+                (ids.size and (ids.min() < 0 or ids.max() >= self.num_envs)):
+            raise ValueError(f"reset: env_ids must be integers in [0, {self.num_envs}), "
+                             f"got {env_ids!r}")
+        n = ids.size
+        p = self._broadcast("pos", pos, 3, n)
+        q = self._broadcast("quat", quat, 4, n)
+        v = self._broadcast("lin_vel", lin_vel, 3, n)
+        w = self._broadcast("ang_vel", ang_vel, 3, n)
+        norm = np.linalg.norm(q, axis=-1, keepdims=True)
+        if np.any(norm < 1e-12):
+            raise ValueError("reset: quat must be non-zero")
+        q = q / norm
+        # L = R I R^T w, per body slot
+        rot = K.quat_matrices(q.reshape(-1, 4)).reshape(n, self.num_bodies, 3, 3)
+        inertia = np.stack([c.inertia_tensor for c in self.crafts])   # [B, 3, 3]
+        iw = rot @ inertia[None] @ np.swapaxes(rot, -1, -2)
+        L = np.einsum("nbij,nbj->nbi", iw, w)
+        st = self._st
+        for rows, val in ((slice(K.OX, K.OX + 3), p), (slice(K.OQ, K.OQ + 4), q),
+                          (slice(K.OV, K.OV + 3), v), (slice(K.OL, K.OL + 3), L)):
+            st[rows, :, ids] = val.transpose(2, 1, 0)
+        self._diverged[ids] = False
+
+    def step(self, controls=None, steps: int = 1) -> None:
+        """Advance every environment by ``steps`` time steps, holding ``controls``.
+
+        Args:
+            controls: ``[E, n_controls]`` in [-1, 1], the channels in ``control_names`` order;
+                None holds every channel at 0.
+            steps: number of time steps of ``dt`` in this call (>= 1).
+        """
+        if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
+            raise ValueError(f"steps must be a positive integer, got {steps!r}")
+        if controls is None:
+            self._ctrl[...] = 0.0
+        else:
+            a = np.asarray(controls)
+            shape = (self.num_envs, len(self.control_names))
+            if a.shape != shape:
+                raise ValueError(f"controls must have shape {shape} (envs, channels "
+                                 f"{self.control_names}), got {a.shape}")
+            if not np.all(np.isfinite(a)):
+                raise ValueError("controls contain NaN or inf")
+            if a.size and np.abs(a).max() > 1.0:
+                raise ValueError(f"controls must lie in [-1, 1], got values up to "
+                                 f"{np.abs(a).max():.6g}")
+            self._ctrl[...] = a.T
+        self._kernel(self._st, self._ctrl, self._tables, self._cmix, self._cnorm, self._prm,
+                     self._method, int(steps), self._scr, self._diverged)
+
