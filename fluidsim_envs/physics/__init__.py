@@ -9,6 +9,16 @@ from .simulator import Simulator
 from .world import World
 
 __all__ = [
-    "EVALS_PER_STEP", "INTEGRATORS", "Buoyancy", "Control", "Craft", "CraftError", "Cylinder",
-    "Plate", "Simulator", "Surface", "Thruster", "World",
+    "EVALS_PER_STEP",
+    "INTEGRATORS",
+    "Buoyancy",
+    "Control",
+    "Craft",
+    "CraftError",
+    "Cylinder",
+    "Plate",
+    "Simulator",
+    "Surface",
+    "Thruster",
+    "World",
 ]

@@ -288,10 +288,17 @@ class Craft:
         tensor.setflags(write=False)
         object.__setattr__(self, "_tensor", tensor)
         inertia = np.asarray(self.inertia_kgm2, dtype=float)
-        as_tuple = tuple(map(tuple, inertia.tolist())) if inertia.ndim == 2 else tuple(inertia.tolist())
+        as_tuple = (
+            tuple(map(tuple, inertia.tolist())) if inertia.ndim == 2 else tuple(inertia.tolist())
+        )
         object.__setattr__(self, "inertia_kgm2", as_tuple)
-        for key, cls in (("plates", Plate), ("cylinders", Cylinder), ("buoyancy", Buoyancy),
-                         ("thrusters", Thruster), ("controls", Control)):
+        for key, cls in (
+            ("plates", Plate),
+            ("cylinders", Cylinder),
+            ("buoyancy", Buoyancy),
+            ("thrusters", Thruster),
+            ("controls", Control),
+        ):
             items = []
             for i, item in enumerate(getattr(self, key)):
                 if isinstance(item, dict):
@@ -316,15 +323,21 @@ class Craft:
         for c in self.controls:
             for s in c.surfaces:
                 if s.sample not in plates:
-                    raise CraftError(f"{where}: control {c.name!r} drives {s.sample!r}, which is "
-                                     f"not a plate; plates are {sorted(plates)}")
+                    raise CraftError(
+                        f"{where}: control {c.name!r} drives {s.sample!r}, which is "
+                        f"not a plate; plates are {sorted(plates)}"
+                    )
                 if plates[s.sample].hinge_axis is None:
-                    raise CraftError(f"{where}: plate {s.sample!r} is driven by control "
-                                     f"{c.name!r} but has no hinge_axis")
+                    raise CraftError(
+                        f"{where}: plate {s.sample!r} is driven by control "
+                        f"{c.name!r} but has no hinge_axis"
+                    )
         for t in self.thrusters:
             if t.control is not None and t.control not in channels:
-                raise CraftError(f"{where}: thruster {t.name!r} is bound to unknown control "
-                                 f"{t.control!r}; controls are {channels}")
+                raise CraftError(
+                    f"{where}: thruster {t.name!r} is bound to unknown control "
+                    f"{t.control!r}; controls are {channels}"
+                )
 
     # ---- derived quantities -------------------------------------------------------------
 
@@ -368,8 +381,10 @@ class Craft:
         if path.suffix != ".toml":
             shipped = resources.files("fluidsim_envs.craft") / f"{name_or_path}.toml"
             if not shipped.is_file():
-                raise CraftError(f"unknown craft {str(name_or_path)!r}; shipped crafts are "
-                                 f"{available()} (or pass a path to a .toml file)")
+                raise CraftError(
+                    f"unknown craft {str(name_or_path)!r}; shipped crafts are "
+                    f"{available()} (or pass a path to a .toml file)"
+                )
             text, source = shipped.read_text(), f"{name_or_path}.toml"
         else:
             if not path.is_file():

@@ -51,8 +51,9 @@ def plate_force(vx, vy, vz, nx, ny, nz, rho, area, efficiency, vmax, fmax):
     vn = vx * nx + vy * ny + vz * nz
     k = -HALF * rho * area * vn
     c = efficiency * vn / max(speed, TINY)
-    return clamp_force(k * (speed * nx - c * vx), k * (speed * ny - c * vy),
-                       k * (speed * nz - c * vz), fmax)
+    return clamp_force(
+        k * (speed * nx - c * vx), k * (speed * ny - c * vy), k * (speed * nz - c * vz), fmax
+    )
 
 
 @njit(**_JIT)
@@ -87,6 +88,8 @@ def buoyancy_force(z, frac, water, rho_water, g, volume, area):
 def rotate_about_axis(nx, ny, nz, hx, hy, hz, c, s):
     """Rodrigues' rotation of n about the unit axis h by the angle with cosine c and sine s."""
     hn = hx * nx + hy * ny + hz * nz
-    return (nx * c + (hy * nz - hz * ny) * s + hx * hn * (ONE - c),
-            ny * c + (hz * nx - hx * nz) * s + hy * hn * (ONE - c),
-            nz * c + (hx * ny - hy * nx) * s + hz * hn * (ONE - c))
+    return (
+        nx * c + (hy * nz - hz * ny) * s + hx * hn * (ONE - c),
+        ny * c + (hz * nx - hx * nz) * s + hy * hn * (ONE - c),
+        nz * c + (hx * ny - hy * nx) * s + hz * hn * (ONE - c),
+    )

@@ -51,8 +51,13 @@ INTEGRATORS = {
     "rk4": 4,
 }
 # Force evaluations per step, for cost accounting in benchmarks.
-EVALS_PER_STEP = {"explicit_euler": 1, "symplectic_euler": 1, "velocity_verlet": 2, "rk2": 2,
-                  "rk4": 4}
+EVALS_PER_STEP = {
+    "explicit_euler": 1,
+    "symplectic_euler": 1,
+    "velocity_verlet": 2,
+    "rk2": 2,
+    "rk4": 4,
+}
 
 # prm[] slots: world and step parameters, in the simulation dtype
 P_G, P_RHO_AIR, P_RHO_WATER, P_WATER = 0, 1, 2, 3
@@ -73,9 +78,17 @@ _INLINE = dict(cache=True, error_model="numpy", inline="always")
 def quat_to_matrix(qw, qx, qy, qz):
     """Rotation matrix (row-major 9-tuple) of q / |q|: body -> world."""
     s = TWO / (qw * qw + qx * qx + qy * qy + qz * qz)
-    return (ONE - s * (qy * qy + qz * qz), s * (qx * qy - qw * qz), s * (qx * qz + qw * qy),
-            s * (qx * qy + qw * qz), ONE - s * (qx * qx + qz * qz), s * (qy * qz - qw * qx),
-            s * (qx * qz - qw * qy), s * (qy * qz + qw * qx), ONE - s * (qx * qx + qy * qy))
+    return (
+        ONE - s * (qy * qy + qz * qz),
+        s * (qx * qy - qw * qz),
+        s * (qx * qz + qw * qy),
+        s * (qx * qy + qw * qz),
+        ONE - s * (qx * qx + qz * qz),
+        s * (qy * qz - qw * qx),
+        s * (qx * qz - qw * qy),
+        s * (qy * qz + qw * qx),
+        ONE - s * (qx * qx + qy * qy),
+    )
 
 
 @njit(**_INLINE)
@@ -88,17 +101,18 @@ def world_omega(r0, r1, r2, r3, r4, r5, r6, r7, r8, lx, ly, lz, ixx, iyy, izz, i
     wx = ixx * bx + ixy * by + ixz * bz
     wy = ixy * bx + iyy * by + iyz * bz
     wz = ixz * bx + iyz * by + izz * bz
-    return (r0 * wx + r1 * wy + r2 * wz, r3 * wx + r4 * wy + r5 * wz,
-            r6 * wx + r7 * wy + r8 * wz)
+    return (r0 * wx + r1 * wy + r2 * wz, r3 * wx + r4 * wy + r5 * wz, r6 * wx + r7 * wy + r8 * wz)
 
 
 @njit(**_INLINE)
 def quat_rate(qw, qx, qy, qz, wx, wy, wz):
     """dq/dt = 1/2 [0, w] (x) q for a world-frame angular velocity w."""
-    return (-HALF * (wx * qx + wy * qy + wz * qz),
-            HALF * (qw * wx + wy * qz - wz * qy),
-            HALF * (qw * wy + wz * qx - wx * qz),
-            HALF * (qw * wz + wx * qy - wy * qx))
+    return (
+        -HALF * (wx * qx + wy * qy + wz * qz),
+        HALF * (qw * wx + wy * qz - wz * qy),
+        HALF * (qw * wy + wz * qx - wx * qz),
+        HALF * (qw * wz + wx * qy - wy * qx),
+    )
 
 
 # --------------------------------------------------------------------------------------------
@@ -111,13 +125,34 @@ def _omega_row(S, body, b, n):
     ixx, iyy, izz = body[b, 1], body[b, 2], body[b, 3]
     ixy, ixz, iyz = body[b, 4], body[b, 5], body[b, 6]
     for i in range(n):
-        m = quat_to_matrix(S[(Y + OQ) * BLOCK + i], S[(Y + OQ + 1) * BLOCK + i], S[(Y + OQ + 2) * BLOCK + i],
-                           S[(Y + OQ + 3) * BLOCK + i])
+        m = quat_to_matrix(
+            S[(Y + OQ) * BLOCK + i],
+            S[(Y + OQ + 1) * BLOCK + i],
+            S[(Y + OQ + 2) * BLOCK + i],
+            S[(Y + OQ + 3) * BLOCK + i],
+        )
         for k in range(9):
             S[(R + k) * BLOCK + i] = m[k]
-        w = world_omega(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8],
-                        S[(Y + OL) * BLOCK + i], S[(Y + OL + 1) * BLOCK + i], S[(Y + OL + 2) * BLOCK + i],
-                        ixx, iyy, izz, ixy, ixz, iyz)
+        w = world_omega(
+            m[0],
+            m[1],
+            m[2],
+            m[3],
+            m[4],
+            m[5],
+            m[6],
+            m[7],
+            m[8],
+            S[(Y + OL) * BLOCK + i],
+            S[(Y + OL + 1) * BLOCK + i],
+            S[(Y + OL + 2) * BLOCK + i],
+            ixx,
+            iyy,
+            izz,
+            ixy,
+            ixz,
+            iyz,
+        )
         S[(W) * BLOCK + i] = w[0]
         S[(W + 1) * BLOCK + i] = w[1]
         S[(W + 2) * BLOCK + i] = w[2]
@@ -137,19 +172,29 @@ def _add_force(S, i, rx, ry, rz, fx, fy, fz):
 @njit(**_INLINE)
 def _rotate(S, i, x, y, z):
     """World vector of the body vector (x, y, z)."""
-    return (S[(R) * BLOCK + i] * x + S[(R + 1) * BLOCK + i] * y + S[(R + 2) * BLOCK + i] * z,
-            S[(R + 3) * BLOCK + i] * x + S[(R + 4) * BLOCK + i] * y + S[(R + 5) * BLOCK + i] * z,
-            S[(R + 6) * BLOCK + i] * x + S[(R + 7) * BLOCK + i] * y + S[(R + 8) * BLOCK + i] * z)
+    return (
+        S[(R) * BLOCK + i] * x + S[(R + 1) * BLOCK + i] * y + S[(R + 2) * BLOCK + i] * z,
+        S[(R + 3) * BLOCK + i] * x + S[(R + 4) * BLOCK + i] * y + S[(R + 5) * BLOCK + i] * z,
+        S[(R + 6) * BLOCK + i] * x + S[(R + 7) * BLOCK + i] * y + S[(R + 8) * BLOCK + i] * z,
+    )
 
 
 @njit(**_INLINE)
 def _fluid(prm):
     """Fluid parameters as scalars (read once, outside the loops): water flag, 1/blend,
     densities, wind, and current minus wind."""
-    return (prm[P_WATER], prm[P_INV_BLEND], prm[P_RHO_AIR], prm[P_RHO_WATER],
-            prm[P_WIND], prm[P_WIND + 1], prm[P_WIND + 2],
-            prm[P_CURRENT] - prm[P_WIND], prm[P_CURRENT + 1] - prm[P_WIND + 1],
-            prm[P_CURRENT + 2] - prm[P_WIND + 2])
+    return (
+        prm[P_WATER],
+        prm[P_INV_BLEND],
+        prm[P_RHO_AIR],
+        prm[P_RHO_WATER],
+        prm[P_WIND],
+        prm[P_WIND + 1],
+        prm[P_WIND + 2],
+        prm[P_CURRENT] - prm[P_WIND],
+        prm[P_CURRENT + 1] - prm[P_WIND + 1],
+        prm[P_CURRENT + 2] - prm[P_WIND + 2],
+    )
 
 
 @njit(**_INLINE)
@@ -182,8 +227,15 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
             S[(D + OX + k) * BLOCK + i] = S[(Y + OV + k) * BLOCK + i]
             S[(D + OV + k) * BLOCK + i] = ZERO
             S[(D + OL + k) * BLOCK + i] = ZERO
-        dq = quat_rate(S[(Y + OQ) * BLOCK + i], S[(Y + OQ + 1) * BLOCK + i], S[(Y + OQ + 2) * BLOCK + i],
-                       S[(Y + OQ + 3) * BLOCK + i], S[(W) * BLOCK + i], S[(W + 1) * BLOCK + i], S[(W + 2) * BLOCK + i])
+        dq = quat_rate(
+            S[(Y + OQ) * BLOCK + i],
+            S[(Y + OQ + 1) * BLOCK + i],
+            S[(Y + OQ + 2) * BLOCK + i],
+            S[(Y + OQ + 3) * BLOCK + i],
+            S[(W) * BLOCK + i],
+            S[(W + 1) * BLOCK + i],
+            S[(W + 2) * BLOCK + i],
+        )
         for k in range(4):
             S[(D + OQ + k) * BLOCK + i] = dq[k]
 
@@ -201,8 +253,9 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
         ox, oy, oz, area, eff = cpl[0, p], cpl[1, p], cpl[2, p], cpl[9, p], cpl[10, p]
         for i in range(n):
             rx, ry, rz = _rotate(S, i, ox, oy, oz)
-            nx, ny, nz = _rotate(S, i, cnorm[0, p, e0 + i], cnorm[1, p, e0 + i],
-                                 cnorm[2, p, e0 + i])
+            nx, ny, nz = _rotate(
+                S, i, cnorm[0, p, e0 + i], cnorm[1, p, e0 + i], cnorm[2, p, e0 + i]
+            )
             vx, vy, vz, rho, _, _ = _flow(S, i, rx, ry, rz, fl)
             fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, area, eff, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
@@ -248,7 +301,12 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
 @njit(**_INLINE)
 def _normalize_quat(S, row, n):
     for i in range(n):
-        qw, qx, qy, qz = S[(row) * BLOCK + i], S[(row + 1) * BLOCK + i], S[(row + 2) * BLOCK + i], S[(row + 3) * BLOCK + i]
+        qw, qx, qy, qz = (
+            S[(row) * BLOCK + i],
+            S[(row + 1) * BLOCK + i],
+            S[(row + 2) * BLOCK + i],
+            S[(row + 3) * BLOCK + i],
+        )
         s = ONE / math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
         S[(row) * BLOCK + i] = qw * s
         S[(row + 1) * BLOCK + i] = qx * s
@@ -282,18 +340,56 @@ def _rotate_by_omega(S, body, b, n, h):
     ixx, iyy, izz = body[b, 1], body[b, 2], body[b, 3]
     ixy, ixz, iyz = body[b, 4], body[b, 5], body[b, 6]
     for i in range(n):
-        lx, ly, lz = S[(Y + OL) * BLOCK + i], S[(Y + OL + 1) * BLOCK + i], S[(Y + OL + 2) * BLOCK + i]
+        lx, ly, lz = (
+            S[(Y + OL) * BLOCK + i],
+            S[(Y + OL + 1) * BLOCK + i],
+            S[(Y + OL + 2) * BLOCK + i],
+        )
         qw, qx = S[(Y + OQ) * BLOCK + i], S[(Y + OQ + 1) * BLOCK + i]
         qy, qz = S[(Y + OQ + 2) * BLOCK + i], S[(Y + OQ + 3) * BLOCK + i]
-        w = world_omega(S[R * BLOCK + i], S[(R + 1) * BLOCK + i], S[(R + 2) * BLOCK + i],
-                        S[(R + 3) * BLOCK + i], S[(R + 4) * BLOCK + i], S[(R + 5) * BLOCK + i],
-                        S[(R + 6) * BLOCK + i], S[(R + 7) * BLOCK + i], S[(R + 8) * BLOCK + i],
-                        lx, ly, lz, ixx, iyy, izz, ixy, ixz, iyz)
+        w = world_omega(
+            S[R * BLOCK + i],
+            S[(R + 1) * BLOCK + i],
+            S[(R + 2) * BLOCK + i],
+            S[(R + 3) * BLOCK + i],
+            S[(R + 4) * BLOCK + i],
+            S[(R + 5) * BLOCK + i],
+            S[(R + 6) * BLOCK + i],
+            S[(R + 7) * BLOCK + i],
+            S[(R + 8) * BLOCK + i],
+            lx,
+            ly,
+            lz,
+            ixx,
+            iyy,
+            izz,
+            ixy,
+            ixz,
+            iyz,
+        )
         dq = quat_rate(qw, qx, qy, qz, w[0], w[1], w[2])
         hh = HALF * h
         m = quat_to_matrix(qw + hh * dq[0], qx + hh * dq[1], qy + hh * dq[2], qz + hh * dq[3])
-        w = world_omega(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8],
-                        lx, ly, lz, ixx, iyy, izz, ixy, ixz, iyz)
+        w = world_omega(
+            m[0],
+            m[1],
+            m[2],
+            m[3],
+            m[4],
+            m[5],
+            m[6],
+            m[7],
+            m[8],
+            lx,
+            ly,
+            lz,
+            ixx,
+            iyy,
+            izz,
+            ixy,
+            ixz,
+            iyz,
+        )
         dq = quat_rate(qw, qx, qy, qz, w[0], w[1], w[2])
         S[(Y + OQ) * BLOCK + i] = qw + h * dq[0]
         S[(Y + OQ + 1) * BLOCK + i] = qx + h * dq[1]
@@ -374,8 +470,9 @@ def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, method):
                 for k in range(NSTATE):
                     for i in range(n):
                         acc = S[(D + k) * BLOCK + i] * weight
-                        S[(ACC + k) * BLOCK + i] = acc if stage == 0 else \
-                            S[(ACC + k) * BLOCK + i] + acc
+                        S[(ACC + k) * BLOCK + i] = (
+                            acc if stage == 0 else S[(ACC + k) * BLOCK + i] + acc
+                        )
                 if stage < 2:
                     _axpy(S, Y, Y0, h2, n)
                 elif stage == 2:
@@ -384,8 +481,9 @@ def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, method):
                     h6 = dt / SIX
                     for k in range(NSTATE):
                         for i in range(n):
-                            S[(Y + k) * BLOCK + i] = S[(Y0 + k) * BLOCK + i] + \
-                                h6 * S[(ACC + k) * BLOCK + i]
+                            S[(Y + k) * BLOCK + i] = (
+                                S[(Y0 + k) * BLOCK + i] + h6 * S[(ACC + k) * BLOCK + i]
+                            )
                     _normalize_quat(S, Y + OQ, n)
 
 
@@ -397,9 +495,16 @@ def _deflect(e0, n, cpl, cmix, ctrl, cnorm):
             theta = ZERO * cpl[0, p]  # zero in the simulation dtype
             for c in range(cmix.shape[1]):
                 theta += cmix[p, c] * ctrl[c, e0 + i]
-            nx, ny, nz = rotate_about_axis(cpl[3, p], cpl[4, p], cpl[5, p], cpl[6, p],
-                                           cpl[7, p], cpl[8, p], math.cos(theta),
-                                           math.sin(theta))
+            nx, ny, nz = rotate_about_axis(
+                cpl[3, p],
+                cpl[4, p],
+                cpl[5, p],
+                cpl[6, p],
+                cpl[7, p],
+                cpl[8, p],
+                math.cos(theta),
+                math.sin(theta),
+            )
             cnorm[0, p, e0 + i] = nx
             cnorm[1, p, e0 + i] = ny
             cnorm[2, p, e0 + i] = nz
@@ -447,12 +552,27 @@ def body_omega(st, body, out):
     """World angular velocity of every body, out[3, B, E] from st[13, B, E]."""
     for b in range(st.shape[1]):
         for e in range(st.shape[2]):
-            m = quat_to_matrix(st[OQ, b, e], st[OQ + 1, b, e], st[OQ + 2, b, e],
-                               st[OQ + 3, b, e])
-            w = world_omega(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8],
-                            st[OL, b, e], st[OL + 1, b, e], st[OL + 2, b, e],
-                            body[b, 1], body[b, 2], body[b, 3], body[b, 4], body[b, 5],
-                            body[b, 6])
+            m = quat_to_matrix(st[OQ, b, e], st[OQ + 1, b, e], st[OQ + 2, b, e], st[OQ + 3, b, e])
+            w = world_omega(
+                m[0],
+                m[1],
+                m[2],
+                m[3],
+                m[4],
+                m[5],
+                m[6],
+                m[7],
+                m[8],
+                st[OL, b, e],
+                st[OL + 1, b, e],
+                st[OL + 2, b, e],
+                body[b, 1],
+                body[b, 2],
+                body[b, 3],
+                body[b, 4],
+                body[b, 5],
+                body[b, 6],
+            )
             out[0, b, e] = w[0]
             out[1, b, e] = w[1]
             out[2, b, e] = w[2]

@@ -20,8 +20,9 @@ def _pack(crafts: Sequence[Craft], dtype) -> tuple[tuple, np.ndarray, list[str]]
     offsets = []
     for c in crafts:
         offsets.append(len(names))
-        names.extend(c.control_names if len(crafts) == 1
-                     else (f"{c.name}.{n}" for n in c.control_names))
+        names.extend(
+            c.control_names if len(crafts) == 1 else (f"{c.name}.{n}" for n in c.control_names)
+        )
     n_ch = len(names)
 
     body = np.zeros((len(crafts), 7))
@@ -47,8 +48,7 @@ def _pack(crafts: Sequence[Craft], dtype) -> tuple[tuple, np.ndarray, list[str]]
         for t in c.thrusters:
             thr.append((*t.offset_m, *t.direction, t.min_thrust_n, t.max_thrust_n))
             thr_ch.append(-1 if t.control is None else offsets[b] + channels.index(t.control))
-        for key, table in (("fpl", fpl), ("cpl", cpl), ("cyl", cyl), ("buo", buo),
-                           ("thr", thr)):
+        for key, table in (("fpl", fpl), ("cpl", cpl), ("cyl", cyl), ("buo", buo), ("thr", thr)):
             at[key].append(len(table))
 
     def table(rows, width):
@@ -57,9 +57,20 @@ def _pack(crafts: Sequence[Craft], dtype) -> tuple[tuple, np.ndarray, list[str]]
     def ranges(key):
         return np.asarray(at[key], dtype=np.int64)
 
-    tables = (body.astype(dtype), table(fpl, 8), ranges("fpl"), table(cpl, 11), ranges("cpl"),
-              table(cyl, 7), ranges("cyl"), table(buo, 5), ranges("buo"), table(thr, 8),
-              np.asarray(thr_ch, dtype=np.int64), ranges("thr"))
+    tables = (
+        body.astype(dtype),
+        table(fpl, 8),
+        ranges("fpl"),
+        table(cpl, 11),
+        ranges("cpl"),
+        table(cyl, 7),
+        ranges("cyl"),
+        table(buo, 5),
+        ranges("buo"),
+        table(thr, 8),
+        np.asarray(thr_ch, dtype=np.int64),
+        ranges("thr"),
+    )
     cmix = np.asarray(mix, dtype=dtype).reshape(len(mix), n_ch)
     return tables, cmix, names
 
@@ -91,24 +102,34 @@ class Simulator:
         array([ 1.     ,  0.     , -4.95405])
     """
 
-    def __init__(self, crafts: Craft | Sequence[Craft], world: World | None = None,
-                 num_envs: int = 1, dt: float = 1.0 / 120.0,
-                 integrator: str = "symplectic_euler", dtype=np.float64,
-                 parallel: bool | None = None) -> None:
+    def __init__(
+        self,
+        crafts: Craft | Sequence[Craft],
+        world: World | None = None,
+        num_envs: int = 1,
+        dt: float = 1.0 / 120.0,
+        integrator: str = "symplectic_euler",
+        dtype=np.float64,
+        parallel: bool | None = None,
+    ) -> None:
         crafts = [crafts] if isinstance(crafts, Craft) else list(crafts)
         if not crafts or not all(isinstance(c, Craft) for c in crafts):
             raise TypeError(f"crafts must be a Craft or a non-empty list of Crafts, got {crafts!r}")
         world = World() if world is None else world
         if not isinstance(world, World):
             raise TypeError(f"world must be a World, got {world!r}")
-        if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) \
-                or num_envs < 1:
+        if (
+            isinstance(num_envs, bool)
+            or not isinstance(num_envs, (int, np.integer))
+            or num_envs < 1
+        ):
             raise ValueError(f"num_envs must be a positive integer, got {num_envs!r}")
         if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
             raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
         if integrator not in K.INTEGRATORS:
-            raise ValueError(f"unknown integrator {integrator!r}; choose one of "
-                             f"{sorted(K.INTEGRATORS)}")
+            raise ValueError(
+                f"unknown integrator {integrator!r}; choose one of {sorted(K.INTEGRATORS)}"
+            )
         dtype = np.dtype(dtype)
         if dtype not in (np.float32, np.float64):
             raise ValueError(f"dtype must be float32 or float64, got {dtype}")
@@ -133,8 +154,8 @@ class Simulator:
         prm[K.P_RHO_AIR] = world.air_density_kgm3
         prm[K.P_RHO_WATER] = world.water_density_kgm3
         prm[K.P_WATER] = 1.0 if world.water else 0.0
-        prm[K.P_WIND:K.P_WIND + 3] = world.wind_mps
-        prm[K.P_CURRENT:K.P_CURRENT + 3] = world.current_mps
+        prm[K.P_WIND : K.P_WIND + 3] = world.wind_mps
+        prm[K.P_CURRENT : K.P_CURRENT + 3] = world.current_mps
         # a sharp surface is a layer thin enough that the blend is a step
         prm[K.P_INV_BLEND] = 1.0 / world.surface_blend_m if world.surface_blend_m > 0 else 1e30
         prm[K.P_VMAX] = world.max_fluid_speed_mps
@@ -189,8 +210,9 @@ class Simulator:
     def kinetic_energy(self) -> np.ndarray:
         """Kinetic energy of each body [E, B] (J): 1/2 m v^2 + 1/2 L . w."""
         v, w, L = self.lin_vel, self.ang_vel, self._view(slice(K.OL, K.OL + 3))
-        return 0.5 * self._mass * np.einsum("ebk,ebk->eb", v, v) \
-            + 0.5 * np.einsum("ebk,ebk->eb", L, w)
+        return 0.5 * self._mass * np.einsum("ebk,ebk->eb", v, v) + 0.5 * np.einsum(
+            "ebk,ebk->eb", L, w
+        )
 
     @property
     def diverged(self) -> np.ndarray:
@@ -206,24 +228,36 @@ class Simulator:
         try:
             arr = np.broadcast_to(arr, (n, self.num_bodies, width))
         except ValueError:
-            raise ValueError(f"reset: {name} of shape {arr.shape} does not broadcast to "
-                             f"[{n}, {self.num_bodies}, {width}]") from None
+            raise ValueError(
+                f"reset: {name} of shape {arr.shape} does not broadcast to "
+                f"[{n}, {self.num_bodies}, {width}]"
+            ) from None
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"reset: {name} has non-finite values: {value!r}")
         return arr
 
-    def reset(self, pos=(0.0, 0.0, 0.0), quat=(1.0, 0.0, 0.0, 0.0), lin_vel=(0.0, 0.0, 0.0),
-              ang_vel=(0.0, 0.0, 0.0), env_ids=None) -> None:
+    def reset(
+        self,
+        pos=(0.0, 0.0, 0.0),
+        quat=(1.0, 0.0, 0.0, 0.0),
+        lin_vel=(0.0, 0.0, 0.0),
+        ang_vel=(0.0, 0.0, 0.0),
+        env_ids=None,
+    ) -> None:
         """Set the state of all environments, or of ``env_ids`` only.
 
         Each argument broadcasts to ``[n, B, 3]`` (``[n, B, 4]`` for quat), n the number of
         environments being reset. Quaternions are normalized; ``ang_vel`` is in the world frame.
         """
         ids = np.arange(self.num_envs) if env_ids is None else np.asarray(env_ids)
-        if ids.ndim != 1 or ids.dtype.kind not in "iu" or \
-                (ids.size and (ids.min() < 0 or ids.max() >= self.num_envs)):
-            raise ValueError(f"reset: env_ids must be integers in [0, {self.num_envs}), "
-                             f"got {env_ids!r}")
+        if (
+            ids.ndim != 1
+            or ids.dtype.kind not in "iu"
+            or (ids.size and (ids.min() < 0 or ids.max() >= self.num_envs))
+        ):
+            raise ValueError(
+                f"reset: env_ids must be integers in [0, {self.num_envs}), got {env_ids!r}"
+            )
         n = ids.size
         p = self._broadcast("pos", pos, 3, n)
         q = self._broadcast("quat", quat, 4, n)
@@ -235,12 +269,16 @@ class Simulator:
         q = q / norm
         # L = R I R^T w, per body slot
         rot = K.quat_matrices(q.reshape(-1, 4)).reshape(n, self.num_bodies, 3, 3)
-        inertia = np.stack([c.inertia_tensor for c in self.crafts])   # [B, 3, 3]
+        inertia = np.stack([c.inertia_tensor for c in self.crafts])  # [B, 3, 3]
         iw = rot @ inertia[None] @ np.swapaxes(rot, -1, -2)
         L = np.einsum("nbij,nbj->nbi", iw, w)
         st = self._st
-        for rows, val in ((slice(K.OX, K.OX + 3), p), (slice(K.OQ, K.OQ + 4), q),
-                          (slice(K.OV, K.OV + 3), v), (slice(K.OL, K.OL + 3), L)):
+        for rows, val in (
+            (slice(K.OX, K.OX + 3), p),
+            (slice(K.OQ, K.OQ + 4), q),
+            (slice(K.OV, K.OV + 3), v),
+            (slice(K.OL, K.OL + 3), L),
+        ):
             st[rows, :, ids] = val.transpose(2, 1, 0)
         self._diverged[ids] = False
 
@@ -260,14 +298,26 @@ class Simulator:
             a = np.asarray(controls)
             shape = (self.num_envs, len(self.control_names))
             if a.shape != shape:
-                raise ValueError(f"controls must have shape {shape} (envs, channels "
-                                 f"{self.control_names}), got {a.shape}")
+                raise ValueError(
+                    f"controls must have shape {shape} (envs, channels "
+                    f"{self.control_names}), got {a.shape}"
+                )
             if not np.all(np.isfinite(a)):
                 raise ValueError("controls contain NaN or inf")
             if a.size and np.abs(a).max() > 1.0:
-                raise ValueError(f"controls must lie in [-1, 1], got values up to "
-                                 f"{np.abs(a).max():.6g}")
+                raise ValueError(
+                    f"controls must lie in [-1, 1], got values up to {np.abs(a).max():.6g}"
+                )
             self._ctrl[...] = a.T
-        self._kernel(self._st, self._ctrl, self._tables, self._cmix, self._cnorm, self._prm,
-                     self._method, int(steps), self._scr, self._diverged)
-
+        self._kernel(
+            self._st,
+            self._ctrl,
+            self._tables,
+            self._cmix,
+            self._cnorm,
+            self._prm,
+            self._method,
+            int(steps),
+            self._scr,
+            self._diverged,
+        )

@@ -1,4 +1,4 @@
-"""The world a craft moves in: gravity, the two fluids, the water surface and the stability clamps."""
+"""The world a craft moves in: gravity, two fluids, the water surface, the stability clamps."""
 
 from __future__ import annotations
 

@@ -28,8 +28,9 @@ def test_shipped_crafts_load():
 def test_craft_in_code_defaults_to_free_body():
     box = Craft(name="box", mass_kg=1.0, inertia_kgm2=(1.0, 2.0, 3.0))
     assert box.num_samples == 0 and box.control_names == ()
-    full = Craft(name="t", mass_kg=1.0, inertia_kgm2=[[2.0, 0.1, 0.0], [0.1, 2.0, 0.0],
-                                                      [0.0, 0.0, 3.0]])
+    full = Craft(
+        name="t", mass_kg=1.0, inertia_kgm2=[[2.0, 0.1, 0.0], [0.1, 2.0, 0.0], [0.0, 0.0, 3.0]]
+    )
     assert full.inertia_tensor[0, 1] == 0.1
 
 
@@ -38,29 +39,54 @@ def test_directions_are_normalized():
     assert p.normal == (0.0, 0.0, 1.0)
 
 
-@pytest.mark.parametrize("text, message", [
-    ('name = "x"\nmass_kg = 1.0\n', "missing required key(s) ['inertia_kgm2']"),
-    ('name = "x"\nmass_kg = -1.0\ninertia_kgm2 = [1, 1, 1]\n', "mass_kg must be > 0, got -1.0"),
-    ('name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\ncolour = "red"\n',
-     "unknown key(s) ['colour']"),
-    ('name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 3]\n', "triangle inequality"),
-    ('name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, -1, 1]\n', "positive definite"),
-    ('name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[plates]]\nname = "w"\n'
-     'offset_m = [0, 0, 0]\nnormal = [0, 0, 1]\narea_m2 = -0.5\n', "area_m2 must be > 0, got -0.5"),
-    ('name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[plates]]\nname = "w"\n'
-     'offset_m = [0, 0, 0]\nnormal = [0, 0, 0]\narea_m2 = 0.5\n', "normal must be a non-zero"),
-    ('name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[plates]]\nname = "w"\n'
-     'offset_m = [0, 0, 0]\narea_m2 = 0.5\n', "plates[0]: missing required key(s) ['normal']"),
-    ('name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[plates]]\nname = "w"\n'
-     'offset_m = [0, 0, 0]\nnormal = [0, 0, 1]\narea_m2 = 0.5\nspan = 2\n', "unknown key(s) ['span']"),
-    ('name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[controls]]\nname = "elevator"\n'
-     'surfaces = [{sample = "tail"}]\n', "drives 'tail', which is not a plate"),
-    ('name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[buoyancy]]\nname = "b"\n'
-     'offset_m = [0, 0, 0]\nkind = "balloon"\nvolume_m3 = 1\n', "kind must be 'volume' or 'area'"),
-    ('name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[thrusters]]\nname = "p"\n'
-     'offset_m = [0, 0, 0]\ndirection = [1, 0, 0]\nmax_thrust_n = 5\ncontrol = "gas"\n',
-     "bound to unknown control 'gas'"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ('name = "x"\nmass_kg = 1.0\n', "missing required key(s) ['inertia_kgm2']"),
+        ('name = "x"\nmass_kg = -1.0\ninertia_kgm2 = [1, 1, 1]\n', "mass_kg must be > 0, got -1.0"),
+        (
+            'name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\ncolour = "red"\n',
+            "unknown key(s) ['colour']",
+        ),
+        ('name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 3]\n', "triangle inequality"),
+        ('name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, -1, 1]\n', "positive definite"),
+        (
+            'name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[plates]]\nname = "w"\n'
+            "offset_m = [0, 0, 0]\nnormal = [0, 0, 1]\narea_m2 = -0.5\n",
+            "area_m2 must be > 0, got -0.5",
+        ),
+        (
+            'name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[plates]]\nname = "w"\n'
+            "offset_m = [0, 0, 0]\nnormal = [0, 0, 0]\narea_m2 = 0.5\n",
+            "normal must be a non-zero",
+        ),
+        (
+            'name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[plates]]\nname = "w"\n'
+            "offset_m = [0, 0, 0]\narea_m2 = 0.5\n",
+            "plates[0]: missing required key(s) ['normal']",
+        ),
+        (
+            'name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[plates]]\nname = "w"\n'
+            "offset_m = [0, 0, 0]\nnormal = [0, 0, 1]\narea_m2 = 0.5\nspan = 2\n",
+            "unknown key(s) ['span']",
+        ),
+        (
+            'name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[controls]]\nname = "elevator"\n'
+            'surfaces = [{sample = "tail"}]\n',
+            "drives 'tail', which is not a plate",
+        ),
+        (
+            'name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[buoyancy]]\nname = "b"\n'
+            'offset_m = [0, 0, 0]\nkind = "balloon"\nvolume_m3 = 1\n',
+            "kind must be 'volume' or 'area'",
+        ),
+        (
+            'name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[thrusters]]\nname = "p"\n'
+            'offset_m = [0, 0, 0]\ndirection = [1, 0, 0]\nmax_thrust_n = 5\ncontrol = "gas"\n',
+            "bound to unknown control 'gas'",
+        ),
+    ],
+)
 def test_bad_craft_file_is_refused_with_a_clear_message(tmp_path, text, message):
     with pytest.raises(CraftError) as err:
         Craft.load(write(tmp_path, text))

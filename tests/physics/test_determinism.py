@@ -11,8 +11,12 @@ from fluidsim_envs.physics import Craft, Simulator, World
 def initial_states(n, seed=7):
     rng = np.random.default_rng(seed)
     quat = rng.normal(size=(n, 1, 4))
-    return dict(pos=rng.uniform(-5, 5, (n, 1, 3)) + (0, 0, 10), quat=quat,
-                lin_vel=rng.uniform(-8, 8, (n, 1, 3)), ang_vel=rng.uniform(-5, 5, (n, 1, 3)))
+    return dict(
+        pos=rng.uniform(-5, 5, (n, 1, 3)) + (0, 0, 10),
+        quat=quat,
+        lin_vel=rng.uniform(-8, 8, (n, 1, 3)),
+        ang_vel=rng.uniform(-5, 5, (n, 1, 3)),
+    )
 
 
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
@@ -25,8 +29,15 @@ def test_body_alone_equals_body_in_batch(dtype, integrator):
 
     def run(ids, parallel, threads):
         numba.set_num_threads(threads)
-        sim = Simulator(plane, World(wind_mps=(1.0, -2.0, 0.5)), num_envs=len(ids), dt=1 / 240,
-                        integrator=integrator, dtype=dtype, parallel=parallel)
+        sim = Simulator(
+            plane,
+            World(wind_mps=(1.0, -2.0, 0.5)),
+            num_envs=len(ids),
+            dt=1 / 240,
+            integrator=integrator,
+            dtype=dtype,
+            parallel=parallel,
+        )
         sim.reset(**{k: v[ids] for k, v in state.items()})
         for k in range(steps // 4):
             sim.step(controls[4 * k][ids], steps=4)

@@ -38,7 +38,7 @@ def test_plate_force_along_normal_scaling_v2_and_sin_alpha():
         assert f[2] == pytest.approx(0.5 * RHO * AREA * 100.0 * np.sin(alpha), rel=1e-12)
         assert plate(stream(20.0, alpha), n)[2] == pytest.approx(4 * f[2], rel=1e-12)
     assert np.all(plate(stream(10.0, 0.0), n) == 0.0)  # edge-on: no force
-    assert np.all(plate((0.0, 0.0, 0.0), n) == 0.0)   # at rest: finite, zero
+    assert np.all(plate((0.0, 0.0, 0.0), n) == 0.0)  # at rest: finite, zero
 
 
 def test_plate_efficiency_removes_the_drag_component():
@@ -63,8 +63,7 @@ def test_cylinder_cross_flow_force():
 
 def test_velocity_and_force_clamps():
     f = np.array(plate_force(1e6, 0.0, -1e6, 0.0, 0.0, 1.0, RHO, AREA, 0.0, 100.0, 1e12))
-    assert np.linalg.norm(f) == pytest.approx(0.5 * RHO * AREA * 100.0**2 * np.sqrt(0.5),
-                                              rel=1e-9)
+    assert np.linalg.norm(f) == pytest.approx(0.5 * RHO * AREA * 100.0**2 * np.sqrt(0.5), rel=1e-9)
     f = np.array(plate_force(0.0, 0.0, -50.0, 0.0, 0.0, 1.0, RHO, AREA, 0.0, 100.0, 7.0))
     assert np.linalg.norm(f) == pytest.approx(7.0, rel=1e-12)
 
@@ -91,31 +90,44 @@ def test_simulator_applies_plate_force_in_wind_at_its_offset():
 
 def test_control_deflection_rotates_the_normal():
     flap = Plate("flap", (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), AREA, hinge_axis=(0.0, 1.0, 0.0))
-    craft = Craft(name="f", mass_kg=1.0, inertia_kgm2=(1, 1, 1), plates=(flap,),
-                  controls=(Control("elevator", 20.0, (Surface("flap", -1.0),)),))
+    craft = Craft(
+        name="f",
+        mass_kg=1.0,
+        inertia_kgm2=(1, 1, 1),
+        plates=(flap,),
+        controls=(Control("elevator", 20.0, (Surface("flap", -1.0),)),),
+    )
     world = World(gravity_mps2=0.0)
     for action in (-1.0, 0.0, 0.5, 1.0):
         force, _ = one_step_force(craft, world, [[action]], lin_vel=(10.0, 0.0, 0.0))
         theta = np.radians(-20.0 * action)  # gain -1
         normal = (np.sin(theta), 0.0, np.cos(theta))  # +z turned about +y by theta
-        np.testing.assert_allclose(force, plate((10.0, 0.0, 0.0), normal), rtol=1e-12,
-                                   atol=1e-12)
+        np.testing.assert_allclose(force, plate((10.0, 0.0, 0.0), normal), rtol=1e-12, atol=1e-12)
 
 
 def test_buoyancy_volume_and_thrust():
-    craft = Craft(name="b", mass_kg=100.0, inertia_kgm2=(1, 1, 1),
-                  buoyancy=(Buoyancy("tank", (1.0, 0.0, 0.0), "volume", volume_m3=0.2),),
-                  thrusters=(Thruster("prop", (0.0, 0.0, -0.5), (1.0, 0.0, 0.0), 300.0, -100.0,
-                                      control="throttle"),),
-                  controls=(Control("throttle"),))
+    craft = Craft(
+        name="b",
+        mass_kg=100.0,
+        inertia_kgm2=(1, 1, 1),
+        buoyancy=(Buoyancy("tank", (1.0, 0.0, 0.0), "volume", volume_m3=0.2),),
+        thrusters=(
+            Thruster("prop", (0.0, 0.0, -0.5), (1.0, 0.0, 0.0), 300.0, -100.0, control="throttle"),
+        ),
+        controls=(Control("throttle"),),
+    )
     world = World(water=True, surface_blend_m=0.1)
     # deep: full buoyancy 1025 * 9.81 * 0.2 at x = 1 m (a pitching torque), and throttle 0.5
     # gives -100 + 0.75 * 400 = 200 N
     force, torque = one_step_force(craft, world, [[0.5]], pos=(0.0, 0.0, -5.0))
     lift = 1025.0 * 9.81 * 0.2
     np.testing.assert_allclose(force, (200.0, 0.0, lift - 100.0 * 9.81), rtol=1e-12)
-    np.testing.assert_allclose(torque, np.cross((1, 0, 0), (0, 0, lift))
-                               + np.cross((0, 0, -0.5), (200.0, 0, 0)), rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(
+        torque,
+        np.cross((1, 0, 0), (0, 0, lift)) + np.cross((0, 0, -0.5), (200.0, 0, 0)),
+        rtol=1e-12,
+        atol=1e-9,
+    )
     # half in the surface layer: half the buoyancy; in the air: none
     assert one_step_force(craft, world, [[-1.0]])[0][2] == pytest.approx(lift / 2 - 981.0)
     assert one_step_force(craft, world, [[-1.0]], pos=(0, 0, 1))[0][2] == pytest.approx(-981.0)
@@ -136,13 +148,21 @@ def test_divergence_is_flagged_not_hidden():
 
 
 def test_cylinder_in_simulator_and_several_bodies():
-    rod = Craft(name="rod", mass_kg=1.0, inertia_kgm2=(1, 1, 1),
-                cylinders=(Cylinder("c", (0, 0, 0), (1, 0, 0), AREA),))
+    rod = Craft(
+        name="rod",
+        mass_kg=1.0,
+        inertia_kgm2=(1, 1, 1),
+        cylinders=(Cylinder("c", (0, 0, 0), (1, 0, 0), AREA),),
+    )
     plane = Craft.load("paper_airplane")
-    sim = Simulator([rod, plane], World(gravity_mps2=0.0), num_envs=3, dt=1e-3,
-                    integrator="explicit_euler")
-    assert sim.control_names == ("paper_airplane.aileron", "paper_airplane.elevator",
-                                 "paper_airplane.rudder")
+    sim = Simulator(
+        [rod, plane], World(gravity_mps2=0.0), num_envs=3, dt=1e-3, integrator="explicit_euler"
+    )
+    assert sim.control_names == (
+        "paper_airplane.aileron",
+        "paper_airplane.elevator",
+        "paper_airplane.rudder",
+    )
     assert sim.pos.shape == (3, 2, 3) and sim.quat.shape == (3, 2, 4)
     sim.reset(lin_vel=[[3.0, 4.0, 0.0], [6.0, 0.0, 0.0]])
     sim.step(np.zeros((3, 3)))

@@ -26,8 +26,9 @@ PROJECTILE = {
 @pytest.mark.parametrize("integrator", sorted(INTEGRATORS))
 @pytest.mark.parametrize("dtype", [np.float64, np.float32])
 def test_projectile_matches_discrete_closed_form(integrator, dtype):
-    sim = Simulator(BOX, World(gravity_mps2=G), num_envs=3, dt=0.01, integrator=integrator,
-                    dtype=dtype)
+    sim = Simulator(
+        BOX, World(gravity_mps2=G), num_envs=3, dt=0.01, integrator=integrator, dtype=dtype
+    )
     sim.reset()
     sim.step(steps=100)
     z, vz = sim.pos[:, 0, 2], sim.lin_vel[:, 0, 2]
@@ -48,16 +49,21 @@ def test_projectile_matches_discrete_closed_form(integrator, dtype):
 # waterline depth m / (rho A): a harmonic oscillator of period 2 pi sqrt(m / k).
 RHO = 1025.0
 AREA = 0.01
-FLOAT = Craft(name="float", mass_kg=1.0, inertia_kgm2=(1.0, 1.0, 1.0),
-              buoyancy=(Buoyancy("hull", (0.0, 0.0, 0.0), "area", area_m2=AREA),))
+FLOAT = Craft(
+    name="float",
+    mass_kg=1.0,
+    inertia_kgm2=(1.0, 1.0, 1.0),
+    buoyancy=(Buoyancy("hull", (0.0, 0.0, 0.0), "area", area_m2=AREA),),
+)
 K_SPRING = RHO * G * AREA
 Z_EQ = -FLOAT.mass_kg / (RHO * AREA)
 OMEGA = np.sqrt(K_SPRING / FLOAT.mass_kg)
 
 
 def spring_run(integrator, dt, steps, amplitude=0.02, record_every=1):
-    sim = Simulator(FLOAT, World(water=True, water_density_kgm3=RHO), num_envs=1, dt=dt,
-                    integrator=integrator)
+    sim = Simulator(
+        FLOAT, World(water=True, water_density_kgm3=RHO), num_envs=1, dt=dt, integrator=integrator
+    )
     sim.reset(pos=(0.0, 0.0, Z_EQ + amplitude))
     z, v = [], []
     for _ in range(steps // record_every):
@@ -96,19 +102,25 @@ def test_symplectic_euler_energy_bounded_explicit_euler_grows():
     assert energy[-1] / e0 > 10
 
 
-# ---- torque-free rigid body: the intermediate-axis (tennis racket) flip ---------------------------
+# ---- torque-free rigid body: the intermediate-axis (tennis racket) flip ----
 I_BODY = np.array([1.0, 2.0, 3.0])
 W0 = np.array([0.02, 2.0, 0.02])  # body frame, mostly about the intermediate axis
 
 
 def euler_reference(t_end):
     """Euler's equations in the body frame, solved at tight tolerance (scipy solve_ivp)."""
+
     def rhs(_, w):
         i1, i2, i3 = I_BODY
-        return [(i2 - i3) / i1 * w[1] * w[2], (i3 - i1) / i2 * w[2] * w[0],
-                (i1 - i2) / i3 * w[0] * w[1]]
-    return solve_ivp(rhs, (0, t_end), W0, method="DOP853", rtol=1e-12, atol=1e-12,
-                     dense_output=True)
+        return [
+            (i2 - i3) / i1 * w[1] * w[2],
+            (i3 - i1) / i2 * w[2] * w[0],
+            (i1 - i2) / i3 * w[0] * w[1],
+        ]
+
+    return solve_ivp(
+        rhs, (0, t_end), W0, method="DOP853", rtol=1e-12, atol=1e-12, dense_output=True
+    )
 
 
 def first_flip(t, wy):
@@ -119,9 +131,13 @@ def first_flip(t, wy):
 def body_rates(sim):
     q = sim.quat[0, 0]
     w, x, y, z = q
-    rot = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                    [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                    [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+    rot = np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
     return rot.T @ sim.ang_vel[0, 0]
 
 
@@ -144,10 +160,20 @@ def spin(integrator, dt, t_end):
 # fails. Symplectic Euler and velocity Verlet turn the orientation with an explicit-midpoint
 # step (second order), so their energy error stays ~1e-5 and returns to ~1e-7 after the flip;
 # RK2 and RK4 are accurate at their order but not conservative over long times.
-ENERGY_TOL = {"explicit_euler": 0.1, "symplectic_euler": 5e-5, "velocity_verlet": 5e-5,
-              "rk2": 1e-5, "rk4": 5e-9}
-FLIP_TOL = {"explicit_euler": 0.05, "symplectic_euler": 2e-3, "velocity_verlet": 2e-3,
-            "rk2": 2e-3, "rk4": 1e-6}
+ENERGY_TOL = {
+    "explicit_euler": 0.1,
+    "symplectic_euler": 5e-5,
+    "velocity_verlet": 5e-5,
+    "rk2": 1e-5,
+    "rk4": 5e-9,
+}
+FLIP_TOL = {
+    "explicit_euler": 0.05,
+    "symplectic_euler": 2e-3,
+    "velocity_verlet": 2e-3,
+    "rk2": 2e-3,
+    "rk4": 1e-6,
+}
 
 
 @pytest.mark.parametrize("integrator", sorted(INTEGRATORS))
