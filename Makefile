@@ -15,12 +15,12 @@ $(STAMP): pyproject.toml
 setup: $(STAMP)
 
 test: $(STAMP)
-	$(BIN)/ruff check fluidsim_envs tests benchmarks training
+	$(BIN)/ruff check .
 	$(BIN)/python -m pytest -n 2 fluidsim_envs tests
 
 lint: $(STAMP)
-	$(BIN)/ruff check fluidsim_envs tests benchmarks training
-	$(BIN)/ruff format --check fluidsim_envs tests benchmarks training
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
 
 demo: $(STAMP)
 	$(BIN)/python -m fluidsim_envs.demo

@@ -58,10 +58,18 @@ print(time.perf_counter() - t0)
 """
 
 
-def make_sim(num_envs: int, dtype: str, kernel: str = "serial",
-             integrator: str = "symplectic_euler") -> tuple[Simulator, np.ndarray]:
-    sim = Simulator(Craft.load(CRAFT), World(), num_envs=num_envs, dt=DT, integrator=integrator,
-                    dtype=DTYPES[dtype], parallel=kernel == "parallel")
+def make_sim(
+    num_envs: int, dtype: str, kernel: str = "serial", integrator: str = "symplectic_euler"
+) -> tuple[Simulator, np.ndarray]:
+    sim = Simulator(
+        Craft.load(CRAFT),
+        World(),
+        num_envs=num_envs,
+        dt=DT,
+        integrator=integrator,
+        dtype=DTYPES[dtype],
+        parallel=kernel == "parallel",
+    )
     rng = np.random.default_rng(0)
     controls = rng.uniform(-0.3, 0.3, size=(num_envs, len(sim.control_names)))
     return sim, controls
@@ -75,8 +83,7 @@ def timed_call(sim: Simulator, controls: np.ndarray, steps: int) -> float:
     return time.perf_counter() - t0
 
 
-def body_steps_per_s(sim: Simulator, controls: np.ndarray, target_s: float,
-                     repeats: int) -> float:
+def body_steps_per_s(sim: Simulator, controls: np.ndarray, target_s: float, repeats: int) -> float:
     """Best body-steps/s over ``repeats`` calls, each sized to last about ``target_s``."""
     timed_call(sim, controls, 1)  # warm-up: compile or load from the cache, start the threads
     steps, t = 1, timed_call(sim, controls, 1)
@@ -106,8 +113,9 @@ def call_overhead_us(calls: int) -> float:
 def first_step_seconds(cache_dir: str) -> float:
     """Seconds for the first step in a fresh interpreter using numba's cache in ``cache_dir``."""
     env = {**os.environ, "NUMBA_CACHE_DIR": cache_dir}
-    out = subprocess.run([sys.executable, "-c", CHILD], env=env, capture_output=True, text=True,
-                         check=True)
+    out = subprocess.run(
+        [sys.executable, "-c", CHILD], env=env, capture_output=True, text=True, check=True
+    )
     return float(out.stdout.split()[-1])
 
 
@@ -117,8 +125,14 @@ def machine_info() -> list[str]:
     sim.step()
     try:
         lscpu = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
-        model = next((line.split(":", 1)[1].strip() for line in lscpu.splitlines()
-                      if line.startswith("Model name")), "")
+        model = next(
+            (
+                line.split(":", 1)[1].strip()
+                for line in lscpu.splitlines()
+                if line.startswith("Model name")
+            ),
+            "",
+        )
     except OSError:
         model = ""
     return [
@@ -134,8 +148,12 @@ def machine_info() -> list[str]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="shorter, noisier measurements")
-    parser.add_argument("--out", type=Path, default=Path("docs/bench_kernel.csv"),
-                        help="CSV file to write (default: %(default)s)")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=Path("docs/bench_kernel.csv"),
+        help="CSV file to write (default: %(default)s)",
+    )
     args = parser.parse_args()
     target_s, repeats, calls = (0.05, 3, 2000) if args.quick else (0.3, 5, 20000)
 
@@ -146,22 +164,43 @@ def main() -> None:
     def record(section, dtype, integrator, num_envs, threads, kernel, value, unit):
         rows.append((section, dtype, integrator, num_envs, threads, kernel, value, unit))
         shown = f"{value:,.0f}" if value >= 1000 else f"{value:.3f}"
-        print(f"{section:<15}{dtype:<9}{integrator:<18}{num_envs:>7}{threads:>9}  {kernel:<10}"
-              f"{shown:>15} {unit}", flush=True)
+        print(
+            f"{section:<15}{dtype:<9}{integrator:<18}{num_envs:>7}{threads:>9}  {kernel:<10}"
+            f"{shown:>15} {unit}",
+            flush=True,
+        )
 
-    print(f"{'section':<15}{'dtype':<9}{'integrator':<18}{'E':>7}{'threads':>9}  {'kernel':<10}"
-          f"{'value':>15} unit")
+    print(
+        f"{'section':<15}{'dtype':<9}{'integrator':<18}{'E':>7}{'threads':>9}  {'kernel':<10}"
+        f"{'value':>15} unit"
+    )
     for dtype in DTYPES:
         for num_envs in NUM_ENVS:
             for kernel, threads in KERNELS:
                 numba.set_num_threads(threads)
                 sim, controls = make_sim(num_envs, dtype, kernel)
                 rate = body_steps_per_s(sim, controls, target_s, repeats)
-                record("throughput", dtype, "symplectic_euler", num_envs, threads, kernel, rate,
-                       "body-steps/s")
+                record(
+                    "throughput",
+                    dtype,
+                    "symplectic_euler",
+                    num_envs,
+                    threads,
+                    kernel,
+                    rate,
+                    "body-steps/s",
+                )
 
-    record("call_overhead", "float64", "symplectic_euler", 1, 1, "serial",
-           call_overhead_us(calls), "us/call")
+    record(
+        "call_overhead",
+        "float64",
+        "symplectic_euler",
+        1,
+        1,
+        "serial",
+        call_overhead_us(calls),
+        "us/call",
+    )
 
     numba.set_num_threads(2)
     for dtype in ("float64", "float32"):
@@ -172,8 +211,16 @@ def main() -> None:
 
     with tempfile.TemporaryDirectory(prefix="numba-cache-") as cache_dir:
         for section in ("compile_cold", "compile_cached"):
-            record(section, "float64", "symplectic_euler", 64, 1, "serial",
-                   first_step_seconds(cache_dir), "s")
+            record(
+                section,
+                "float64",
+                "symplectic_euler",
+                64,
+                1,
+                "serial",
+                first_step_seconds(cache_dir),
+                "s",
+            )
 
     args.out.parent.mkdir(parents=True, exist_ok=True)
     with args.out.open("w", newline="") as f:

@@ -18,8 +18,10 @@ def glide() -> None:
     print(f"{'t (s)':>6} {'x (m)':>7} {'z (m)':>7} {'speed (m/s)':>12}")
     t = 0.0
     while sim.pos[0, 0, 2] > 0.0 and t < 20.0:
-        print(f"{t:6.2f} {sim.pos[0, 0, 0]:7.2f} {sim.pos[0, 0, 2]:7.2f} "
-              f"{np.linalg.norm(sim.lin_vel[0, 0]):12.2f}")
+        print(
+            f"{t:6.2f} {sim.pos[0, 0, 0]:7.2f} {sim.pos[0, 0, 2]:7.2f} "
+            f"{np.linalg.norm(sim.lin_vel[0, 0]):12.2f}"
+        )
         sim.step(steps=60)
         t += 0.25
 
@@ -29,9 +31,12 @@ def float_buoy() -> None:
     # pressure on 0.25 m^2 each) and damping plates; it floats 200 / (1025 * 1) = 0.195 m deep
     corners = [(x, y, -0.25) for x in (-0.5, 0.5) for y in (-0.5, 0.5)]
     buoy = Craft(
-        name="buoy", mass_kg=200.0, inertia_kgm2=(20.8, 20.8, 33.3),
-        buoyancy=tuple(Buoyancy(f"corner{i}", c, "area", area_m2=0.25)
-                       for i, c in enumerate(corners)),
+        name="buoy",
+        mass_kg=200.0,
+        inertia_kgm2=(20.8, 20.8, 33.3),
+        buoyancy=tuple(
+            Buoyancy(f"corner{i}", c, "area", area_m2=0.25) for i, c in enumerate(corners)
+        ),
         plates=(Plate("bottom", (0.0, 0.0, -0.25), (0.0, 0.0, 1.0), 1.0),),
     )
     sim = Simulator(buoy, World(water=True), num_envs=1, dt=1 / 120)

@@ -321,9 +321,9 @@ class Simulator:
                     f"controls must have shape {shape} (envs, channels "
                     f"{self.control_names}), got {a.shape}"
                 )
-            if not np.all(np.isfinite(a)):
-                raise ValueError("controls contain NaN or inf")
-            if a.size and np.abs(a).max() > 1.0:
+            if not (np.abs(a) <= 1.0).all():  # one pass; NaN fails it too
+                if not np.isfinite(a).all():
+                    raise ValueError("controls contain NaN or inf")
                 raise ValueError(
                     f"controls must lie in [-1, 1], got values up to {np.abs(a).max():.6g}"
                 )
