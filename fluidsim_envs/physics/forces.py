@@ -22,11 +22,15 @@ _JIT = dict(cache=True, error_model="numpy", inline="always")
 
 
 @njit(**_JIT)
-def clamp_speed(vx, vy, vz, vmax):
-    """Scale a relative velocity down to length ``vmax`` at most; returns (vx, vy, vz, |v|)."""
+def speed_clamp(vx, vy, vz, vmax):
+    """|v|, 1/|v| (finite at rest) and the factor that scales v down to length ``vmax`` at most.
+
+    Both force laws are quadratic in v, so clamping v multiplies the force by the square of
+    this factor: the kernels apply it to the force instead of rescaling v.
+    """
     speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-    scale = min(ONE, vmax / max(speed, TINY))
-    return vx * scale, vy * scale, vz * scale, speed * scale
+    inv = ONE / max(speed, TINY)
+    return speed, inv, min(ONE, vmax * inv)
 
 
 @njit(**_JIT)
@@ -47,10 +51,10 @@ def plate_force(vx, vy, vz, nx, ny, nz, rho, area, efficiency, vmax, fmax):
     Written as ``k (|v| n - eff (v . n)/|v| v)`` with ``k = -1/2 rho A (v . n)`` so that it
     stays finite at rest.
     """
-    vx, vy, vz, speed = clamp_speed(vx, vy, vz, vmax)
+    speed, inv, scale = speed_clamp(vx, vy, vz, vmax)
     vn = vx * nx + vy * ny + vz * nz
-    k = -HALF * rho * area * vn
-    c = efficiency * vn / max(speed, TINY)
+    k = -HALF * rho * area * vn * scale * scale
+    c = efficiency * vn * inv
     return clamp_force(
         k * (speed * nx - c * vx), k * (speed * ny - c * vy), k * (speed * nz - c * vz), fmax
     )
@@ -60,12 +64,12 @@ def plate_force(vx, vy, vz, nx, ny, nz, rho, area, efficiency, vmax, fmax):
 def cylinder_force(vx, vy, vz, ax, ay, az, rho, area, vmax, fmax):
     """Cross-flow force on a slender cylinder with unit axis a (Hoerner's cross-flow principle):
     ``F = -1/2 rho A |v_perp| v_perp`` with ``v_perp = v - (v . a) a``; nothing along the axis."""
-    vx, vy, vz, speed = clamp_speed(vx, vy, vz, vmax)
+    _, _, scale = speed_clamp(vx, vy, vz, vmax)
     va = vx * ax + vy * ay + vz * az
     px = vx - va * ax
     py = vy - va * ay
     pz = vz - va * az
-    k = -HALF * rho * area * math.sqrt(px * px + py * py + pz * pz)
+    k = -HALF * rho * area * math.sqrt(px * px + py * py + pz * pz) * scale * scale
     return clamp_force(k * px, k * py, k * pz, fmax)
 
 

@@ -131,8 +131,10 @@ def _omega_row(S, body, b, n):
             S[(Y + OQ + 2) * BLOCK + i],
             S[(Y + OQ + 3) * BLOCK + i],
         )
-        for k in range(9):
-            S[(R + k) * BLOCK + i] = m[k]
+        # written out: indexing a tuple with a loop variable defeats vectorization
+        S[R * BLOCK + i], S[(R + 1) * BLOCK + i], S[(R + 2) * BLOCK + i] = m[0], m[1], m[2]
+        S[(R + 3) * BLOCK + i], S[(R + 4) * BLOCK + i], S[(R + 5) * BLOCK + i] = m[3], m[4], m[5]
+        S[(R + 6) * BLOCK + i], S[(R + 7) * BLOCK + i], S[(R + 8) * BLOCK + i] = m[6], m[7], m[8]
         w = world_omega(
             m[0],
             m[1],
@@ -236,8 +238,8 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
             S[(W + 1) * BLOCK + i],
             S[(W + 2) * BLOCK + i],
         )
-        for k in range(4):
-            S[(D + OQ + k) * BLOCK + i] = dq[k]
+        S[(D + OQ) * BLOCK + i], S[(D + OQ + 1) * BLOCK + i] = dq[0], dq[1]
+        S[(D + OQ + 2) * BLOCK + i], S[(D + OQ + 3) * BLOCK + i] = dq[2], dq[3]
 
     for p in range(fpl_at[b], fpl_at[b + 1]):  # fixed plates
         ox, oy, oz, bx, by, bz = fpl[0, p], fpl[1, p], fpl[2, p], fpl[3, p], fpl[4, p], fpl[5, p]
