@@ -18,7 +18,7 @@ ONE = np.float32(1.0)
 TWO = np.float32(2.0)
 TINY = np.float32(1e-30)  # guards 1/|v| at rest; a normal float32
 
-_JIT = dict(cache=True, error_model="numpy", inline="always")
+_JIT = dict(cache=True, error_model="numpy", inline="always", fastmath={"contract"})
 
 
 @njit(**_JIT)

@@ -8,8 +8,14 @@ over a block runs over bodies innermost with straight-line arithmetic, so the co
 vectorizes it across bodies: the sample loops are outside (``for sample: for body:``),
 accumulating each sample's force into per-body rows. No allocation, no Python, no branch on
 data. Each body's arithmetic is independent of its neighbours, of the block it falls in and of
-the thread that runs it, so results are bit-identical for any batch size and thread count
-(no fast-math: no reassociation or fused multiply-add contraction).
+the thread that runs it, so results are bit-identical for any batch size and thread count.
+Of fast-math only fused multiply-add contraction is on (the same contraction is applied to the
+vectorized loop and its scalar remainder: tests/physics/test_determinism.py checks it); no
+reassociation, and inf/NaN stay visible to the divergence check.
+
+Vectorization is fragile in two known ways, both handled here: tuples must not be indexed or
+unpacked inside the loops, and helpers that take the scratch array must be branch-free (a
+branch in an inlined array helper leaves reference counting in the loop).
 
 State per body: position x, orientation quaternion q (w, x, y, z; body -> world), linear
 velocity v and angular momentum L about the center of mass, all in the world frame. Angular
@@ -66,8 +72,8 @@ P_INV_BLEND, P_VMAX, P_FMAX, P_DT = 10, 11, 12, 13
 NPRM = 14
 
 SIX = np.float32(6.0)
-_JIT = dict(cache=True, error_model="numpy")
-_INLINE = dict(cache=True, error_model="numpy", inline="always")
+_JIT = dict(cache=True, error_model="numpy", fastmath={"contract"})
+_INLINE = dict(cache=True, error_model="numpy", inline="always", fastmath={"contract"})
 
 
 # --------------------------------------------------------------------------------------------
@@ -200,21 +206,34 @@ def _fluid(prm):
 
 
 @njit(**_INLINE)
-def _flow(S, i, rx, ry, rz, fl):
-    """At the sample point x + r: water fraction, density and velocity relative to the fluid.
-    ``fl`` is the tuple of fluid parameters from ``_fluid(prm)``."""
-    water, inv_blend, rho_a, rho_w, wdx, wdy, wdz, dux, duy, duz = fl
-    z = S[(Y + OX + 2) * BLOCK + i] + rz
-    frac = water_fraction(z, water, inv_blend)
+def _body_point(S, i):
+    """Height, velocity and angular velocity of body i: (z, vx, vy, vz, wx, wy, wz)."""
+    return (
+        S[(Y + OX + 2) * BLOCK + i],
+        S[(Y + OV) * BLOCK + i],
+        S[(Y + OV + 1) * BLOCK + i],
+        S[(Y + OV + 2) * BLOCK + i],
+        S[W * BLOCK + i],
+        S[(W + 1) * BLOCK + i],
+        S[(W + 2) * BLOCK + i],
+    )
+
+
+@njit(**_INLINE)
+def _flow(pt, rx, ry, rz, water, inv_blend, rho_a, rho_w, wdx, wdy, wdz, dux, duy, duz):
+    """At the sample point x + r of a body ``pt = _body_point(S, i)``: density and velocity
+    relative to the fluid. The fluid parameters come from ``_fluid(prm)``.
+
+    Helpers that take the scratch array must stay branch-free: the compiler then vectorizes
+    the loops that inline them; this one has branches (the surface blend), so it takes
+    scalars only."""
+    z0, v0x, v0y, v0z, wx, wy, wz = pt
+    frac = water_fraction(z0 + rz, water, inv_blend)
     rho = rho_a + frac * (rho_w - rho_a)
-    wx, wy, wz = S[(W) * BLOCK + i], S[(W + 1) * BLOCK + i], S[(W + 2) * BLOCK + i]
-    ux = wdx + frac * dux
-    uy = wdy + frac * duy
-    uz = wdz + frac * duz
-    vx = S[(Y + OV) * BLOCK + i] + wy * rz - wz * ry - ux
-    vy = S[(Y + OV + 1) * BLOCK + i] + wz * rx - wx * rz - uy
-    vz = S[(Y + OV + 2) * BLOCK + i] + wx * ry - wy * rx - uz
-    return vx, vy, vz, rho, z, frac
+    vx = v0x + wy * rz - wz * ry - wdx - frac * dux
+    vy = v0y + wz * rx - wx * rz - wdy - frac * duy
+    vz = v0z + wx * ry - wy * rx - wdz - frac * duz
+    return vx, vy, vz, rho
 
 
 @njit(**_JIT)
@@ -222,7 +241,7 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
     """Derivative rows D of the state rows Y: dx = v, dq, dv = F/m + g, dL = torque."""
     body, fpl, fpl_at, cpl, cpl_at, cyl, cyl_at, buo, buo_at, thr, thr_ch, thr_at = tables
     vmax, fmax = prm[P_VMAX], prm[P_FMAX]
-    fl = _fluid(prm)
+    water, inv_blend, rho_a, rho_w, wdx, wdy, wdz, dux, duy, duz = _fluid(prm)
     _omega_row(S, body, b, n)
     for i in range(n):
         for k in range(3):
@@ -247,7 +266,22 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
         for i in range(n):
             rx, ry, rz = _rotate(S, i, ox, oy, oz)
             nx, ny, nz = _rotate(S, i, bx, by, bz)
-            vx, vy, vz, rho, _, _ = _flow(S, i, rx, ry, rz, fl)
+            vx, vy, vz, rho = _flow(
+                _body_point(S, i),
+                rx,
+                ry,
+                rz,
+                water,
+                inv_blend,
+                rho_a,
+                rho_w,
+                wdx,
+                wdy,
+                wdz,
+                dux,
+                duy,
+                duz,
+            )
             fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, area, eff, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
 
@@ -258,7 +292,22 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
             nx, ny, nz = _rotate(
                 S, i, cnorm[0, p, e0 + i], cnorm[1, p, e0 + i], cnorm[2, p, e0 + i]
             )
-            vx, vy, vz, rho, _, _ = _flow(S, i, rx, ry, rz, fl)
+            vx, vy, vz, rho = _flow(
+                _body_point(S, i),
+                rx,
+                ry,
+                rz,
+                water,
+                inv_blend,
+                rho_a,
+                rho_w,
+                wdx,
+                wdy,
+                wdz,
+                dux,
+                duy,
+                duz,
+            )
             fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, area, eff, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
 
@@ -268,12 +317,26 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
         for i in range(n):
             rx, ry, rz = _rotate(S, i, ox, oy, oz)
             ax, ay, az = _rotate(S, i, bx, by, bz)
-            vx, vy, vz, rho, _, _ = _flow(S, i, rx, ry, rz, fl)
+            vx, vy, vz, rho = _flow(
+                _body_point(S, i),
+                rx,
+                ry,
+                rz,
+                water,
+                inv_blend,
+                rho_a,
+                rho_w,
+                wdx,
+                wdy,
+                wdz,
+                dux,
+                duy,
+                duz,
+            )
             fx, fy, fz = cylinder_force(vx, vy, vz, ax, ay, az, rho, area, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
 
-    g, rho_w, water = prm[P_G], prm[P_RHO_WATER], prm[P_WATER]
-    inv_blend = prm[P_INV_BLEND]
+    g = prm[P_G]
     for p in range(buo_at[b], buo_at[b + 1]):
         ox, oy, oz, vol, area = buo[0, p], buo[1, p], buo[2, p], buo[3, p], buo[4, p]
         for i in range(n):
