@@ -4,6 +4,8 @@ cross-flow principle for cylinders), control deflection, buoyancy, thrust and di
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from fluidsim_envs.physics import (
     Buoyancy,
@@ -170,3 +172,29 @@ def test_cylinder_in_simulator_and_several_bodies():
     f = np.array(cylinder_force(3.0, 4.0, 0.0, 1.0, 0.0, 0.0, RHO, AREA, 156.0, 1e7))
     np.testing.assert_allclose(dv, np.broadcast_to(f, (3, 3)), rtol=1e-12, atol=1e-12)
     assert sim.kinetic_energy().shape == (3, 2)
+
+
+finite = st.floats(-1e6, 1e6, allow_nan=False)
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    v=st.tuples(finite, finite, finite),
+    n=st.tuples(finite, finite, finite),
+    eff=st.floats(0.0, 1.0),
+)
+def test_forces_stay_finite_and_clamped_for_any_flow(v, n, eff):
+    """Property: whatever the relative velocity and orientation, the force is finite and within
+    the clamp (the seed's robustness argument for clamping)."""
+    norm = np.linalg.norm(n)
+    if norm < 1e-6:
+        return
+    n = tuple(np.asarray(n) / norm)
+    fmax = 1e5
+    for f in (
+        plate_force(*v, *n, 1025.0, 2.0, eff, 156.0, fmax),
+        cylinder_force(*v, *n, 1025.0, 2.0, 156.0, fmax),
+    ):
+        f = np.asarray(f)
+        assert np.all(np.isfinite(f))
+        assert np.linalg.norm(f) <= fmax * (1 + 1e-12)
