@@ -13,9 +13,9 @@ Of fast-math only fused multiply-add contraction is on (the same contraction is 
 vectorized loop and its scalar remainder: tests/physics/test_determinism.py checks it); no
 reassociation, and inf/NaN stay visible to the divergence check.
 
-Vectorization is fragile in two known ways, both handled here: tuples must not be indexed or
-unpacked inside the loops, and helpers that take the scratch array must be branch-free (a
-branch in an inlined array helper leaves reference counting in the loop).
+Vectorization is fragile in two known ways, both handled here: a tuple must not be indexed
+with a loop variable, and helpers that take the scratch array must be branch-free (a branch in
+an inlined array helper leaves reference counting in the loop).
 
 State per body: position x, orientation quaternion q (w, x, y, z; body -> world), linear
 velocity v and angular momentum L about the center of mass, all in the world frame. Angular
@@ -98,9 +98,12 @@ def quat_to_matrix(qw, qx, qy, qz):
 
 
 @njit(**_INLINE)
-def world_omega(r0, r1, r2, r3, r4, r5, r6, r7, r8, lx, ly, lz, ixx, iyy, izz, ixy, ixz, iyz):
-    """Angular velocity w = R I_body^-1 R^T L from world angular momentum L; (ixx..iyz) are the
-    entries of the symmetric inverse body inertia tensor."""
+def world_omega(rot, lx, ly, lz, inv_inertia):
+    """Angular velocity w = R I_body^-1 R^T L from world angular momentum L. ``rot`` is the
+    row-major 9-tuple of R, ``inv_inertia`` the entries (xx, yy, zz, xy, xz, yz) of the
+    symmetric inverse body inertia tensor."""
+    r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
+    ixx, iyy, izz, ixy, ixz, iyz = inv_inertia
     bx = r0 * lx + r3 * ly + r6 * lz
     by = r1 * lx + r4 * ly + r7 * lz
     bz = r2 * lx + r5 * ly + r8 * lz
@@ -126,10 +129,31 @@ def quat_rate(qw, qx, qy, qz, wx, wy, wz):
 
 
 @njit(**_INLINE)
+def _inv_inertia(body, b):
+    """The inverse inertia entries (xx, yy, zz, xy, xz, yz) of body slot b."""
+    return body[b, 1], body[b, 2], body[b, 3], body[b, 4], body[b, 5], body[b, 6]
+
+
+@njit(**_INLINE)
+def _matrix(S, i):
+    """The rotation matrix rows R of body i as a row-major 9-tuple."""
+    return (
+        S[R * BLOCK + i],
+        S[(R + 1) * BLOCK + i],
+        S[(R + 2) * BLOCK + i],
+        S[(R + 3) * BLOCK + i],
+        S[(R + 4) * BLOCK + i],
+        S[(R + 5) * BLOCK + i],
+        S[(R + 6) * BLOCK + i],
+        S[(R + 7) * BLOCK + i],
+        S[(R + 8) * BLOCK + i],
+    )
+
+
+@njit(**_INLINE)
 def _omega_row(S, body, b, n):
     """Rotation matrix rows R and angular velocity rows W from the state rows Y."""
-    ixx, iyy, izz = body[b, 1], body[b, 2], body[b, 3]
-    ixy, ixz, iyz = body[b, 4], body[b, 5], body[b, 6]
+    inv_inertia = _inv_inertia(body, b)
     for i in range(n):
         m = quat_to_matrix(
             S[(Y + OQ) * BLOCK + i],
@@ -142,24 +166,11 @@ def _omega_row(S, body, b, n):
         S[(R + 3) * BLOCK + i], S[(R + 4) * BLOCK + i], S[(R + 5) * BLOCK + i] = m[3], m[4], m[5]
         S[(R + 6) * BLOCK + i], S[(R + 7) * BLOCK + i], S[(R + 8) * BLOCK + i] = m[6], m[7], m[8]
         w = world_omega(
-            m[0],
-            m[1],
-            m[2],
-            m[3],
-            m[4],
-            m[5],
-            m[6],
-            m[7],
-            m[8],
+            m,
             S[(Y + OL) * BLOCK + i],
             S[(Y + OL + 1) * BLOCK + i],
             S[(Y + OL + 2) * BLOCK + i],
-            ixx,
-            iyy,
-            izz,
-            ixy,
-            ixz,
-            iyz,
+            inv_inertia,
         )
         S[(W) * BLOCK + i] = w[0]
         S[(W + 1) * BLOCK + i] = w[1]
@@ -220,14 +231,15 @@ def _body_point(S, i):
 
 
 @njit(**_INLINE)
-def _flow(pt, rx, ry, rz, water, inv_blend, rho_a, rho_w, wdx, wdy, wdz, dux, duy, duz):
+def _flow(pt, rx, ry, rz, fluid):
     """At the sample point x + r of a body ``pt = _body_point(S, i)``: density and velocity
-    relative to the fluid. The fluid parameters come from ``_fluid(prm)``.
+    relative to the fluid; ``fluid`` is the tuple ``_fluid(prm)``.
 
     Helpers that take the scratch array must stay branch-free: the compiler then vectorizes
     the loops that inline them; this one has branches (the surface blend), so it takes
     scalars only."""
     z0, v0x, v0y, v0z, wx, wy, wz = pt
+    water, inv_blend, rho_a, rho_w, wdx, wdy, wdz, dux, duy, duz = fluid
     frac = water_fraction(z0 + rz, water, inv_blend)
     rho = rho_a + frac * (rho_w - rho_a)
     vx = v0x + wy * rz - wz * ry - wdx - frac * dux
@@ -241,7 +253,8 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
     """Derivative rows D of the state rows Y: dx = v, dq, dv = F/m + g, dL = torque."""
     body, fpl, fpl_at, cpl, cpl_at, cyl, cyl_at, buo, buo_at, thr, thr_ch, thr_at = tables
     vmax, fmax = prm[P_VMAX], prm[P_FMAX]
-    water, inv_blend, rho_a, rho_w, wdx, wdy, wdz, dux, duy, duz = _fluid(prm)
+    fluid = _fluid(prm)
+    water, inv_blend, rho_w = fluid[0], fluid[1], fluid[3]
     _omega_row(S, body, b, n)
     for i in range(n):
         for k in range(3):
@@ -266,22 +279,7 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
         for i in range(n):
             rx, ry, rz = _rotate(S, i, ox, oy, oz)
             nx, ny, nz = _rotate(S, i, bx, by, bz)
-            vx, vy, vz, rho = _flow(
-                _body_point(S, i),
-                rx,
-                ry,
-                rz,
-                water,
-                inv_blend,
-                rho_a,
-                rho_w,
-                wdx,
-                wdy,
-                wdz,
-                dux,
-                duy,
-                duz,
-            )
+            vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
             fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, area, eff, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
 
@@ -292,22 +290,7 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
             nx, ny, nz = _rotate(
                 S, i, cnorm[0, p, e0 + i], cnorm[1, p, e0 + i], cnorm[2, p, e0 + i]
             )
-            vx, vy, vz, rho = _flow(
-                _body_point(S, i),
-                rx,
-                ry,
-                rz,
-                water,
-                inv_blend,
-                rho_a,
-                rho_w,
-                wdx,
-                wdy,
-                wdz,
-                dux,
-                duy,
-                duz,
-            )
+            vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
             fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, area, eff, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
 
@@ -317,22 +300,7 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
         for i in range(n):
             rx, ry, rz = _rotate(S, i, ox, oy, oz)
             ax, ay, az = _rotate(S, i, bx, by, bz)
-            vx, vy, vz, rho = _flow(
-                _body_point(S, i),
-                rx,
-                ry,
-                rz,
-                water,
-                inv_blend,
-                rho_a,
-                rho_w,
-                wdx,
-                wdy,
-                wdz,
-                dux,
-                duy,
-                duz,
-            )
+            vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
             fx, fy, fz = cylinder_force(vx, vy, vz, ax, ay, az, rho, area, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
 
@@ -402,8 +370,7 @@ def _rotate_by_omega(S, body, b, n, h):
     Second order; a one-stage update (w at the old q only) is explicit Euler for the
     rotation and gains energy steadily (about 4% in 10 s for a body spinning at 2 rad/s,
     dt = 1/100), which the midpoint stage removes."""
-    ixx, iyy, izz = body[b, 1], body[b, 2], body[b, 3]
-    ixy, ixz, iyz = body[b, 4], body[b, 5], body[b, 6]
+    inv_inertia = _inv_inertia(body, b)
     for i in range(n):
         lx, ly, lz = (
             S[(Y + OL) * BLOCK + i],
@@ -412,49 +379,11 @@ def _rotate_by_omega(S, body, b, n, h):
         )
         qw, qx = S[(Y + OQ) * BLOCK + i], S[(Y + OQ + 1) * BLOCK + i]
         qy, qz = S[(Y + OQ + 2) * BLOCK + i], S[(Y + OQ + 3) * BLOCK + i]
-        w = world_omega(
-            S[R * BLOCK + i],
-            S[(R + 1) * BLOCK + i],
-            S[(R + 2) * BLOCK + i],
-            S[(R + 3) * BLOCK + i],
-            S[(R + 4) * BLOCK + i],
-            S[(R + 5) * BLOCK + i],
-            S[(R + 6) * BLOCK + i],
-            S[(R + 7) * BLOCK + i],
-            S[(R + 8) * BLOCK + i],
-            lx,
-            ly,
-            lz,
-            ixx,
-            iyy,
-            izz,
-            ixy,
-            ixz,
-            iyz,
-        )
+        w = world_omega(_matrix(S, i), lx, ly, lz, inv_inertia)
         dq = quat_rate(qw, qx, qy, qz, w[0], w[1], w[2])
         hh = HALF * h
         m = quat_to_matrix(qw + hh * dq[0], qx + hh * dq[1], qy + hh * dq[2], qz + hh * dq[3])
-        w = world_omega(
-            m[0],
-            m[1],
-            m[2],
-            m[3],
-            m[4],
-            m[5],
-            m[6],
-            m[7],
-            m[8],
-            lx,
-            ly,
-            lz,
-            ixx,
-            iyy,
-            izz,
-            ixy,
-            ixz,
-            iyz,
-        )
+        w = world_omega(m, lx, ly, lz, inv_inertia)
         dq = quat_rate(qw, qx, qy, qz, w[0], w[1], w[2])
         S[(Y + OQ) * BLOCK + i] = qw + h * dq[0]
         S[(Y + OQ + 1) * BLOCK + i] = qx + h * dq[1]
@@ -619,24 +548,7 @@ def body_omega(st, body, out):
         for e in range(st.shape[2]):
             m = quat_to_matrix(st[OQ, b, e], st[OQ + 1, b, e], st[OQ + 2, b, e], st[OQ + 3, b, e])
             w = world_omega(
-                m[0],
-                m[1],
-                m[2],
-                m[3],
-                m[4],
-                m[5],
-                m[6],
-                m[7],
-                m[8],
-                st[OL, b, e],
-                st[OL + 1, b, e],
-                st[OL + 2, b, e],
-                body[b, 1],
-                body[b, 2],
-                body[b, 3],
-                body[b, 4],
-                body[b, 5],
-                body[b, 6],
+                m, st[OL, b, e], st[OL + 1, b, e], st[OL + 2, b, e], _inv_inertia(body, b)
             )
             out[0, b, e] = w[0]
             out[1, b, e] = w[1]

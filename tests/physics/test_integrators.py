@@ -5,6 +5,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from fluidsim_envs.physics import INTEGRATORS, Buoyancy, Craft, Simulator, World
+from fluidsim_envs.physics.kernels import quat_matrices
 
 G = 9.81
 BOX = Craft(name="box", mass_kg=1.0, inertia_kgm2=(1.0, 2.0, 3.0))
@@ -129,15 +130,7 @@ def first_flip(t, wy):
 
 
 def body_rates(sim):
-    q = sim.quat[0, 0]
-    w, x, y, z = q
-    rot = np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
+    rot = quat_matrices(np.ascontiguousarray(sim.quat[0]))[0]
     return rot.T @ sim.ang_vel[0, 0]
 
 
