@@ -46,7 +46,8 @@ NSTATE = 13
 # A slot's scratch is one flat row-major array S[row * BLOCK + i]: with the row length a
 # compile-time constant the compiler can prove that rows do not overlap, and vectorizes.
 Y, Y0, ACC, D, R, W = 0, 13, 26, 39, 52, 61  # state, step start, RK sum, derivative, R, w
-ROWS = 64
+FL = 64  # per-environment fluid: air velocity (3), water minus air velocity (3)
+ROWS = 72
 OX, OQ, OV, OL = 0, 3, 7, 10  # offsets inside a 13-row state
 
 INTEGRATORS = {
@@ -67,7 +68,7 @@ EVALS_PER_STEP = {
 
 # prm[] slots: world and step parameters, in the simulation dtype
 P_G, P_RHO_AIR, P_RHO_WATER, P_WATER = 0, 1, 2, 3
-P_WIND, P_CURRENT = 4, 7  # 3 each
+P_WIND, P_CURRENT = 4, 7  # 3 each: the World's defaults (the kernel reads flow[6, E])
 P_INV_BLEND, P_VMAX, P_FMAX, P_DT = 10, 11, 12, 13
 NPRM = 14
 
@@ -201,32 +202,25 @@ def _rotate(S, i, x, y, z):
 @njit(**_INLINE)
 def _fluid(prm):
     """Fluid parameters as scalars (read once, outside the loops): water flag, 1/blend,
-    densities, wind, and current minus wind."""
-    return (
-        prm[P_WATER],
-        prm[P_INV_BLEND],
-        prm[P_RHO_AIR],
-        prm[P_RHO_WATER],
-        prm[P_WIND],
-        prm[P_WIND + 1],
-        prm[P_WIND + 2],
-        prm[P_CURRENT] - prm[P_WIND],
-        prm[P_CURRENT + 1] - prm[P_WIND + 1],
-        prm[P_CURRENT + 2] - prm[P_WIND + 2],
-    )
+    densities."""
+    return prm[P_WATER], prm[P_INV_BLEND], prm[P_RHO_AIR], prm[P_RHO_WATER]
 
 
 @njit(**_INLINE)
 def _body_point(S, i):
-    """Height, velocity and angular velocity of body i: (z, vx, vy, vz, wx, wy, wz)."""
+    """Height, velocity relative to the air, angular velocity and the water's velocity
+    relative to the air at body i: (z, vx, vy, vz, wx, wy, wz, dux, duy, duz)."""
     return (
         S[(Y + OX + 2) * BLOCK + i],
-        S[(Y + OV) * BLOCK + i],
-        S[(Y + OV + 1) * BLOCK + i],
-        S[(Y + OV + 2) * BLOCK + i],
+        S[(Y + OV) * BLOCK + i] - S[FL * BLOCK + i],
+        S[(Y + OV + 1) * BLOCK + i] - S[(FL + 1) * BLOCK + i],
+        S[(Y + OV + 2) * BLOCK + i] - S[(FL + 2) * BLOCK + i],
         S[W * BLOCK + i],
         S[(W + 1) * BLOCK + i],
         S[(W + 2) * BLOCK + i],
+        S[(FL + 3) * BLOCK + i],
+        S[(FL + 4) * BLOCK + i],
+        S[(FL + 5) * BLOCK + i],
     )
 
 
@@ -238,13 +232,13 @@ def _flow(pt, rx, ry, rz, fluid):
     Helpers that take the scratch array must stay branch-free: the compiler then vectorizes
     the loops that inline them; this one has branches (the surface blend), so it takes
     scalars only."""
-    z0, v0x, v0y, v0z, wx, wy, wz = pt
-    water, inv_blend, rho_a, rho_w, wdx, wdy, wdz, dux, duy, duz = fluid
+    z0, v0x, v0y, v0z, wx, wy, wz, dux, duy, duz = pt
+    water, inv_blend, rho_a, rho_w = fluid
     frac = water_fraction(z0 + rz, water, inv_blend)
     rho = rho_a + frac * (rho_w - rho_a)
-    vx = v0x + wy * rz - wz * ry - wdx - frac * dux
-    vy = v0y + wz * rx - wx * rz - wdy - frac * duy
-    vz = v0z + wx * ry - wy * rx - wdz - frac * duz
+    vx = v0x + wy * rz - wz * ry - frac * dux
+    vy = v0y + wz * rx - wx * rz - frac * duy
+    vz = v0z + wx * ry - wy * rx - frac * duz
     return vx, vy, vz, rho
 
 
@@ -505,7 +499,9 @@ def _deflect(e0, n, cpl, cmix, ctrl, cnorm):
 
 
 @njit(**_JIT)
-def _advance_block(blk, st, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged):
+def _load_block(blk, st, flow, ctrl, tables, cmix, cnorm, scr):
+    """Copy a block's state and fluid into its scratch and deflect its control surfaces;
+    returns (first environment, environments in the block)."""
     nb, ne = st.shape[1], st.shape[2]
     e0 = blk * BLOCK
     n = min(BLOCK, ne - e0)
@@ -515,6 +511,19 @@ def _advance_block(blk, st, ctrl, tables, cmix, cnorm, prm, method, steps, scr, 
         for k in range(NSTATE):
             for i in range(n):
                 scr_blk[b, (Y + k) * BLOCK + i] = st[k, b, e0 + i]
+        for k in range(3):
+            for i in range(n):
+                air = flow[k, e0 + i]
+                scr_blk[b, (FL + k) * BLOCK + i] = air
+                scr_blk[b, (FL + 3 + k) * BLOCK + i] = flow[3 + k, e0 + i] - air
+    return e0, n
+
+
+@njit(**_JIT)
+def _advance_block(blk, st, flow, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged):
+    e0, n = _load_block(blk, st, flow, ctrl, tables, cmix, cnorm, scr)
+    nb = st.shape[1]
+    scr_blk = scr[blk]
     for _ in range(steps):
         _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, method)
     for i in range(n):
@@ -528,17 +537,37 @@ def _advance_block(blk, st, ctrl, tables, cmix, cnorm, prm, method, steps, scr, 
 
 
 @njit(**_JIT)
-def step_serial(st, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged):
+def step_serial(st, flow, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged):
     """Advance every environment ``steps`` steps on the calling thread."""
     for blk in range(scr.shape[0]):
-        _advance_block(blk, st, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged)
+        _advance_block(blk, st, flow, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged)
 
 
 @njit(parallel=True, **_JIT)
-def step_parallel(st, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged):
+def step_parallel(st, flow, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged):
     """Advance every environment ``steps`` steps, blocks spread over numba's threads."""
     for blk in prange(scr.shape[0]):
-        _advance_block(blk, st, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged)
+        _advance_block(blk, st, flow, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged)
+
+
+@njit(**_JIT)
+def wrench(st, flow, ctrl, tables, cmix, cnorm, prm, scr, out):
+    """Net force and torque about the center of mass of every body from its samples,
+    buoyancy and thrusters (gravity excluded), out[6, B, E], world frame."""
+    body = tables[0]
+    g = prm[P_G]
+    for blk in range(scr.shape[0]):
+        e0, n = _load_block(blk, st, flow, ctrl, tables, cmix, cnorm, scr)
+        for b in range(st.shape[1]):
+            S = scr[blk, b]
+            _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm)
+            m = body[b, 0]
+            for i in range(n):
+                out[0, b, e0 + i] = m * S[(D + OV) * BLOCK + i]
+                out[1, b, e0 + i] = m * S[(D + OV + 1) * BLOCK + i]
+                out[2, b, e0 + i] = m * (S[(D + OV + 2) * BLOCK + i] + g)
+                for k in range(3):
+                    out[3 + k, b, e0 + i] = S[(D + OL + k) * BLOCK + i]
 
 
 @njit(**_JIT)

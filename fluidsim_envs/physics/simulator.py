@@ -191,6 +191,10 @@ class Simulator:
         self._scr = np.zeros((n_blocks, B, K.ROWS * K.BLOCK), dtype=dtype)
         self._diverged = np.zeros(E, dtype=np.bool_)
         self._omega = np.zeros((3, B, E), dtype=dtype)
+        self._flow = np.zeros((6, E), dtype=dtype)  # air velocity, water velocity per env
+        self._flow[:3] = np.asarray(world.wind_mps)[:, None]
+        self._flow[3:] = np.asarray(world.current_mps)[:, None]
+        self._wrench = np.zeros((6, B, E), dtype=dtype)
 
     # ---- state ----------------------------------------------------------------------------
 
@@ -240,6 +244,75 @@ class Simulator:
         v.flags.writeable = False
         return v
 
+    @property
+    def wind_mps(self) -> np.ndarray:
+        """Air velocity of each environment [E, 3] (m/s), world frame; see :meth:`set_wind`."""
+        v = self._flow[:3].T
+        v.flags.writeable = False
+        return v
+
+    @property
+    def current_mps(self) -> np.ndarray:
+        """Water velocity of each environment [E, 3] (m/s); see :meth:`set_current`."""
+        v = self._flow[3:].T
+        v.flags.writeable = False
+        return v
+
+    def set_wind(self, wind_mps, env_ids=None) -> None:
+        """Set the uniform air velocity of every environment, or of ``env_ids`` only.
+
+        ``wind_mps`` broadcasts to ``[n, 3]``; it starts at the World's ``wind_mps``.
+        """
+        self._set_flow("wind_mps", slice(0, 3), wind_mps, env_ids)
+
+    def set_current(self, current_mps, env_ids=None) -> None:
+        """Set the uniform water velocity of every environment, or of ``env_ids`` only."""
+        self._set_flow("current_mps", slice(3, 6), current_mps, env_ids)
+
+    def _set_flow(self, name: str, rows: slice, value, env_ids) -> None:
+        ids = self._env_ids(name, env_ids)
+        arr = np.asarray(value, dtype=np.float64)
+        try:
+            arr = np.broadcast_to(arr, (ids.size, 3))
+        except ValueError:
+            raise ValueError(
+                f"{name} of shape {arr.shape} does not broadcast to [{ids.size}, 3]"
+            ) from None
+        if not np.all(np.isfinite(arr)):
+            raise ValueError(f"{name} has non-finite values: {value!r}")
+        self._flow[rows, ids] = arr.T
+
+    def wrench(self, controls=None) -> tuple[np.ndarray, np.ndarray]:
+        """Net force (N) and torque about the center of mass (N m) on each body from its
+        fluid samples, buoyancy and thrusters (not gravity) at the current state, world frame,
+        each ``[E, B, 3]``. ``controls`` as in :meth:`step` (None: all channels at 0)."""
+        self._set_controls(controls)
+        K.wrench(
+            self._st,
+            self._flow,
+            self._ctrl,
+            self._tables,
+            self._cmix,
+            self._cnorm,
+            self._prm,
+            self._scr,
+            self._wrench,
+        )
+        out = self._wrench.transpose(2, 1, 0)
+        return out[..., :3].copy(), out[..., 3:].copy()
+
+    def _env_ids(self, what: str, env_ids) -> np.ndarray:
+        ids = np.arange(self.num_envs) if env_ids is None else np.asarray(env_ids)
+        if (
+            ids.ndim != 1
+            or ids.dtype.kind not in "iu"
+            or (ids.size and (ids.min() < 0 or ids.max() >= self.num_envs))
+        ):
+            raise ValueError(
+                f"{what}: env_ids must be integers in [0, {self.num_envs}), got {env_ids!r}"
+            )
+        return ids
+
     # ---- reset and step -------------------------------------------------------------------
 
     def _broadcast(self, name: str, value, width: int, n: int) -> np.ndarray:
@@ -268,15 +341,7 @@ class Simulator:
         Each argument broadcasts to ``[n, B, 3]`` (``[n, B, 4]`` for quat), n the number of
         environments being reset. Quaternions are normalized; ``ang_vel`` is in the world frame.
         """
-        ids = np.arange(self.num_envs) if env_ids is None else np.asarray(env_ids)
-        if (
-            ids.ndim != 1
-            or ids.dtype.kind not in "iu"
-            or (ids.size and (ids.min() < 0 or ids.max() >= self.num_envs))
-        ):
-            raise ValueError(
-                f"reset: env_ids must be integers in [0, {self.num_envs}), got {env_ids!r}"
-            )
+        ids = self._env_ids("reset", env_ids)
         n = ids.size
         p = self._broadcast("pos", pos, 3, n)
         q = self._broadcast("quat", quat, 4, n)
@@ -311,6 +376,22 @@ class Simulator:
         """
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise ValueError(f"steps must be a positive integer, got {steps!r}")
+        self._set_controls(controls)
+        self._kernel(
+            self._st,
+            self._flow,
+            self._ctrl,
+            self._tables,
+            self._cmix,
+            self._cnorm,
+            self._prm,
+            self._method,
+            int(steps),
+            self._scr,
+            self._diverged,
+        )
+
+    def _set_controls(self, controls) -> None:
         if controls is None:
             self._ctrl[...] = 0.0
         else:
@@ -328,15 +409,3 @@ class Simulator:
                     f"controls must lie in [-1, 1], got values up to {np.abs(a).max():.6g}"
                 )
             self._ctrl[...] = a.T
-        self._kernel(
-            self._st,
-            self._ctrl,
-            self._tables,
-            self._cmix,
-            self._cnorm,
-            self._prm,
-            self._method,
-            int(steps),
-            self._scr,
-            self._diverged,
-        )
