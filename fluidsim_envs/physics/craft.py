@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 import tomllib
-from dataclasses import MISSING, dataclass, field, fields
+from dataclasses import MISSING, dataclass, field, fields, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -354,6 +354,34 @@ class Craft:
     @property
     def num_samples(self) -> int:
         return len(self.plates) + len(self.cylinders) + len(self.buoyancy) + len(self.thrusters)
+
+    def with_center_of_mass(self, offset_m) -> Craft:
+        """The same craft with its center of mass moved by ``offset_m`` (body frame, m), as by
+        ballast of negligible mass: every sample keeps its place on the airframe, so its
+        offset from the new center of mass shrinks by ``offset_m``; mass and inertia are kept.
+
+        Examples:
+            >>> tail_heavy = Craft.load("paper_airplane").with_center_of_mass((-0.02, 0, 0))
+            >>> tail_heavy.plates[0].offset_m[0]  # left wing, was 0.012 m behind the CG
+            0.008
+        """
+        dx = _vec3(f"craft {self.name!r}", "offset_m", offset_m)
+
+        def moved(items):
+            return tuple(
+                replace(
+                    s, offset_m=tuple(round(a - b, 12) for a, b in zip(s.offset_m, dx, strict=True))
+                )
+                for s in items
+            )
+
+        return replace(
+            self,
+            plates=moved(self.plates),
+            cylinders=moved(self.cylinders),
+            buoyancy=moved(self.buoyancy),
+            thrusters=moved(self.thrusters),
+        )
 
     # ---- loading ------------------------------------------------------------------------
 
