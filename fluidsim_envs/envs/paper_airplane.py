@@ -1,0 +1,362 @@
+"""fluidsim/PaperAirplane-v0: glide a paper dart to a target on the ground and land on it."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..physics import Craft, Simulator, World
+from ..physics.kernels import INTEGRATORS, quat_matrices
+from .base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
+from .drawing import CraftMesh, chase_camera, fill_ground
+from .render import Canvas
+
+OBSERVATION = (
+    # (name, unit, description): the columns of the observation, in order
+    ("u", "m/s", "airspeed along body x (forward)"),
+    ("v", "m/s", "airspeed along body y (left)"),
+    ("w", "m/s", "airspeed along body z (up)"),
+    ("p", "rad/s", "roll rate (+ right wing down)"),
+    ("q", "rad/s", "pitch rate (+ nose down)"),
+    ("r", "rad/s", "yaw rate (+ nose left)"),
+    ("gx", "1", "gravity direction in the body frame, x"),
+    ("gy", "1", "gravity direction in the body frame, y"),
+    ("gz", "1", "gravity direction in the body frame, z"),
+    ("height", "m", "height of the center of mass above the ground"),
+    ("target_forward", "m", "target position ahead, in the heading frame"),
+    ("target_left", "m", "target position to the left, in the heading frame"),
+    ("ground_forward", "m/s", "velocity over the ground ahead, in the heading frame"),
+    ("ground_left", "m/s", "velocity over the ground to the left, in the heading frame"),
+    ("climb", "m/s", "vertical velocity (+ up)"),
+)
+REWARD_TERMS = ("progress", "accuracy", "softness", "crash", "effort")
+
+
+@dataclass(frozen=True)
+class PaperAirplaneParams:
+    """Parameters of PaperAirplane-v0 (``gym.make(id, **kwargs)`` overrides any of them).
+
+    Ranges are (low, high) pairs drawn uniformly per episode.
+    """
+
+    dt: float = 1.0 / 240.0  # physics step (s)
+    substeps: int = 8  # physics steps per action: 30 actions per second
+    integrator: str = "symplectic_euler"
+    dtype: str = "float64"  # physics precision; observations are float32
+    max_episode_steps: int = 900  # 30 s
+    launch_height_m: tuple = (4.0, 8.0)
+    launch_speed_mps: tuple = (4.0, 8.0)
+    launch_pitch_deg: tuple = (-10.0, 10.0)
+    launch_roll_deg: tuple = (-15.0, 15.0)
+    target_distance_ratio: tuple = (1.0, 3.0)  # target distance / launch height (glide ~4:1)
+    target_bearing_deg: tuple = (-45.0, 45.0)  # target direction from the launch heading
+    wind_speed_mps: tuple = (0.0, 1.0)  # horizontal wind from a uniformly random direction
+    arena_radius_m: float = 60.0  # leaving this far from the launch point ends the episode
+    ceiling_m: float = 30.0
+    crash_sink_mps: float = 3.0  # touching down faster than this vertically is a crash
+    crash_speed_mps: float = 12.0  # or this fast overall
+    upright_min: float = 0.5  # body z must point up at least this much (cos 60 deg)
+    success_radius_m: float = 2.0  # a landing this close to the target is a success
+    accuracy_scale_m: float = 3.0
+    w_progress: float = 1.0  # per metre closer to the target
+    w_accuracy: float = 10.0  # landing on the target
+    w_softness: float = 5.0  # landing with no sink
+    w_crash: float = 10.0  # crash, leaving the arena or a diverged state
+    w_effort: float = 0.01  # per step, times the mean squared action
+
+    def __post_init__(self) -> None:
+        own = "PaperAirplane-v0"
+        check_number(own, "dt", self.dt, 1e-5, 0.1)
+        check_number(own, "substeps", self.substeps, 1, 1000, integer=True)
+        check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
+        check_choice(own, "dtype", self.dtype, ("float32", "float64"))
+        check_number(own, "max_episode_steps", self.max_episode_steps, 1, integer=True)
+        for key, lo, hi in (
+            ("launch_height_m", 0.5, 1000.0),
+            ("launch_speed_mps", 0.0, 50.0),
+            ("launch_pitch_deg", -90.0, 90.0),
+            ("launch_roll_deg", -180.0, 180.0),
+            ("target_distance_ratio", 0.0, 100.0),
+            ("target_bearing_deg", -180.0, 180.0),
+            ("wind_speed_mps", 0.0, 30.0),
+        ):
+            object.__setattr__(self, key, check_range(own, key, getattr(self, key), lo, hi))
+        for key in ("arena_radius_m", "ceiling_m", "crash_sink_mps", "crash_speed_mps"):
+            check_number(own, key, getattr(self, key), 1e-6)
+        check_number(own, "success_radius_m", self.success_radius_m, 0.0)
+        check_number(own, "accuracy_scale_m", self.accuracy_scale_m, 1e-6)
+        check_number(own, "upright_min", self.upright_min, -1.0, 1.0)
+        for key in ("w_progress", "w_accuracy", "w_softness", "w_crash", "w_effort"):
+            check_number(own, key, getattr(self, key), 0.0)
+        if self.ceiling_m <= self.launch_height_m[1]:
+            raise ValueError(
+                f"{own}: ceiling_m ({self.ceiling_m}) must be above the highest launch "
+                f"({self.launch_height_m[1]})"
+            )
+
+
+class PaperAirplaneVectorEnv(FluidVectorEnv):
+    """PaperAirplane-v0 for N dart throws at once, stepped by one compiled call; the task,
+    spaces and rewards are documented on :class:`PaperAirplaneEnv`.
+
+    Examples:
+        >>> import gymnasium as gym
+        >>> import numpy as np
+        >>> import fluidsim_envs
+        >>> envs = gym.make_vec("fluidsim/PaperAirplane-v0", num_envs=4,
+        ...                     vectorization_mode="vector_entry_point")
+        >>> obs, info = envs.reset(seed=0)
+        >>> obs.shape
+        (4, 15)
+        >>> obs, reward, terminated, truncated, info = envs.step(np.zeros((4, 3)))
+        >>> sorted(info["reward_terms"])
+        ['accuracy', 'crash', 'effort', 'progress', 'softness']
+    """
+
+    Params = PaperAirplaneParams
+    obs_dim = len(OBSERVATION)
+    reward_terms = REWARD_TERMS
+    action_names = ("aileron", "elevator", "rudder")
+
+    def _build(self) -> None:
+        p = self.params
+        E = self.num_envs
+        self.craft = Craft.load("paper_airplane")
+        self.sim = Simulator(
+            self.craft, World(), num_envs=E, dt=p.dt, integrator=p.integrator, dtype=p.dtype
+        )
+        # points whose touching the ground is touchdown: every sample's place on the airframe
+        self._hull = np.array(
+            [s.offset_m for s in (*self.craft.plates, *self.craft.cylinders)], dtype=np.float64
+        )
+        self.target = np.zeros((E, 2))  # target on the ground (x, y), m
+        self.launch = np.zeros((E, 2))  # launch point, the arena's center
+        self._distance = np.zeros(E)
+        self._rot = np.zeros((E, 3, 3))
+        self._last_action = np.zeros((E, 3))
+
+    # ---- episode start --------------------------------------------------------------------
+
+    def _draw_reset(self, ids, rngs) -> None:
+        p = self.params
+        u = np.array([g.random(9) for g in rngs]).reshape(len(ids), 9)
+
+        def span(col, lo_hi):
+            return lo_hi[0] + u[:, col] * (lo_hi[1] - lo_hi[0])
+
+        height = span(0, p.launch_height_m)
+        speed = span(1, p.launch_speed_mps)
+        pitch = np.radians(span(2, p.launch_pitch_deg))
+        roll = np.radians(span(3, p.launch_roll_deg))
+        yaw = 2 * np.pi * u[:, 4]
+        bearing = yaw + np.radians(span(5, p.target_bearing_deg))
+        distance = span(6, p.target_distance_ratio) * height
+        wind_speed = span(7, p.wind_speed_mps)
+        wind_dir = 2 * np.pi * u[:, 8]
+
+        # yaw, then nose-up pitch (about -y), then roll right (about +x): q = qz * qy * qx
+        cy, sy = np.cos(yaw / 2), np.sin(yaw / 2)
+        cp, sp = np.cos(-pitch / 2), np.sin(-pitch / 2)
+        cr, sr = np.cos(roll / 2), np.sin(roll / 2)
+        quat = np.stack(
+            [
+                cy * cp * cr + sy * sp * sr,
+                cy * cp * sr - sy * sp * cr,
+                cy * sp * cr + sy * cp * sr,
+                sy * cp * cr - cy * sp * sr,
+            ],
+            axis=1,
+        )
+        nose = quat_matrices(quat)[:, :, 0]
+        self.sim.reset(
+            pos=np.stack([0 * height, 0 * height, height], axis=1)[:, None],
+            quat=quat[:, None],
+            lin_vel=(speed[:, None] * nose)[:, None],
+            env_ids=ids,
+        )
+        wind = np.stack([np.cos(wind_dir), np.sin(wind_dir), 0 * wind_dir], 1) * wind_speed[:, None]
+        self.sim.set_wind(wind, env_ids=ids)
+        self.launch[ids] = 0.0
+        self.target[ids] = np.stack([np.cos(bearing), np.sin(bearing)], 1) * distance[:, None]
+        self._distance[ids] = distance
+
+    # ---- step -----------------------------------------------------------------------------
+
+    def _advance(self, actions):
+        p = self.params
+        self._last_action[...] = actions
+        self.sim.step(actions, steps=p.substeps)
+        diverged = self.sim.diverged.copy()
+
+        pos = self.sim.pos[:, 0]
+        vel = self.sim.lin_vel[:, 0]
+        rot = quat_matrices(np.ascontiguousarray(self.sim.quat[:, 0]))
+        self._rot = rot
+        distance = np.hypot(*(self.target - pos[:, :2]).T)
+        lowest = pos[:, 2] + (rot[:, 2, :] @ self._hull.T).min(axis=1)
+        touchdown = (lowest <= 0.0) & ~diverged
+        sink = -vel[:, 2]
+        speed = np.linalg.norm(vel, axis=1)
+        upright = rot[:, 2, 2] >= p.upright_min
+        landed = touchdown & upright & (sink < p.crash_sink_mps) & (speed < p.crash_speed_mps)
+        crashed = touchdown & ~landed
+        away = np.hypot(*(pos[:, :2] - self.launch).T)
+        out = ~touchdown & ~diverged & ((away > p.arena_radius_m) | (pos[:, 2] > p.ceiling_m))
+
+        with np.errstate(invalid="ignore"):
+            progress = np.where(diverged, 0.0, p.w_progress * (self._distance - distance))
+        terms = {
+            "progress": progress,
+            "accuracy": landed * p.w_accuracy * np.exp(-distance / p.accuracy_scale_m),
+            "softness": landed * p.w_softness * np.exp(-np.square(sink / 1.0)),
+            "crash": -p.w_crash * (crashed | out | diverged).astype(np.float64),
+            "effort": -p.w_effort * np.mean(np.square(actions), axis=1),
+        }
+        for v in terms.values():
+            v[diverged] = np.nan_to_num(v[diverged], nan=0.0)
+        terms["crash"][diverged] = -p.w_crash
+        self._distance = np.where(diverged, self._distance, distance)
+        info = {
+            "distance_m": self._distance.copy(),
+            "landed": landed,
+            "crashed": crashed,
+            "out_of_arena": out,
+            "success": landed & (distance <= p.success_radius_m),
+            "touchdown_sink_mps": np.where(touchdown, sink, 0.0),
+        }
+        return touchdown | out, diverged, terms, info
+
+    # ---- observation ----------------------------------------------------------------------
+
+    def _observe(self, out) -> None:
+        pos = self.sim.pos[:, 0]
+        vel = self.sim.lin_vel[:, 0]
+        rot = quat_matrices(np.ascontiguousarray(self.sim.quat[:, 0]))
+        air = vel - self.sim.wind_mps
+        out[:, 0:3] = np.einsum("eji,ej->ei", rot, air)
+        out[:, 3:6] = np.einsum("eji,ej->ei", rot, self.sim.ang_vel[:, 0])
+        out[:, 6:9] = -rot[:, 2, :]  # R^T (0, 0, -1)
+        out[:, 9] = pos[:, 2]
+        heading = np.arctan2(rot[:, 1, 0], rot[:, 0, 0])
+        c, s = np.cos(heading), np.sin(heading)
+        dx, dy = (self.target - pos[:, :2]).T
+        out[:, 10] = c * dx + s * dy
+        out[:, 11] = -s * dx + c * dy
+        out[:, 12] = c * vel[:, 0] + s * vel[:, 1]
+        out[:, 13] = -s * vel[:, 0] + c * vel[:, 1]
+        out[:, 14] = vel[:, 2]
+
+    # ---- render ---------------------------------------------------------------------------
+
+    def _frame(self, env_index: int) -> np.ndarray:
+        """Chase view: the dart, the ground grid (1 m), the target (red) and its bearing."""
+        if not hasattr(self, "_mesh"):
+            self._mesh = CraftMesh(self.craft)
+        pos = np.array(self.sim.pos[env_index, 0], dtype=np.float64)
+        rot = quat_matrices(np.ascontiguousarray(self.sim.quat[env_index], dtype=np.float64))[0]
+        camera = chase_camera(pos, rot, back_m=0.7, up_m=0.25)
+        canvas = Canvas(camera.width, camera.height, background=(200, 222, 245))
+        fill_ground(canvas, camera, (186, 204, 170))
+        canvas.ground_grid(camera, pos[:2], 20.0, 1.0, (120, 150, 110))
+        tx, ty = self.target[env_index]
+        ring = np.linspace(0.0, 2.0 * np.pi, 25)
+        circle = np.stack([tx + np.cos(ring), ty + np.sin(ring), 0 * ring], 1)
+        canvas.lines(camera, circle[:-1], circle[1:], (210, 40, 40), thickness=2)
+        canvas.lines(camera, [(tx, ty, 0.0)], [(tx, ty, 0.5)], (210, 40, 40), thickness=2)
+        canvas.lines(camera, [(pos[0], pos[1], 0.0)], [pos], (90, 90, 90))  # height stalk
+        self._mesh.draw(canvas, camera, pos, rot)
+        return canvas.image()
+
+
+class PaperAirplaneEnv(FluidEnv):
+    """A paper dart thrown from a height must glide to a target on the ground and land on it.
+
+    ## Description
+
+    The dart is the shipped craft ``paper_airplane`` (5 g, 0.016 m^2 of wing, 13 fluid
+    samples; see ``fluidsim_envs/craft/paper_airplane.toml``). With zero controls it glides
+    trimmed at about 6.7 m/s and 4:1; its ailerons, elevators and rudder are the actions.
+    It is thrown from a random height, speed and attitude in a random horizontal wind; a
+    target lies on the ground ahead, within gliding reach. Touching the ground ends the
+    episode: a landing if right way up and slow enough, else a crash.
+
+    ## Action Space
+
+    ``Box(-1, 1, (3,), float32)``: aileron (+ rolls right), elevator (+ pitches the nose up),
+    rudder (+ yaws the nose right), scaled by the craft's deflection limits (20, 20 and 25
+    degrees). Values beyond [-1, 1] saturate at the limit; NaN or a wrong shape is an error.
+
+    ## Observation Space
+
+    ``Box(-inf, inf, (15,), float32)``, SI units; the heading frame is the body's heading
+    turned level (forward, left, up).
+
+    | Index | Name | Unit | Description |
+    |-------|------|------|-------------|
+    | 0-2 | u, v, w | m/s | airspeed (velocity relative to the air) in the body frame |
+    | 3-5 | p, q, r | rad/s | body rates: p + right wing down, q + nose down, r + nose left |
+    | 6-8 | gx, gy, gz | 1 | unit gravity direction in the body frame |
+    | 9 | height | m | height of the center of mass above the ground |
+    | 10-11 | target_forward, target_left | m | target position in the heading frame |
+    | 12-13 | ground_forward, ground_left | m/s | ground velocity in the heading frame |
+    | 14 | climb | m/s | vertical velocity (+ up) |
+
+    ## Rewards
+
+    The reward is the sum of named terms, each reported per step in
+    ``info["reward_terms"]`` and summed per episode in ``info["episode_terms"]`` at its end:
+
+    - ``progress``: ``w_progress`` x metres the horizontal distance to the target shrank
+      this step (sums to the distance closed over the episode);
+    - ``accuracy``: on landing, ``w_accuracy * exp(-distance / accuracy_scale_m)``;
+    - ``softness``: on landing, ``w_softness * exp(-(sink rate / 1 m/s)^2)``;
+    - ``crash``: ``-w_crash`` on a crash, on leaving the arena and on a diverged state;
+    - ``effort``: ``-w_effort`` x the mean squared action, every step.
+
+    ## Starting State
+
+    The dart starts above the origin at a height in ``launch_height_m``, heading in a
+    uniformly random direction, at a speed in ``launch_speed_mps`` along its nose, pitched by
+    ``launch_pitch_deg`` and rolled by ``launch_roll_deg``, without rotation. The target is on
+    the ground at a bearing in ``target_bearing_deg`` from the launch heading and a distance of
+    ``target_distance_ratio`` times the launch height. The wind is horizontal, uniform and
+    steady, its speed in ``wind_speed_mps``, its direction uniformly random.
+
+    ## Episode End
+
+    Terminated: touchdown (any sample point at or below the ground; ``info["landed"]`` if
+    the body is right way up, sinks slower than ``crash_sink_mps`` and moves slower than
+    ``crash_speed_mps``, else ``info["crashed"]``); leaving the arena
+    (``info["out_of_arena"]``: farther than ``arena_radius_m`` from the launch point or
+    above ``ceiling_m``); a non-finite physics state (``info["physics_diverged"]``; the
+    observation is then the last finite one). Truncated: ``max_episode_steps`` actions.
+    ``info["success"]`` marks a landing within ``success_radius_m`` of the target.
+
+    ## Arguments
+
+    ``gym.make("fluidsim/PaperAirplane-v0", **kwargs)`` and
+    ``gym.make_vec("fluidsim/PaperAirplane-v0", num_envs=N,
+    vectorization_mode="vector_entry_point", **kwargs)`` accept ``render_mode``
+    (``"rgb_array"``) and every field of :class:`PaperAirplaneParams` (physics ``dt``,
+    ``substeps``, ``integrator``, ``dtype``, launch ranges, wind, limits, reward weights); an
+    unknown key is an error listing the valid ones.
+
+    ## Version History
+
+    - v0: first version.
+
+    Examples:
+        >>> import gymnasium as gym
+        >>> import fluidsim_envs
+        >>> env = gym.make("fluidsim/PaperAirplane-v0")
+        >>> obs, info = env.reset(seed=0)
+        >>> obs.shape
+        (15,)
+        >>> obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+    """
+
+    vector_cls = PaperAirplaneVectorEnv
+
+
+__all__ = ["OBSERVATION", "PaperAirplaneEnv", "PaperAirplaneParams", "PaperAirplaneVectorEnv"]
