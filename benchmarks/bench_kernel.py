@@ -25,7 +25,6 @@ from __future__ import annotations
 import argparse
 import csv
 import os
-import platform
 import subprocess
 import sys
 import tempfile
@@ -34,6 +33,7 @@ from pathlib import Path
 
 import numba
 import numpy as np
+from machine import describe
 
 from fluidsim_envs.physics import INTEGRATORS, Craft, Simulator, World
 
@@ -119,32 +119,6 @@ def first_step_seconds(cache_dir: str) -> float:
     return float(out.stdout.split()[-1])
 
 
-def machine_info() -> list[str]:
-    # a parallel call first, so that numba has picked its threading layer
-    sim, _ = make_sim(64, "float64", kernel="parallel")
-    sim.step()
-    try:
-        lscpu = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
-        model = next(
-            (
-                line.split(":", 1)[1].strip()
-                for line in lscpu.splitlines()
-                if line.startswith("Model name")
-            ),
-            "",
-        )
-    except OSError:
-        model = ""
-    return [
-        f"cpu: {model or platform.processor() or 'unknown'} ({platform.machine()})",
-        f"os.cpu_count: {os.cpu_count()}, numba threads: {numba.config.NUMBA_NUM_THREADS}, "
-        f"threading layer: {numba.threading_layer()}",
-        f"python {platform.python_version()}, numba {numba.__version__}, "
-        f"numpy {np.__version__}, {platform.system()} {platform.release()}",
-        "load average at start: " + ", ".join(f"{x:.2f}" for x in os.getloadavg()),
-    ]
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="shorter, noisier measurements")
@@ -157,7 +131,7 @@ def main() -> None:
     args = parser.parse_args()
     target_s, repeats, calls = (0.05, 3, 2000) if args.quick else (0.3, 5, 20000)
 
-    info = machine_info()
+    info = describe()
     print("\n".join(info), end="\n\n")
     rows: list[tuple] = []
 

@@ -116,7 +116,8 @@ class FluidVectorEnv(VectorEnv):
         self._rngs: list[np.random.Generator | None] = [None] * E
         self._obs = np.zeros((E, self.obs_dim), dtype=np.float32)
         self._elapsed = np.zeros(E, dtype=np.int64)
-        self._sums = {k: np.zeros(E) for k in self.reward_terms}
+        self._sums = np.zeros((len(self.reward_terms), E))  # per-episode reward-term sums
+        self._act = np.zeros((E, len(self.action_names)))
         self._needs_reset = np.ones(E, dtype=bool)
 
     # ---- hooks ----------------------------------------------------------------------------
@@ -131,9 +132,9 @@ class FluidVectorEnv(VectorEnv):
         """Start new episodes in sub-envs ``ids``, drawing from ``rngs`` (one per id)."""
         raise NotImplementedError
 
-    def _advance(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray, dict, dict]:
-        """Apply ``actions`` [E, n] in [-1, 1] and step the physics; return (terminated [E],
-        diverged [E], reward terms {name: [E]}, info {key: [E]})."""
+    def _advance(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
+        """Apply ``actions`` [E, n] in [-1, 1] and step the physics; return new arrays
+        (terminated [E], diverged [E], reward terms [len(reward_terms), E], info {key: [E]})."""
         raise NotImplementedError
 
     def _observe(self, out: np.ndarray) -> None:
@@ -170,14 +171,13 @@ class FluidVectorEnv(VectorEnv):
 
     def step(self, actions):
         a = np.asarray(actions, dtype=np.float64)
-        expected = (self.num_envs, len(self.action_names))
-        if a.shape != expected:
-            if a.size == expected[0] * expected[1] and self.num_envs == 1:
-                a = a.reshape(expected)
+        if a.shape != self._act.shape:
+            if a.size == self._act.size and self.num_envs == 1:
+                a = a.reshape(self._act.shape)
             else:
                 raise ValueError(
-                    f"actions must have shape {expected} ({', '.join(self.action_names)}), "
-                    f"got {a.shape}"
+                    f"actions must have shape {self._act.shape} "
+                    f"({', '.join(self.action_names)}), got {a.shape}"
                 )
         if not np.isfinite(a).all():
             bad = np.argwhere(~np.isfinite(a))[0]
@@ -188,41 +188,39 @@ class FluidVectorEnv(VectorEnv):
                 "whose episode has ended (or never started): call reset first"
             )
         # the actuators' limits: Box(-1, 1) commands beyond them saturate
-        np.clip(a, -1.0, 1.0, out=a)
+        np.clip(a, -1.0, 1.0, out=self._act)
 
-        terminated, diverged, terms, info = self._advance(a)
+        terminated, diverged, terms, info = self._advance(self._act)
         self._elapsed += 1
-        reward = np.zeros(self.num_envs)
-        for k in self.reward_terms:
-            reward += terms[k]
-            self._sums[k] += terms[k]
-        terminated = terminated | diverged
+        reward = terms.sum(axis=0)
+        self._sums += terms
+        terminated |= diverged
         truncated = (self._elapsed >= self.params.max_episode_steps) & ~terminated
 
-        last = self._obs.copy()
-        self._observe(self._obs)
-        # a diverged state keeps its last finite observation: never NaN to the learner
-        self._obs[diverged] = last[diverged]
-        info = {**info, "physics_diverged": diverged, "reward_terms": terms}
+        if diverged.any():  # keep the last finite observation: never NaN to the learner
+            last = self._obs[diverged].copy()
+            self._observe(self._obs)
+            self._obs[diverged] = last
+        else:
+            self._observe(self._obs)
+        info["physics_diverged"] = diverged
+        info["reward_terms"] = dict(zip(self.reward_terms, terms, strict=True))
 
         done = terminated | truncated
         if done.any():
             ended = np.flatnonzero(done)
-            info["episode_terms"] = {k: v.copy() for k, v in self._sums.items()}
+            info["episode_terms"] = dict(zip(self.reward_terms, self._sums.copy(), strict=True))
             info["episode_steps"] = self._elapsed.copy()
             if self.autoreset:
-                final_info = {
-                    k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in info.items()
-                }
                 info["final_obs"] = self._obs.copy()
-                info["_final_obs"] = done.copy()
-                info["final_info"] = final_info
-                info["_final_info"] = done.copy()
+                info["_final_obs"] = done
+                info["final_info"] = dict(info)
+                info["_final_info"] = done
                 self._start(ended)
                 self._observe(self._obs)
             else:
                 self._needs_reset[ended] = True
-        return self._obs.copy(), reward.astype(np.float64), terminated, truncated, info
+        return self._obs.copy(), reward, terminated, truncated, info
 
     def render(self):
         if self.render_mode is None:
@@ -239,8 +237,7 @@ class FluidVectorEnv(VectorEnv):
     def _start(self, ids: np.ndarray) -> None:
         self._draw_reset(ids, [self._rngs[i] for i in ids])
         self._elapsed[ids] = 0
-        for v in self._sums.values():
-            v[ids] = 0.0
+        self._sums[:, ids] = 0.0
         self._needs_reset[ids] = False
 
     def _info_after_reset(self) -> dict:

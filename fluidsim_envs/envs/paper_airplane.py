@@ -8,6 +8,7 @@ import numpy as np
 
 from ..physics import Craft, Simulator, World
 from ..physics.kernels import INTEGRATORS, quat_matrices
+from . import paper_airplane_kernel as TK
 from .base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
 from .drawing import CraftMesh, chase_camera, fill_ground
 from .render import Canvas
@@ -133,8 +134,26 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
         self.target = np.zeros((E, 2))  # target on the ground (x, y), m
         self.launch = np.zeros((E, 2))  # launch point, the arena's center
         self._distance = np.zeros(E)
-        self._rot = np.zeros((E, 3, 3))
-        self._last_action = np.zeros((E, 3))
+        cfg = np.zeros(TK.NCFG)
+        for slot, value in (
+            (TK.C_W_PROGRESS, p.w_progress),
+            (TK.C_W_ACCURACY, p.w_accuracy),
+            (TK.C_W_SOFTNESS, p.w_softness),
+            (TK.C_W_CRASH, p.w_crash),
+            (TK.C_W_EFFORT, p.w_effort),
+            (TK.C_ACC_SCALE, p.accuracy_scale_m),
+            (TK.C_CRASH_SINK, p.crash_sink_mps),
+            (TK.C_CRASH_SPEED, p.crash_speed_mps),
+            (TK.C_UPRIGHT, p.upright_min),
+            (TK.C_ARENA, p.arena_radius_m),
+            (TK.C_CEILING, p.ceiling_m),
+            (TK.C_SUCCESS, p.success_radius_m),
+        ):
+            cfg[slot] = value
+        self._cfg = cfg
+        self._terms = np.zeros((len(REWARD_TERMS), E))
+        self._flags = np.zeros((5, E), dtype=bool)
+        self._sink = np.zeros(E)
 
     # ---- episode start --------------------------------------------------------------------
 
@@ -184,68 +203,39 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
     # ---- step -----------------------------------------------------------------------------
 
     def _advance(self, actions):
-        p = self.params
-        self._last_action[...] = actions
-        self.sim.step(actions, steps=p.substeps)
+        self.sim.step(actions, steps=self.params.substeps)
         diverged = self.sim.diverged.copy()
-
-        pos = self.sim.pos[:, 0]
-        vel = self.sim.lin_vel[:, 0]
-        rot = quat_matrices(np.ascontiguousarray(self.sim.quat[:, 0]))
-        self._rot = rot
-        distance = np.hypot(*(self.target - pos[:, :2]).T)
-        lowest = pos[:, 2] + (rot[:, 2, :] @ self._hull.T).min(axis=1)
-        touchdown = (lowest <= 0.0) & ~diverged
-        sink = -vel[:, 2]
-        speed = np.linalg.norm(vel, axis=1)
-        upright = rot[:, 2, 2] >= p.upright_min
-        landed = touchdown & upright & (sink < p.crash_sink_mps) & (speed < p.crash_speed_mps)
-        crashed = touchdown & ~landed
-        away = np.hypot(*(pos[:, :2] - self.launch).T)
-        out = ~touchdown & ~diverged & ((away > p.arena_radius_m) | (pos[:, 2] > p.ceiling_m))
-
-        with np.errstate(invalid="ignore"):
-            progress = np.where(diverged, 0.0, p.w_progress * (self._distance - distance))
-        terms = {
-            "progress": progress,
-            "accuracy": landed * p.w_accuracy * np.exp(-distance / p.accuracy_scale_m),
-            "softness": landed * p.w_softness * np.exp(-np.square(sink / 1.0)),
-            "crash": -p.w_crash * (crashed | out | diverged).astype(np.float64),
-            "effort": -p.w_effort * np.mean(np.square(actions), axis=1),
-        }
-        for v in terms.values():
-            v[diverged] = np.nan_to_num(v[diverged], nan=0.0)
-        terms["crash"][diverged] = -p.w_crash
-        self._distance = np.where(diverged, self._distance, distance)
+        st, _, _ = self.sim.kernel_arrays()
+        TK.score(
+            st,
+            diverged,
+            self._hull,
+            self.target,
+            self.launch,
+            self._distance,
+            actions,
+            self._cfg,
+            self._terms,
+            self._flags,
+            self._sink,
+        )
+        flags = self._flags.copy()
         info = {
             "distance_m": self._distance.copy(),
-            "landed": landed,
-            "crashed": crashed,
-            "out_of_arena": out,
-            "success": landed & (distance <= p.success_radius_m),
-            "touchdown_sink_mps": np.where(touchdown, sink, 0.0),
+            "landed": flags[TK.F_LANDED],
+            "crashed": flags[TK.F_CRASHED],
+            "out_of_arena": flags[TK.F_OUT],
+            "success": flags[TK.F_SUCCESS],
+            "touchdown_sink_mps": self._sink.copy(),
         }
-        return touchdown | out, diverged, terms, info
+        terminated = flags[TK.F_TOUCHDOWN] | flags[TK.F_OUT]
+        return terminated, diverged, self._terms.copy(), info
 
     # ---- observation ----------------------------------------------------------------------
 
     def _observe(self, out) -> None:
-        pos = self.sim.pos[:, 0]
-        vel = self.sim.lin_vel[:, 0]
-        rot = quat_matrices(np.ascontiguousarray(self.sim.quat[:, 0]))
-        air = vel - self.sim.wind_mps
-        out[:, 0:3] = np.einsum("eji,ej->ei", rot, air)
-        out[:, 3:6] = np.einsum("eji,ej->ei", rot, self.sim.ang_vel[:, 0])
-        out[:, 6:9] = -rot[:, 2, :]  # R^T (0, 0, -1)
-        out[:, 9] = pos[:, 2]
-        heading = np.arctan2(rot[:, 1, 0], rot[:, 0, 0])
-        c, s = np.cos(heading), np.sin(heading)
-        dx, dy = (self.target - pos[:, :2]).T
-        out[:, 10] = c * dx + s * dy
-        out[:, 11] = -s * dx + c * dy
-        out[:, 12] = c * vel[:, 0] + s * vel[:, 1]
-        out[:, 13] = -s * vel[:, 0] + c * vel[:, 1]
-        out[:, 14] = vel[:, 2]
+        st, flow, body = self.sim.kernel_arrays()
+        TK.observe(st, body, flow, self.target, out)
 
     # ---- render ---------------------------------------------------------------------------
 

@@ -262,16 +262,16 @@ class Canvas:
         # Samples at most 1 px apart along the major axis give a gap-free 8-connected line.
         d = pb - pa
         n = np.ceil(np.abs(d).max(axis=1)).astype(np.intp) + 1
+        step = d / np.maximum(n - 1, 1)[:, None]
+        # np.repeat of per-segment values is much faster than fancy-indexing them by sample.
         seg = np.repeat(np.arange(len(n)), n)
         k = np.arange(len(seg)) - np.repeat(np.cumsum(n) - n, n)
-        t = k / np.maximum(n - 1, 1)[seg]
-        xy = pa[seg] + t[:, None] * d[seg]
-        ix = np.floor(xy[:, 0]).astype(np.intp)
-        iy = np.floor(xy[:, 1]).astype(np.intp)
+        ix = np.floor(np.repeat(pa[:, 0], n) + k * np.repeat(step[:, 0], n)).astype(np.intp)
+        iy = np.floor(np.repeat(pa[:, 1], n) + k * np.repeat(step[:, 1], n)).astype(np.intp)
         if thickness > 1:
             # Widen across the major axis, as a thick Bresenham line does.
             offsets = np.arange(thickness) - (thickness - 1) // 2
-            steep = (np.abs(d[:, 1]) > np.abs(d[:, 0]))[seg]
+            steep = np.repeat(np.abs(d[:, 1]) > np.abs(d[:, 0]), n)
             ix = (ix + np.where(steep, offsets[:, None], 0)).ravel()
             iy = (iy + np.where(steep, 0, offsets[:, None])).ravel()
             seg = np.tile(seg, thickness)

@@ -282,6 +282,12 @@ class Simulator:
             raise ValueError(f"{name} has non-finite values: {value!r}")
         self._flow[rows, ids] = arr.T
 
+    def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The arrays env kernels read the state from, without copies: ``(state [13, B, E]``
+        (rows x, q, v, L as in ``kernels.py``), ``flow [6, E]`` (air then water velocity),
+        ``body [B, 7]`` (mass, inverse inertia entries)). Treat them as read-only."""
+        return self._st, self._flow, self._tables[0]
+
     def wrench(self, controls=None) -> tuple[np.ndarray, np.ndarray]:
         """Net force (N) and torque about the center of mass (N m) on each body from its
         fluid samples, buoyancy and thrusters (not gravity) at the current state, world frame,

@@ -285,3 +285,27 @@ def test_image_is_a_uint8_copy_and_fill_rows_clips():
 def test_camera_and_canvas_sizes_must_agree():
     with pytest.raises(ValueError):
         Canvas(100, 100).points(forward_camera(), [[5.0, 0.0, 0.0]], RED)
+
+
+@pytest.mark.filterwarnings("error")
+def test_random_garbage_never_raises_or_warns():
+    rng = np.random.default_rng(7)
+    special = np.array([np.nan, np.inf, -np.inf, 0.0, 1e-300, 1e300, -1e300, 1.7e308, 0.01])
+
+    def garbage(*shape):
+        x = rng.normal(size=shape) * 10.0 ** rng.uniform(-3, 3, size=shape)
+        mask = rng.random(shape) < 0.1
+        x[mask] = rng.choice(special, size=mask.sum())
+        return x
+
+    for _ in range(300):
+        w, h = (int(v) for v in rng.integers(1, 64, size=2))
+        cam = Camera.look_at(garbage(3), garbage(3), width=w, height=h)
+        canvas = Canvas(w, h)
+        n = int(rng.integers(0, 10))
+        canvas.lines(cam, garbage(n, 3), garbage(n, 3), RED, thickness=int(rng.integers(1, 4)))
+        canvas.triangles(cam, garbage(n, 3, 3), rng.integers(0, 256, size=(n, 3)))
+        canvas.points(cam, garbage(n, 3), BLUE, radius=int(rng.integers(0, 5)))
+        canvas.ground_grid(cam, garbage(2), float(rng.uniform(0, 50)), 1.0, GREEN)
+        canvas.fill_rows(*garbage(2), GREEN)
+        assert canvas.image().shape == (h, w, 3)

@@ -1,0 +1,120 @@
+"""Env-steps per second of our vector envs beside gymnasium's CartPole vector env, same run.
+
+For each env and num_envs in (1, 64, 1024, 4096, 16384): ``make_vec(id, num_envs,
+vectorization_mode="vector_entry_point")``, reset with a seed, then step with random actions
+(drawn beforehand, not timed) until ~``--seconds`` have passed; the figure is the best of
+``--repeats`` such runs, in env-steps (one action of one sub-env) per second. Episode ends and
+autoresets happen inside the timed loop, as in training. The single env (``gym.make``, with
+gymnasium's default wrappers) is measured the same way. CartPole-v1 is the peer: an almost
+empty env (four numbers of state), so its rate is the ceiling of the Gymnasium API itself.
+
+Writes ``docs/bench_envs.csv`` (machine in ``#`` lines) and prints a table with our rate over
+CartPole's at each num_envs.
+
+    python benchmarks/bench_envs.py [--quick]
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import time
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+from machine import describe
+
+import fluidsim_envs  # noqa: F401  (registers the envs)
+
+ENVS = ("fluidsim/PaperAirplane-v0",)
+PEER = "CartPole-v1"
+NUM_ENVS = (1, 64, 1024, 4096, 16384)
+
+
+def actions_for(space, n: int, rng) -> list:
+    """Pre-drawn random actions, cycled through in the timed loop."""
+    if isinstance(space, gym.spaces.Discrete) or (
+        isinstance(space, gym.spaces.MultiDiscrete) and space.shape
+    ):
+        hi = space.n if isinstance(space, gym.spaces.Discrete) else space.nvec
+        return [rng.integers(0, hi, size=space.shape) for _ in range(n)]
+    return [rng.uniform(space.low, space.high).astype(space.dtype) for _ in range(n)]
+
+
+def vector_rate(env_id: str, num_envs: int, seconds: float, repeats: int) -> float:
+    venv = gym.make_vec(env_id, num_envs=num_envs, vectorization_mode="vector_entry_point")
+    acts = actions_for(venv.action_space, 16, np.random.default_rng(0))
+    venv.reset(seed=0)
+    for a in acts:  # warm-up: compile, caches
+        venv.step(a)
+    best = 0.0
+    for _ in range(repeats):
+        steps, t0 = 0, time.perf_counter()
+        while (elapsed := time.perf_counter() - t0) < seconds:
+            for a in acts:
+                venv.step(a)
+            steps += len(acts)
+        best = max(best, steps * num_envs / elapsed)
+    venv.close()
+    return best
+
+
+def single_rate(env_id: str, seconds: float, repeats: int) -> float:
+    env = gym.make(env_id)
+    acts = actions_for(env.action_space, 64, np.random.default_rng(0))
+    env.reset(seed=0)
+    best = 0.0
+    for _ in range(repeats):
+        steps, t0 = 0, time.perf_counter()
+        while (elapsed := time.perf_counter() - t0) < seconds:
+            for a in acts:
+                _, _, term, trunc, _ = env.step(a)
+                if term or trunc:
+                    env.reset()
+            steps += len(acts)
+        best = max(best, steps / elapsed)
+    env.close()
+    return best
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true", help="shorter, noisier runs")
+    parser.add_argument("--seconds", type=float, default=1.0)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--out", default=str(Path(__file__).parents[1] / "docs/bench_envs.csv"))
+    args = parser.parse_args()
+    seconds, repeats = (0.3, 1) if args.quick else (args.seconds, args.repeats)
+
+    machine = describe()
+    print("\n".join(machine))
+    rows = []
+    for env_id in (*ENVS, PEER):
+        rate = single_rate(env_id, seconds, repeats)
+        rows.append((env_id, "single", 1, rate))
+        print(f"{env_id:28s} single           {rate:14,.0f} env-steps/s")
+        for n in NUM_ENVS:
+            rate = vector_rate(env_id, n, seconds, repeats)
+            rows.append((env_id, "vector", n, rate))
+            print(f"{env_id:28s} vector {n:6d}    {rate:14,.0f} env-steps/s")
+
+    peer = {(kind, n): r for e, kind, n, r in rows if e == PEER}
+    print(f"\nratio to {PEER} at the same num_envs (higher is better)")
+    for env_id, kind, n, r in rows:
+        if env_id != PEER:
+            print(f"{env_id:28s} {kind:6s} {n:6d}  x{r / peer[(kind, n)]:.3f}")
+
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with out.open("w", newline="") as f:
+        f.write("".join(f"# {line}\n" for line in machine))
+        w = csv.writer(f)
+        w.writerow(("env", "kind", "num_envs", "env_steps_per_s", "ratio_to_cartpole"))
+        for env_id, kind, n, r in rows:
+            w.writerow((env_id, kind, n, f"{r:.1f}", f"{r / peer[(kind, n)]:.4f}"))
+    print(f"\nwrote {out}")
+
+
+if __name__ == "__main__":
+    main()

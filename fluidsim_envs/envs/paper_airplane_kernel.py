@@ -1,0 +1,111 @@
+"""PaperAirplane-v0's per-step task logic (observation, touchdown, reward terms) for all envs
+in one compiled call: done in numpy it costs tens of small array operations per step, which
+dominate the step at small batch sizes."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..physics.kernels import OQ, OV, OX, _inv_inertia, quat_to_matrix, world_omega
+
+# rows of the per-step outputs
+T_PROGRESS, T_ACCURACY, T_SOFTNESS, T_CRASH, T_EFFORT = range(5)
+F_TOUCHDOWN, F_LANDED, F_CRASHED, F_OUT, F_SUCCESS = range(5)
+# slots of the task parameter vector
+(
+    C_W_PROGRESS,
+    C_W_ACCURACY,
+    C_W_SOFTNESS,
+    C_W_CRASH,
+    C_W_EFFORT,
+    C_ACC_SCALE,
+    C_CRASH_SINK,
+    C_CRASH_SPEED,
+    C_UPRIGHT,
+    C_ARENA,
+    C_CEILING,
+    C_SUCCESS,
+) = range(12)
+NCFG = 12
+
+_JIT = dict(cache=True, error_model="numpy")
+
+
+@njit(**_JIT)
+def observe(st, body, flow, target, out):
+    """Observation rows out[E, 15] (float32) from the state st[13, 1, E]: see OBSERVATION."""
+    inv_inertia = _inv_inertia(body, 0)
+    for e in range(st.shape[2]):
+        px, py, pz = st[OX, 0, e], st[OX + 1, 0, e], st[OX + 2, 0, e]
+        vx, vy, vz = st[OV, 0, e], st[OV + 1, 0, e], st[OV + 2, 0, e]
+        rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
+        r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
+        wx, wy, wz = world_omega(rot, st[10, 0, e], st[11, 0, e], st[12, 0, e], inv_inertia)
+        ax, ay, az = vx - flow[0, e], vy - flow[1, e], vz - flow[2, e]
+        out[e, 0] = r0 * ax + r3 * ay + r6 * az  # R^T (v - wind)
+        out[e, 1] = r1 * ax + r4 * ay + r7 * az
+        out[e, 2] = r2 * ax + r5 * ay + r8 * az
+        out[e, 3] = r0 * wx + r3 * wy + r6 * wz
+        out[e, 4] = r1 * wx + r4 * wy + r7 * wz
+        out[e, 5] = r2 * wx + r5 * wy + r8 * wz
+        out[e, 6], out[e, 7], out[e, 8] = -r6, -r7, -r8  # R^T (0, 0, -1)
+        out[e, 9] = pz
+        heading = math.atan2(r3, r0)
+        c, s = math.cos(heading), math.sin(heading)
+        dx, dy = target[e, 0] - px, target[e, 1] - py
+        out[e, 10] = c * dx + s * dy
+        out[e, 11] = -s * dx + c * dy
+        out[e, 12] = c * vx + s * vy
+        out[e, 13] = -s * vx + c * vy
+        out[e, 14] = vz
+
+
+@njit(**_JIT)
+def score(st, diverged, hull, target, launch, distance, actions, cfg, terms, flags, sink):
+    """Touchdown, landing, arena and reward terms of every env after a step.
+
+    ``distance`` [E] holds the horizontal distance to the target before the step and is
+    updated (kept where the state diverged); ``terms`` [5, E], ``flags`` [5, E] (bool) and
+    ``sink`` [E] are written."""
+    for e in range(st.shape[2]):
+        for k in range(5):
+            terms[k, e] = 0.0
+            flags[k, e] = False
+        sink[e] = 0.0
+        effort = 0.0
+        for k in range(actions.shape[1]):
+            effort += actions[e, k] * actions[e, k]
+        terms[T_EFFORT, e] = -cfg[C_W_EFFORT] * effort / actions.shape[1]
+        if diverged[e]:
+            terms[T_CRASH, e] = -cfg[C_W_CRASH]
+            continue
+        px, py, pz = st[OX, 0, e], st[OX + 1, 0, e], st[OX + 2, 0, e]
+        vx, vy, vz = st[OV, 0, e], st[OV + 1, 0, e], st[OV + 2, 0, e]
+        rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
+        lowest = np.inf
+        for h in range(hull.shape[0]):
+            z = rot[6] * hull[h, 0] + rot[7] * hull[h, 1] + rot[8] * hull[h, 2]
+            lowest = min(lowest, z)
+        d = math.hypot(target[e, 0] - px, target[e, 1] - py)
+        terms[T_PROGRESS, e] = cfg[C_W_PROGRESS] * (distance[e] - d)
+        distance[e] = d
+        if pz + lowest <= 0.0:
+            flags[F_TOUCHDOWN, e] = True
+            sink[e] = -vz
+            speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+            landed = rot[8] >= cfg[C_UPRIGHT] and -vz < cfg[C_CRASH_SINK]
+            landed = landed and speed < cfg[C_CRASH_SPEED]
+            if landed:
+                flags[F_LANDED, e] = True
+                flags[F_SUCCESS, e] = d <= cfg[C_SUCCESS]
+                terms[T_ACCURACY, e] = cfg[C_W_ACCURACY] * math.exp(-d / cfg[C_ACC_SCALE])
+                terms[T_SOFTNESS, e] = cfg[C_W_SOFTNESS] * math.exp(-vz * vz)  # (sink / 1 m/s)^2
+            else:
+                flags[F_CRASHED, e] = True
+                terms[T_CRASH, e] = -cfg[C_W_CRASH]
+        elif math.hypot(px - launch[e, 0], py - launch[e, 1]) > cfg[C_ARENA] or pz > cfg[C_CEILING]:
+            flags[F_OUT, e] = True
+            terms[T_CRASH, e] = -cfg[C_W_CRASH]
