@@ -1,5 +1,6 @@
-"""Physics demo (the README's main command until training lands): a paper dart thrown from
-10 m glides to the floor, and a buoy dropped into water settles at its waterline.
+"""Demo (the README's main command until training lands): a paper dart thrown from 10 m
+glides to the floor, a buoy dropped into water settles at its waterline, and on
+PaperAirplane-v0 the scripted pilot, a random policy and idle controls fly 256 seeded throws.
 
     python -m fluidsim_envs.demo
 """
@@ -48,6 +49,28 @@ def float_buoy() -> None:
         sim.step(steps=60)
 
 
+def fly_task(num_envs: int = 256, seed: int = 0) -> None:
+    from fluidsim_envs.controllers import PaperAirplanePilot
+    from fluidsim_envs.envs import PaperAirplaneVectorEnv
+    from fluidsim_envs.evaluation import first_episodes, random_policy, zero_policy
+
+    venv = PaperAirplaneVectorEnv(num_envs=num_envs)
+    dt = venv.params.dt * venv.params.substeps
+    print(f"\nPaperAirplane-v0: {num_envs} throws (seed {seed}), one episode each")
+    print(f"{'policy':>14} {'return':>15} {'landed':>7} {'success':>8} {'miss (m)':>9}")
+    for name, policy in (
+        ("scripted pilot", PaperAirplanePilot(num_envs, dt=dt)),
+        ("random", random_policy(venv, seed)),
+        ("zero controls", zero_policy(venv)),
+    ):
+        r = first_episodes(venv, policy, seed=seed)
+        print(
+            f"{name:>14} {r['return'].mean():7.2f} +- {r['return'].std():5.2f} "
+            f"{r['landed'].mean():7.1%} {r['success'].mean():8.1%} {r['distance_m'].mean():9.2f}"
+        )
+
+
 if __name__ == "__main__":
     glide()
     float_buoy()
+    fly_task()
