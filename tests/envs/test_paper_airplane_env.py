@@ -193,3 +193,18 @@ def test_render_rgb_array_frames():
     assert frame.dtype == np.uint8 and frame.ndim == 3 and frame.shape[2] == 3
     env.step(np.zeros(3))
     assert not np.array_equal(env.render(), frame)  # the view follows the flight
+
+
+def test_record_video_writes_an_episode(tmp_path):
+    """gymnasium's RecordVideo turns the rgb_array frames into a video file."""
+    pytest.importorskip("moviepy")
+    from gymnasium.wrappers import RecordVideo
+
+    env = gym.make(ID, render_mode="rgb_array", launch_height_m=(2.0, 2.0))
+    env = RecordVideo(env, str(tmp_path), episode_trigger=lambda e: True, disable_logger=True)
+    env.reset(seed=0)
+    while not any(env.step(np.zeros(3))[2:4]):
+        pass
+    env.close()
+    videos = list(tmp_path.glob("*.mp4"))
+    assert len(videos) == 1 and videos[0].stat().st_size > 1000
