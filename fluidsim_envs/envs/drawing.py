@@ -35,12 +35,6 @@ class CraftMesh:
             for s in craft.cylinders
         ]  # fmt: skip
         self.strokes = np.array(strokes).reshape(-1, 2, 3)
-        self.size = float(
-            max(
-                (np.linalg.norm(s.offset_m) for s in (*craft.plates, *craft.cylinders)),
-                default=1.0,
-            )
-        )
 
     def draw(self, canvas: Canvas, camera: Camera, pos, rot) -> None:
         """Paint the craft at ``pos`` with body-to-world rotation ``rot``."""

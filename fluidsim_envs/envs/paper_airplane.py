@@ -134,23 +134,7 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
         self.target = np.zeros((E, 2))  # target on the ground (x, y), m
         self.launch = np.zeros((E, 2))  # launch point, the arena's center
         self._distance = np.zeros(E)
-        cfg = np.zeros(TK.NCFG)
-        for slot, value in (
-            (TK.C_W_PROGRESS, p.w_progress),
-            (TK.C_W_ACCURACY, p.w_accuracy),
-            (TK.C_W_SOFTNESS, p.w_softness),
-            (TK.C_W_CRASH, p.w_crash),
-            (TK.C_W_EFFORT, p.w_effort),
-            (TK.C_ACC_SCALE, p.accuracy_scale_m),
-            (TK.C_CRASH_SINK, p.crash_sink_mps),
-            (TK.C_CRASH_SPEED, p.crash_speed_mps),
-            (TK.C_UPRIGHT, p.upright_min),
-            (TK.C_ARENA, p.arena_radius_m),
-            (TK.C_CEILING, p.ceiling_m),
-            (TK.C_SUCCESS, p.success_radius_m),
-        ):
-            cfg[slot] = value
-        self._cfg = cfg
+        self._cfg = np.array([getattr(p, name) for name in TK.CFG_FIELDS], dtype=np.float64)
         self._terms = np.zeros((len(REWARD_TERMS), E))
         self._flags = np.zeros((5, E), dtype=bool)
         self._sink = np.zeros(E)

@@ -14,7 +14,21 @@ from ..physics.kernels import OQ, OV, OX, _inv_inertia, quat_to_matrix, world_om
 # rows of the per-step outputs
 T_PROGRESS, T_ACCURACY, T_SOFTNESS, T_CRASH, T_EFFORT = range(5)
 F_TOUCHDOWN, F_LANDED, F_CRASHED, F_OUT, F_SUCCESS = range(5)
-# slots of the task parameter vector
+# the task parameter vector: these PaperAirplaneParams fields, in this order
+CFG_FIELDS = (
+    "w_progress",
+    "w_accuracy",
+    "w_softness",
+    "w_crash",
+    "w_effort",
+    "accuracy_scale_m",
+    "crash_sink_mps",
+    "crash_speed_mps",
+    "upright_min",
+    "arena_radius_m",
+    "ceiling_m",
+    "success_radius_m",
+)
 (
     C_W_PROGRESS,
     C_W_ACCURACY,
@@ -28,8 +42,7 @@ F_TOUCHDOWN, F_LANDED, F_CRASHED, F_OUT, F_SUCCESS = range(5)
     C_ARENA,
     C_CEILING,
     C_SUCCESS,
-) = range(12)
-NCFG = 12
+) = range(len(CFG_FIELDS))
 
 _JIT = dict(cache=True, error_model="numpy")
 

@@ -195,6 +195,16 @@ class Simulator:
         self._flow[:3] = np.asarray(world.wind_mps)[:, None]
         self._flow[3:] = np.asarray(world.current_mps)[:, None]
         self._wrench = np.zeros((6, B, E), dtype=dtype)
+        # the kernels' leading arguments: buffers updated in place, never rebound
+        self._args = (
+            self._st,
+            self._flow,
+            self._ctrl,
+            self._tables,
+            self._cmix,
+            self._cnorm,
+            self._prm,
+        )
 
     # ---- state ----------------------------------------------------------------------------
 
@@ -293,17 +303,7 @@ class Simulator:
         fluid samples, buoyancy and thrusters (not gravity) at the current state, world frame,
         each ``[E, B, 3]``. ``controls`` as in :meth:`step` (None: all channels at 0)."""
         self._set_controls(controls)
-        K.wrench(
-            self._st,
-            self._flow,
-            self._ctrl,
-            self._tables,
-            self._cmix,
-            self._cnorm,
-            self._prm,
-            self._scr,
-            self._wrench,
-        )
+        K.wrench(*self._args, self._scr, self._wrench)
         out = self._wrench.transpose(2, 1, 0)
         return out[..., :3].copy(), out[..., 3:].copy()
 
@@ -383,19 +383,7 @@ class Simulator:
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise ValueError(f"steps must be a positive integer, got {steps!r}")
         self._set_controls(controls)
-        self._kernel(
-            self._st,
-            self._flow,
-            self._ctrl,
-            self._tables,
-            self._cmix,
-            self._cnorm,
-            self._prm,
-            self._method,
-            int(steps),
-            self._scr,
-            self._diverged,
-        )
+        self._kernel(*self._args, self._method, int(steps), self._scr, self._diverged)
 
     def _set_controls(self, controls) -> None:
         if controls is None:
