@@ -1,11 +1,12 @@
 """Batched rigid-body physics with fluid samples (numba kernels; no gymnasium, torch or rerun).
 
->>> from fluidsim_envs.physics import Craft, World, Simulator
+>>> from fluidsim_envs.physics import Craft, World, Simulator, WakeField
 """
 
 from .craft import Buoyancy, Control, Craft, CraftError, Cylinder, Plate, Surface, Thruster
 from .kernels import EVALS_PER_STEP, INTEGRATORS
 from .simulator import Simulator
+from .wake import WakeField
 from .world import World
 
 __all__ = [
@@ -20,5 +21,6 @@ __all__ = [
     "Simulator",
     "Surface",
     "Thruster",
+    "WakeField",
     "World",
 ]

@@ -40,6 +40,7 @@ from .forces import (
     rotate_about_axis,
     water_fraction,
 )
+from .wake import NSRC, W_ON, wake_at
 
 BLOCK = 64  # environments per block: a multiple of the SIMD width, scratch fits in L1/L2
 NSTATE = 13
@@ -47,7 +48,9 @@ NSTATE = 13
 # compile-time constant the compiler can prove that rows do not overlap, and vectorizes.
 Y, Y0, ACC, D, R, W = 0, 13, 26, 39, 52, 61  # state, step start, RK sum, derivative, R, w
 FL = 64  # per-environment fluid: air velocity (3), water minus air velocity (3)
-ROWS = 72
+FB = 70  # with a wake: the environment's own water minus air velocity (FL + 3 then varies)
+SRC = 73  # with a wake: the wake source row (wake.NSRC values: pos, rotation, vel, offset)
+ROWS = 91
 OX, OQ, OV, OL = 0, 3, 7, 10  # offsets inside a 13-row state
 
 INTEGRATORS = {
@@ -242,11 +245,44 @@ def _flow(pt, rx, ry, rz, fluid):
     return vx, vy, vz, rho
 
 
+@njit(**_INLINE)
+def _source(S, i):
+    """The wake source row of environment i as a tuple of scalars (branch-free)."""
+    return (
+        S[SRC * BLOCK + i], S[(SRC + 1) * BLOCK + i], S[(SRC + 2) * BLOCK + i],
+        S[(SRC + 3) * BLOCK + i], S[(SRC + 4) * BLOCK + i], S[(SRC + 5) * BLOCK + i],
+        S[(SRC + 6) * BLOCK + i], S[(SRC + 7) * BLOCK + i], S[(SRC + 8) * BLOCK + i],
+        S[(SRC + 9) * BLOCK + i], S[(SRC + 10) * BLOCK + i], S[(SRC + 11) * BLOCK + i],
+        S[(SRC + 12) * BLOCK + i], S[(SRC + 13) * BLOCK + i], S[(SRC + 14) * BLOCK + i],
+        S[(SRC + 15) * BLOCK + i], S[(SRC + 16) * BLOCK + i], S[(SRC + 17) * BLOCK + i],
+    )  # fmt: skip
+
+
 @njit(**_JIT)
-def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
+def _wake_rows(S, n, ox, oy, oz, wprm):
+    """Water-minus-air rows FL + 3.. at one sample's point: the environment's own (rows FB)
+    plus the wake there. Not inlined: the field branches, so this loop stays scalar, and the
+    force loop that follows keeps its vectorized form whether or not there is a wake."""
+    for i in range(n):
+        rx, ry, rz = _rotate(S, i, ox, oy, oz)
+        w = wake_at(
+            S[(Y + OX) * BLOCK + i] + rx,
+            S[(Y + OX + 1) * BLOCK + i] + ry,
+            S[(Y + OX + 2) * BLOCK + i] + rz,
+            _source(S, i),
+            wprm,
+        )
+        S[(FL + 3) * BLOCK + i] = S[FB * BLOCK + i] + w[0]
+        S[(FL + 4) * BLOCK + i] = S[(FB + 1) * BLOCK + i] + w[1]
+        S[(FL + 5) * BLOCK + i] = S[(FB + 2) * BLOCK + i] + w[2]
+
+
+@njit(**_JIT)
+def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm):
     """Derivative rows D of the state rows Y: dx = v, dq, dv = F/m + g, dL = torque."""
     body, fpl, fpl_at, cpl, cpl_at, cyl, cyl_at, buo, buo_at, thr, thr_ch, thr_at = tables
     vmax, fmax = prm[P_VMAX], prm[P_FMAX]
+    wake = wprm[W_ON] != 0.0
     fluid = _fluid(prm)
     water, inv_blend, rho_w = fluid[0], fluid[1], fluid[3]
     _omega_row(S, body, b, n)
@@ -270,6 +306,8 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
     for p in range(fpl_at[b], fpl_at[b + 1]):  # fixed plates
         ox, oy, oz, bx, by, bz = fpl[0, p], fpl[1, p], fpl[2, p], fpl[3, p], fpl[4, p], fpl[5, p]
         area, eff = fpl[6, p], fpl[7, p]
+        if wake:
+            _wake_rows(S, n, ox, oy, oz, wprm)
         for i in range(n):
             rx, ry, rz = _rotate(S, i, ox, oy, oz)
             nx, ny, nz = _rotate(S, i, bx, by, bz)
@@ -279,6 +317,8 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
 
     for p in range(cpl_at[b], cpl_at[b + 1]):  # control surfaces: normals deflected per env
         ox, oy, oz, area, eff = cpl[0, p], cpl[1, p], cpl[2, p], cpl[9, p], cpl[10, p]
+        if wake:
+            _wake_rows(S, n, ox, oy, oz, wprm)
         for i in range(n):
             rx, ry, rz = _rotate(S, i, ox, oy, oz)
             nx, ny, nz = _rotate(
@@ -291,6 +331,8 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm):
     for p in range(cyl_at[b], cyl_at[b + 1]):
         ox, oy, oz, bx, by, bz = cyl[0, p], cyl[1, p], cyl[2, p], cyl[3, p], cyl[4, p], cyl[5, p]
         area = cyl[6, p]
+        if wake:
+            _wake_rows(S, n, ox, oy, oz, wprm)
         for i in range(n):
             rx, ry, rz = _rotate(S, i, ox, oy, oz)
             ax, ay, az = _rotate(S, i, bx, by, bz)
@@ -403,7 +445,7 @@ def _drift(S, n, h):
 
 
 @njit(**_JIT)
-def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, method):
+def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, wprm, method):
     """One time step of every body slot in a block (stage-synchronous across slots, so that
     forces coupling bodies of one environment can be added per stage)."""
     body = tables[0]
@@ -411,13 +453,13 @@ def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, method):
     h2 = HALF * dt
     if method == 0:  # explicit Euler: everything from the old state
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm)
         for b in range(nb):
             _axpy(scr_blk[b], Y, Y, dt, n)
             _normalize_quat(scr_blk[b], Y + OQ, n)
     elif method == 1:  # symplectic Euler: velocities first, then positions with new velocities
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm)
         for b in range(nb):
             S = scr_blk[b]
             _kick(S, n, dt)
@@ -425,24 +467,24 @@ def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, method):
             _rotate_by_omega(S, body, b, n, dt)
     elif method == 2:  # velocity Verlet: half kick, drift, new forces, half kick
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm)
         for b in range(nb):
             S = scr_blk[b]
             _kick(S, n, h2)
             _drift(S, n, dt)
             _rotate_by_omega(S, body, b, n, dt)
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm)
         for b in range(nb):
             _kick(scr_blk[b], n, h2)
     elif method == 3:  # RK2, explicit midpoint: Y0 keeps the step's start
         for b in range(nb):
             _copy(scr_blk[b], Y0, Y, n)
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm)
         for b in range(nb):
             _axpy(scr_blk[b], Y, Y0, h2, n)
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm)
         for b in range(nb):
             _axpy(scr_blk[b], Y, Y0, dt, n)
             _normalize_quat(scr_blk[b], Y + OQ, n)
@@ -451,7 +493,7 @@ def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, method):
             _copy(scr_blk[b], Y0, Y, n)
         for stage in range(4):
             for b in range(nb):
-                _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm)
+                _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm)
             for b in range(nb):
                 S = scr_blk[b]
                 weight = ONE if stage == 0 or stage == 3 else TWO
@@ -499,9 +541,9 @@ def _deflect(e0, n, cpl, cmix, ctrl, cnorm):
 
 
 @njit(**_JIT)
-def _load_block(blk, st, flow, ctrl, tables, cmix, cnorm, scr):
-    """Copy a block's state and fluid into its scratch and deflect its control surfaces;
-    returns (first environment, environments in the block)."""
+def _load_block(blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, scr):
+    """Copy a block's state and fluid (and wake source) into its scratch and deflect its
+    control surfaces; returns (first environment, environments in the block)."""
     nb, ne = st.shape[1], st.shape[2]
     e0 = blk * BLOCK
     n = min(BLOCK, ne - e0)
@@ -516,16 +558,38 @@ def _load_block(blk, st, flow, ctrl, tables, cmix, cnorm, scr):
                 air = flow[k, e0 + i]
                 scr_blk[b, (FL + k) * BLOCK + i] = air
                 scr_blk[b, (FL + 3 + k) * BLOCK + i] = flow[3 + k, e0 + i] - air
+        if wprm[W_ON] != 0.0:
+            for k in range(3):
+                for i in range(n):
+                    scr_blk[b, (FB + k) * BLOCK + i] = scr_blk[b, (FL + 3 + k) * BLOCK + i]
+            for k in range(NSRC):
+                for i in range(n):
+                    scr_blk[b, (SRC + k) * BLOCK + i] = src[k, e0 + i]
     return e0, n
 
 
 @njit(**_JIT)
-def _advance_block(blk, st, flow, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged):
-    e0, n = _load_block(blk, st, flow, ctrl, tables, cmix, cnorm, scr)
+def _advance_block(
+    blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged
+):
+    e0, n = _load_block(blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, scr)
     nb = st.shape[1]
     scr_blk = scr[blk]
+    wake = wprm[W_ON] != 0.0
+    dt = prm[P_DT]
     for _ in range(steps):
-        _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, method)
+        _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, wprm, method)
+        if wake:  # the source moves on at its velocity (rows: pos 0-2, velocity 12-14)
+            for b in range(nb):
+                for k in range(3):
+                    for i in range(n):
+                        scr_blk[b, (SRC + k) * BLOCK + i] += (
+                            dt * scr_blk[b, (SRC + 12 + k) * BLOCK + i]
+                        )
+    if wake:  # the source's new position, so that step(k) then step(m) is step(k + m)
+        for k in range(3):
+            for i in range(n):
+                src[k, e0 + i] = scr_blk[0, (SRC + k) * BLOCK + i]
     for i in range(n):
         diverged[e0 + i] = False
     for b in range(nb):
@@ -537,30 +601,36 @@ def _advance_block(blk, st, flow, ctrl, tables, cmix, cnorm, prm, method, steps,
 
 
 @njit(**_JIT)
-def step_serial(st, flow, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged):
+def step_serial(st, flow, src, wprm, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged):
     """Advance every environment ``steps`` steps on the calling thread."""
     for blk in range(scr.shape[0]):
-        _advance_block(blk, st, flow, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged)
+        _advance_block(
+            blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged
+        )
 
 
 @njit(parallel=True, **_JIT)
-def step_parallel(st, flow, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged):
+def step_parallel(
+    st, flow, src, wprm, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged
+):
     """Advance every environment ``steps`` steps, blocks spread over numba's threads."""
     for blk in prange(scr.shape[0]):
-        _advance_block(blk, st, flow, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged)
+        _advance_block(
+            blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged
+        )
 
 
 @njit(**_JIT)
-def wrench(st, flow, ctrl, tables, cmix, cnorm, prm, scr, out):
+def wrench(st, flow, src, wprm, ctrl, tables, cmix, cnorm, prm, scr, out):
     """Net force and torque about the center of mass of every body from its samples,
     buoyancy and thrusters (gravity excluded), out[6, B, E], world frame."""
     body = tables[0]
     g = prm[P_G]
     for blk in range(scr.shape[0]):
-        e0, n = _load_block(blk, st, flow, ctrl, tables, cmix, cnorm, scr)
+        e0, n = _load_block(blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, scr)
         for b in range(st.shape[1]):
             S = scr[blk, b]
-            _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm)
+            _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm)
             m = body[b, 0]
             for i in range(n):
                 out[0, b, e0 + i] = m * S[(D + OV) * BLOCK + i]

@@ -8,6 +8,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from . import kernels as K
+from . import wake as WK
 from .craft import Craft
 from .world import World
 
@@ -106,6 +107,11 @@ class Simulator:
             state) and renormalizes the quaternion each step.
         dtype: ``np.float64`` (default) or ``np.float32``.
         parallel: run blocks of environments on numba's threads; default: when E * B >= 1024.
+        wake: a :class:`WakeField` whose flow every fluid sample in the water feels (its
+            velocity is added to the water's); each environment's source (the submarine's
+            pose and velocity) is set with :meth:`set_wake_source` and moves on at its
+            velocity (orientation held) while the bodies step. None (default): no wake, and
+            no cost.
 
     State (world frame, arrays ``[E, B, ...]``, read-only views): ``pos``, ``quat`` (w, x, y,
     z), ``lin_vel``, ``ang_vel``, and ``diverged`` ``[E]`` (a non-finite state).
@@ -130,6 +136,7 @@ class Simulator:
         integrator: str = "symplectic_euler",
         dtype=np.float64,
         parallel: bool | None = None,
+        wake: WK.WakeField | None = None,
     ) -> None:
         crafts = [crafts] if isinstance(crafts, Craft) else list(crafts)
         if not crafts or not all(isinstance(c, Craft) for c in crafts):
@@ -152,6 +159,8 @@ class Simulator:
         dtype = np.dtype(dtype)
         if dtype not in (np.float32, np.float64):
             raise ValueError(f"dtype must be float32 or float64, got {dtype}")
+        if wake is not None and not isinstance(wake, WK.WakeField):
+            raise TypeError(f"wake must be a WakeField or None, got {wake!r}")
 
         self.crafts = tuple(crafts)
         self.world = world
@@ -160,6 +169,7 @@ class Simulator:
         self.dt = float(dt)
         self.integrator = integrator
         self.dtype = dtype
+        self.wake = wake
         self.parallel = E * B >= _BATCH_PARALLEL_MIN if parallel is None else bool(parallel)
         self._method = K.INTEGRATORS[integrator]
         self._kernel = K.step_parallel if self.parallel else K.step_serial
@@ -195,10 +205,15 @@ class Simulator:
         self._flow[:3] = np.asarray(world.wind_mps)[:, None]
         self._flow[3:] = np.asarray(world.current_mps)[:, None]
         self._wrench = np.zeros((6, B, E), dtype=dtype)
+        self._wprm = wake.params(dtype) if wake is not None else np.zeros(WK.NWPRM, dtype)
+        self._src = np.zeros((WK.NSRC, E), dtype=dtype)  # the wake source of each env
+        self._src[3:12:4] = 1.0  # identity rotation
         # the kernels' leading arguments: buffers updated in place, never rebound
         self._args = (
             self._st,
             self._flow,
+            self._src,
+            self._wprm,
             self._ctrl,
             self._tables,
             self._cmix,
@@ -291,6 +306,41 @@ class Simulator:
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"{name} has non-finite values: {value!r}")
         self._flow[rows, ids] = arr.T
+
+    def set_wake_source(
+        self, pos, quat, lin_vel, noise_offset=(0.0, 0.0, 0.0), env_ids=None
+    ) -> None:
+        """Place the wake's source (the submarine) in every environment, or in ``env_ids``:
+        position [n, 3], orientation [n, 4] (w, x, y, z), velocity through the water [n, 3],
+        and the turbulence offset [n, 3] (see :meth:`WakeField.velocity`); each broadcasts."""
+        if self.wake is None:
+            raise ValueError("set_wake_source: this Simulator has no wake (pass wake=)")
+        ids = self._env_ids("set_wake_source", env_ids)
+        n = ids.size
+        parts = []
+        for name, value, width in (
+            ("pos", pos, 3),
+            ("quat", quat, 4),
+            ("lin_vel", lin_vel, 3),
+            ("noise_offset", noise_offset, 3),
+        ):
+            arr = np.asarray(value, dtype=np.float64)
+            try:
+                arr = np.broadcast_to(arr, (n, width))
+            except ValueError:
+                raise ValueError(
+                    f"set_wake_source: {name} of shape {arr.shape} does not broadcast to "
+                    f"[{n}, {width}]"
+                ) from None
+            if not np.all(np.isfinite(arr)):
+                raise ValueError(f"set_wake_source: {name} has non-finite values: {value!r}")
+            parts.append(arr)
+        p, q, v, o = parts
+        norm = np.linalg.norm(q, axis=1, keepdims=True)
+        if np.any(norm < 1e-12):
+            raise ValueError("set_wake_source: quat must be non-zero")
+        rot = K.quat_matrices(q / norm).reshape(n, 9)
+        self._src[:, ids] = np.concatenate([p, rot, v, o], axis=1).T
 
     def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The arrays env kernels read the state from, without copies: ``(state [13, B, E]``
