@@ -3,6 +3,7 @@
 Importing the package registers the environments:
 
 - ``fluidsim/PaperAirplane-v0``: glide a paper dart to a target and land on it.
+- ``fluidsim/SubmarineWake-v0``: hold a small UUV on station in a submarine's wake.
 """
 
 from gymnasium.envs.registration import register
@@ -11,4 +12,10 @@ register(
     id="fluidsim/PaperAirplane-v0",
     entry_point="fluidsim_envs.envs.paper_airplane:PaperAirplaneEnv",
     vector_entry_point="fluidsim_envs.envs.paper_airplane:PaperAirplaneVectorEnv",
+)
+
+register(
+    id="fluidsim/SubmarineWake-v0",
+    entry_point="fluidsim_envs.envs.submarine_wake:SubmarineWakeEnv",
+    vector_entry_point="fluidsim_envs.envs.submarine_wake:SubmarineWakeVectorEnv",
 )

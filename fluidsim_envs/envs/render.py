@@ -28,7 +28,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-__all__ = ["Camera", "Canvas"]
+__all__ = ["Camera", "Canvas", "OrthoCamera"]
 
 # More grid lines than this is a spacing mistake, and would otherwise exhaust memory.
 _MAX_GRID_LINES = 10_000
@@ -124,6 +124,38 @@ class Camera:
         """Camera-frame points in front of the camera -> pixels (non-finite past float range)."""
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             return self.center + self.focal * cam[..., :2] / cam[..., 2:3]
+
+
+class OrthoCamera(Camera):
+    """Orthographic camera (plans and elevations): ``scale`` pixels per meter, no
+    perspective; the eye sits ``distance`` behind the view center along the view axis."""
+
+    def __init__(
+        self,
+        center: ArrayLike,
+        rotation: ArrayLike,
+        scale: float,
+        width: int = 480,
+        height: int = 240,
+        distance: float = 1.0e4,
+    ) -> None:
+        if not 0.0 < scale < math.inf:
+            raise ValueError(f"scale must be positive and finite, got {scale}")
+        rot = np.asarray(rotation, dtype=np.float64).reshape(3, 3)
+        eye = np.asarray(center, dtype=np.float64).reshape(3) - distance * rot[2]
+        super().__init__(eye, rot, 50.0, width, height, near=1e-9)
+        self.scale = float(scale)
+        self.distance = float(distance)
+
+    def project(self, points: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        cam = self.to_camera(points)
+        pixels = self._pixels(cam)
+        pixels[~(cam[..., 2] > self.near)] = np.nan
+        return pixels, cam[..., 2]
+
+    def _pixels(self, cam: np.ndarray) -> np.ndarray:
+        with np.errstate(over="ignore", invalid="ignore"):
+            return self.center + self.scale * cam[..., :2]
 
 
 def _unit(v: np.ndarray) -> np.ndarray:

@@ -342,6 +342,15 @@ class Simulator:
         rot = K.quat_matrices(q / norm).reshape(n, 9)
         self._src[:, ids] = np.concatenate([p, rot, v, o], axis=1).T
 
+    def wake_source_rows(self) -> np.ndarray:
+        """The wake source array [NSRC, E] the kernel reads, without a copy, for env kernels
+        that move the source every step: rows in the layout of ``wake.source_row``
+        (position, row-major rotation body -> world, velocity, noise offset); the kernel
+        advances the position rows during a step. Prefer :meth:`set_wake_source` elsewhere."""
+        if self.wake is None:
+            raise ValueError("wake_source_rows: this Simulator has no wake (pass wake=)")
+        return self._src
+
     def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The arrays env kernels read the state from, without copies: ``(state [13, B, E]``
         (rows x, q, v, L as in ``kernels.py``), ``flow [6, E]`` (air then water velocity),

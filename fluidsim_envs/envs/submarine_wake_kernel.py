@@ -1,0 +1,198 @@
+"""SubmarineWake-v0's per-step task logic in compiled calls: the lead submarine's scripted
+route, the station point, the observation (with the flow sensor reading the WakeField) and
+the reward terms, for all envs at once."""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from ..physics.kernels import OQ, OV, OX, _inv_inertia, quat_to_matrix, world_omega
+from ..physics.wake import wake_at
+
+T_STATION, T_EFFORT, T_CRASH = range(3)
+F_HULL, F_FLOOR, F_LOST, F_ON_STATION = range(4)
+# the lead's state rows lead[L_*, E]
+L_X, L_Y, L_Z, L_HEADING, L_SPEED, L_TURN, L_TIME = range(7)
+NLEAD = 7
+# the task parameter vector: these SubmarineWakeParams fields, in this order
+CFG_FIELDS = (
+    "w_station",
+    "w_effort",
+    "w_crash",
+    "station_scale_m",
+    "success_radius_m",
+    "lost_distance_m",
+    "floor_depth_m",
+    "route_lag_s",
+    "hull_length_m",
+    "hull_radius_m",
+    "vehicle_half_length_m",
+    "vehicle_radius_m",
+    "sensor_x_m",
+)
+(
+    C_W_STATION,
+    C_W_EFFORT,
+    C_W_CRASH,
+    C_STATION_SCALE,
+    C_SUCCESS,
+    C_LOST,
+    C_FLOOR,
+    C_LAG,
+    C_HULL_L,
+    C_HULL_R,
+    C_HALF,
+    C_RADIUS,
+    C_SENSOR,
+) = range(len(CFG_FIELDS))
+
+_JIT = dict(cache=True, error_model="numpy")
+
+
+@njit(**_JIT)
+def advance_lead(lead, route, dt, lag):
+    """Move every lead along its route by dt: speed and turn rate follow the current
+    segment's targets with a first-order lag, the heading integrates the turn rate and the
+    position moves along the mean heading of the step (level cruise).
+
+    ``route[E, S, 3]`` holds each segment's (end time, speed, turn rate); after the last
+    segment the route starts over."""
+    k = 1.0 - math.exp(-dt / lag)
+    for e in range(lead.shape[1]):
+        t = lead[L_TIME, e] % route[e, route.shape[1] - 1, 0]
+        s = 0
+        while s < route.shape[1] - 1 and route[e, s, 0] <= t:
+            s += 1
+        speed0, heading0 = lead[L_SPEED, e], lead[L_HEADING, e]
+        lead[L_SPEED, e] = speed0 + k * (route[e, s, 1] - speed0)
+        lead[L_TURN, e] += k * (route[e, s, 2] - lead[L_TURN, e])
+        lead[L_HEADING, e] = heading0 + dt * lead[L_TURN, e]
+        mid = 0.5 * (heading0 + lead[L_HEADING, e])
+        step = 0.5 * (speed0 + lead[L_SPEED, e]) * dt
+        lead[L_X, e] += step * math.cos(mid)
+        lead[L_Y, e] += step * math.sin(mid)
+        lead[L_TIME, e] += dt
+
+
+@njit(**_JIT)
+def lead_source(lead, offset, src):
+    """The wake source rows src[18, E] (position, rotation, velocity, noise offset) of each
+    lead (see physics.wake.source_row)."""
+    for e in range(lead.shape[1]):
+        c, s = math.cos(lead[L_HEADING, e]), math.sin(lead[L_HEADING, e])
+        src[0, e], src[1, e], src[2, e] = lead[L_X, e], lead[L_Y, e], lead[L_Z, e]
+        src[3, e], src[4, e], src[5, e] = c, -s, 0.0
+        src[6, e], src[7, e], src[8, e] = s, c, 0.0
+        src[9, e], src[10, e], src[11, e] = 0.0, 0.0, 1.0
+        src[12, e], src[13, e], src[14, e] = lead[L_SPEED, e] * c, lead[L_SPEED, e] * s, 0.0
+        src[15, e], src[16, e], src[17, e] = offset[e, 0], offset[e, 1], offset[e, 2]
+
+
+@njit(**_JIT)
+def _source_tuple(src, e):
+    return (
+        src[0, e], src[1, e], src[2, e], src[3, e], src[4, e], src[5, e],
+        src[6, e], src[7, e], src[8, e], src[9, e], src[10, e], src[11, e],
+        src[12, e], src[13, e], src[14, e], src[15, e], src[16, e], src[17, e],
+    )  # fmt: skip
+
+
+@njit(**_JIT)
+def _station(lead, station, e):
+    """World position and velocity of env e's station point (offset in the lead's frame)."""
+    c, s = math.cos(lead[L_HEADING, e]), math.sin(lead[L_HEADING, e])
+    ox, oy, oz = station[e, 0], station[e, 1], station[e, 2]
+    wx, wy = c * ox - s * oy, s * ox + c * oy
+    u, r = lead[L_SPEED, e], lead[L_TURN, e]
+    # velocity: the lead's plus its turn rate crossed with the offset
+    return (
+        lead[L_X, e] + wx,
+        lead[L_Y, e] + wy,
+        lead[L_Z, e] + oz,
+        u * c - r * wy,
+        u * s + r * wx,
+        0.0,
+    )
+
+
+@njit(**_JIT)
+def observe(st, body, lead, station, src, wprm, cfg, out):
+    """Observation rows out[E, 22] (float32) from the vehicle's state st[13, 1, E]."""
+    inv_inertia = _inv_inertia(body, 0)
+    for e in range(st.shape[2]):
+        px, py, pz = st[OX, 0, e], st[OX + 1, 0, e], st[OX + 2, 0, e]
+        vx, vy, vz = st[OV, 0, e], st[OV + 1, 0, e], st[OV + 2, 0, e]
+        rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
+        r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
+        wx, wy, wz = world_omega(rot, st[10, 0, e], st[11, 0, e], st[12, 0, e], inv_inertia)
+        out[e, 0] = r0 * vx + r3 * vy + r6 * vz  # R^T v
+        out[e, 1] = r1 * vx + r4 * vy + r7 * vz
+        out[e, 2] = r2 * vx + r5 * vy + r8 * vz
+        out[e, 3] = r0 * wx + r3 * wy + r6 * wz
+        out[e, 4] = r1 * wx + r4 * wy + r7 * wz
+        out[e, 5] = r2 * wx + r5 * wy + r8 * wz
+        out[e, 6], out[e, 7], out[e, 8] = -r6, -r7, -r8  # R^T (0, 0, -1)
+        out[e, 9] = -pz
+        out[e, 10] = pz + cfg[C_FLOOR]
+        sx, sy, sz, svx, svy, svz = _station(lead, station, e)
+        dx, dy, dz = sx - px, sy - py, sz - pz
+        out[e, 11] = r0 * dx + r3 * dy + r6 * dz
+        out[e, 12] = r1 * dx + r4 * dy + r7 * dz
+        out[e, 13] = r2 * dx + r5 * dy + r8 * dz
+        # the flow sensor in the nose reads the water's velocity there
+        n = cfg[C_SENSOR]
+        fx, fy, fz = wake_at(px + r0 * n, py + r3 * n, pz + r6 * n, _source_tuple(src, e), wprm)
+        out[e, 14] = r0 * fx + r3 * fy + r6 * fz
+        out[e, 15] = r1 * fx + r4 * fy + r7 * fz
+        out[e, 16] = r2 * fx + r5 * fy + r8 * fz
+        dvx, dvy, dvz = svx - vx, svy - vy, svz - vz
+        out[e, 17] = r0 * dvx + r3 * dvy + r6 * dvz
+        out[e, 18] = r1 * dvx + r4 * dvy + r7 * dvz
+        out[e, 19] = r2 * dvx + r5 * dvy + r8 * dvz
+        err = lead[L_HEADING, e] - math.atan2(r3, r0)
+        out[e, 20] = math.sin(err)
+        out[e, 21] = math.cos(err)
+
+
+@njit(**_JIT)
+def score(st, diverged, lead, station, actions, cfg, terms, flags, distance):
+    """Collisions, losing the lead and the reward terms of every env after a step; writes
+    ``terms`` [3, E], ``flags`` [4, E] (bool) and ``distance`` [E] (to the station point;
+    kept where the state diverged)."""
+    a = 0.5 * cfg[C_HULL_L] + cfg[C_RADIUS]
+    b = cfg[C_HULL_R] + cfg[C_RADIUS]
+    half = cfg[C_HALF]
+    for e in range(st.shape[2]):
+        for k in range(3):
+            terms[k, e] = 0.0
+        for k in range(4):
+            flags[k, e] = False
+        effort = 0.0
+        for k in range(actions.shape[1]):
+            effort += actions[e, k] * actions[e, k]
+        terms[T_EFFORT, e] = -cfg[C_W_EFFORT] * effort / actions.shape[1]
+        if diverged[e]:
+            terms[T_CRASH, e] = -cfg[C_W_CRASH]
+            continue
+        px, py, pz = st[OX, 0, e], st[OX + 1, 0, e], st[OX + 2, 0, e]
+        rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
+        c, s = math.cos(lead[L_HEADING, e]), math.sin(lead[L_HEADING, e])
+        for j in range(3):  # nose, center, tail against the lead's hull and the floor
+            f = half * (1 - j)
+            qx, qy, qz = px + rot[0] * f, py + rot[3] * f, pz + rot[6] * f
+            dx, dy, dz = qx - lead[L_X, e], qy - lead[L_Y, e], qz - lead[L_Z, e]
+            hx, hy = c * dx + s * dy, -s * dx + c * dy  # in the lead's frame
+            if (hx / a) ** 2 + (hy / b) ** 2 + (dz / b) ** 2 <= 1.0:
+                flags[F_HULL, e] = True
+            if qz - cfg[C_RADIUS] <= -cfg[C_FLOOR]:
+                flags[F_FLOOR, e] = True
+        sx, sy, sz, _, _, _ = _station(lead, station, e)
+        d = math.sqrt((sx - px) ** 2 + (sy - py) ** 2 + (sz - pz) ** 2)
+        distance[e] = d
+        flags[F_LOST, e] = d > cfg[C_LOST]
+        flags[F_ON_STATION, e] = d <= cfg[C_SUCCESS]
+        terms[T_STATION, e] = cfg[C_W_STATION] * math.exp(-d / cfg[C_STATION_SCALE])
+        if flags[F_HULL, e] or flags[F_FLOOR, e] or flags[F_LOST, e]:
+            terms[T_CRASH, e] = -cfg[C_W_CRASH]
