@@ -27,7 +27,13 @@ from machine import describe
 
 import fluidsim_envs  # noqa: F401  (registers the envs)
 
-ENVS = ("fluidsim/PaperAirplane-v0",)
+ENVS = ("fluidsim/PaperAirplane-v0", "fluidsim/SubmarineWake-v0")
+# extra rows: (label, env id, make kwargs, watch): SubmarineWake-v0 without its wake, and
+# with the wake's tracers of sub-env 0 advanced every step (what rendering or logging costs)
+VARIANTS = (
+    ("SubmarineWake-v0 wake=False", "fluidsim/SubmarineWake-v0", {"wake": False}, False),
+    ("SubmarineWake-v0 +tracers", "fluidsim/SubmarineWake-v0", {"render_mode": "rgb_array"}, True),
+)
 PEER = "CartPole-v1"
 NUM_ENVS = (1, 64, 1024, 4096, 16384)
 
@@ -42,10 +48,16 @@ def actions_for(space, n: int, rng) -> list:
     return [rng.uniform(space.low, space.high).astype(space.dtype) for _ in range(n)]
 
 
-def vector_rate(env_id: str, num_envs: int, seconds: float, repeats: int) -> float:
-    venv = gym.make_vec(env_id, num_envs=num_envs, vectorization_mode="vector_entry_point")
+def vector_rate(
+    env_id: str, num_envs: int, seconds: float, repeats: int, kwargs=None, watch=False
+) -> float:
+    venv = gym.make_vec(
+        env_id, num_envs=num_envs, vectorization_mode="vector_entry_point", **(kwargs or {})
+    )
     acts = actions_for(venv.action_space, 16, np.random.default_rng(0))
     venv.reset(seed=0)
+    if watch:  # one frame of sub-env 0 starts its tracers; steps then advance them
+        venv.unwrapped._frame(0)
     for a in acts:  # warm-up: compile, caches
         venv.step(a)
     best = 0.0
@@ -99,10 +111,16 @@ def main() -> None:
             rows.append((env_id, "vector", n, rate))
             print(f"{env_id:28s} vector {n:6d}    {rate:14,.0f} env-steps/s")
 
+    for label, env_id, kwargs, watch in VARIANTS:
+        for n in NUM_ENVS:
+            rate = vector_rate(env_id, n, seconds, repeats, kwargs, watch)
+            rows.append((label, "vector", n, rate))
+            print(f"{label:28s} vector {n:6d}    {rate:14,.0f} env-steps/s")
+
     peer = {(kind, n): r for e, kind, n, r in rows if e == PEER}
     print(f"\nratio to {PEER} at the same num_envs (higher is better)")
     for env_id, kind, n, r in rows:
-        if env_id != PEER:
+        if env_id != PEER and (kind, n) in peer:
             print(f"{env_id:28s} {kind:6s} {n:6d}  x{r / peer[(kind, n)]:.3f}")
 
     out = Path(args.out)
@@ -112,7 +130,8 @@ def main() -> None:
         w = csv.writer(f)
         w.writerow(("env", "kind", "num_envs", "env_steps_per_s", "ratio_to_cartpole"))
         for env_id, kind, n, r in rows:
-            w.writerow((env_id, kind, n, f"{r:.1f}", f"{r / peer[(kind, n)]:.4f}"))
+            ratio = r / peer[(kind, n)] if (kind, n) in peer else float("nan")
+            w.writerow((env_id, kind, n, f"{r:.1f}", f"{ratio:.4f}"))
     print(f"\nwrote {out}")
 
 

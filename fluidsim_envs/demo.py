@@ -70,7 +70,32 @@ def fly_task(num_envs: int = 256, seed: int = 0) -> None:
         )
 
 
+def hold_station(num_envs: int = 256, seed: int = 0) -> None:
+    from fluidsim_envs.controllers import SubmarineWakePilot
+    from fluidsim_envs.envs import SubmarineWakeVectorEnv
+    from fluidsim_envs.evaluation import first_episodes, random_policy, zero_policy
+
+    print(f"\nSubmarineWake-v0: {num_envs} episodes (seed {seed}), one each, 60 s")
+    print(f"{'policy':>14} {'return':>17} {'on station':>11} {'success':>8} {'crash':>6}")
+    for name, wake, policy in (
+        ("scripted pilot", True, SubmarineWakePilot()),
+        ("  (no wake)", False, SubmarineWakePilot()),
+        ("random", True, None),
+        ("zero controls", True, None),
+    ):
+        venv = SubmarineWakeVectorEnv(num_envs=num_envs, wake=wake)
+        if policy is None:
+            policy = random_policy(venv, seed) if name == "random" else zero_policy(venv)
+        r = first_episodes(venv, policy, seed=seed)
+        crash = 1.0 - r["truncated"].mean()
+        print(
+            f"{name:>14} {r['return'].mean():8.1f} +- {r['return'].std():5.1f} "
+            f"{r['on_station_fraction'].mean():11.1%} {r['success'].mean():8.1%} {crash:6.1%}"
+        )
+
+
 if __name__ == "__main__":
     glide()
     float_buoy()
     fly_task()
+    hold_station()
