@@ -77,6 +77,10 @@ class SubmarineWakeParams:
     screws: int = 2
     circulation: float = 1.0  # vortex strength / (speed x hull radius)
     noise: float = 0.15  # turbulence amplitude / speed
+    # dipoles carrying the hull's displacement flow: 8 are within 0.5% of the speed of the
+    # exact flow from two hull radii out, where the station lies; 24 resolve it down to the
+    # hull at three times the cost (tests/physics/test_wake.py)
+    wake_dipoles: int = 8
     # ending and scoring
     lost_distance_m: float = 30.0  # this far from the station point, the lead is lost
     success_radius_m: float = 3.0
@@ -113,6 +117,7 @@ class SubmarineWakeParams:
         check_number(own, "screws", self.screws, 1, 2, integer=True)
         check_number(own, "circulation", self.circulation, 0.0, 10.0)
         check_number(own, "noise", self.noise, 0.0, 10.0)
+        check_number(own, "wake_dipoles", self.wake_dipoles, 1, 32, integer=True)
         for key in ("w_station", "w_effort", "w_crash"):
             check_number(own, key, getattr(self, key), 0.0)
         if self.floor_depth_m <= self.lead_depth_m[1] + LEAD_RADIUS_M:
@@ -129,6 +134,7 @@ class SubmarineWakeParams:
             screws=int(self.screws),
             circulation=float(self.circulation),
             noise=float(self.noise),
+            dipoles=int(self.wake_dipoles),
         )
 
 
