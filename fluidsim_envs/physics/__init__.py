@@ -6,6 +6,7 @@
 from .craft import Buoyancy, Control, Craft, CraftError, Cylinder, Plate, Surface, Thruster
 from .kernels import EVALS_PER_STEP, INTEGRATORS
 from .simulator import Simulator
+from .tracers import SpatialHash, Tracers
 from .wake import WakeField
 from .world import World
 
@@ -20,7 +21,9 @@ __all__ = [
     "Plate",
     "Simulator",
     "Surface",
+    "SpatialHash",
     "Thruster",
+    "Tracers",
     "WakeField",
     "World",
 ]
