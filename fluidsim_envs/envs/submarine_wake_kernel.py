@@ -9,7 +9,7 @@ import math
 from numba import njit
 
 from ..physics.kernels import OQ, OV, OX, _inv_inertia, quat_to_matrix, world_omega
-from ..physics.wake import wake_at
+from ..physics.wake import source_tuple, wake_at
 
 T_STATION, T_EFFORT, T_CRASH = range(3)
 F_HULL, F_FLOOR, F_LOST, F_ON_STATION = range(4)
@@ -91,15 +91,6 @@ def lead_source(lead, offset, src):
 
 
 @njit(**_JIT)
-def _source_tuple(src, e):
-    return (
-        src[0, e], src[1, e], src[2, e], src[3, e], src[4, e], src[5, e],
-        src[6, e], src[7, e], src[8, e], src[9, e], src[10, e], src[11, e],
-        src[12, e], src[13, e], src[14, e], src[15, e], src[16, e], src[17, e],
-    )  # fmt: skip
-
-
-@njit(**_JIT)
 def _station(lead, station, e):
     """World position and velocity of env e's station point (offset in the lead's frame)."""
     c, s = math.cos(lead[L_HEADING, e]), math.sin(lead[L_HEADING, e])
@@ -143,7 +134,7 @@ def observe(st, body, lead, station, src, wprm, cfg, out):
         out[e, 13] = r2 * dx + r5 * dy + r8 * dz
         # the flow sensor in the nose reads the water's velocity there
         n = cfg[C_SENSOR]
-        fx, fy, fz = wake_at(px + r0 * n, py + r3 * n, pz + r6 * n, _source_tuple(src, e), wprm)
+        fx, fy, fz = wake_at(px + r0 * n, py + r3 * n, pz + r6 * n, source_tuple(src[:, e]), wprm)
         out[e, 14] = r0 * fx + r3 * fy + r6 * fz
         out[e, 15] = r1 * fx + r4 * fy + r7 * fz
         out[e, 16] = r2 * fx + r5 * fy + r8 * fz
