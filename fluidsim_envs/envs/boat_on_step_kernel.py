@@ -1,0 +1,276 @@
+"""BoatOnStep-v0's per-step task logic in compiled calls: the engine's power curve, the
+observation, the gates and buoys, porpoising and capsize detection and the reward terms, for
+all envs at once."""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from ..physics.kernels import OQ, OV, OX, _inv_inertia, quat_to_matrix, world_omega
+
+T_SPEED, T_PROGRESS, T_GATE, T_BUOY, T_PORPOISE, T_FUEL, T_CRASH = range(7)
+NTERMS = 7
+F_CAPSIZE, F_STUFF, F_LEFT, F_PORPOISE, F_BUOY, F_PASSED, F_MISSED, F_FINISHED = range(8)
+NFLAGS = 8
+# per-env task state rows task[K_*, E]
+K_GATE, K_TARGET, K_TRIM_MEAN, K_DEV_MEAN, K_PITCH_VAR, K_SIDE, K_DIST = range(7)
+K_PASSED, K_MISSED = 7, 8
+NTASK = 9
+# porpoising is a pitch-heave oscillation of 0.5-2 s period: the trim is high-passed twice with
+# this time constant (a corner near 0.8 Hz) so that the slow trim changes of getting on plane
+# or of a turn (ramps included) do not read as oscillation
+HIGHPASS_S = 0.2
+# course[E, G + 1, 3]: the start point, then each gate's center (x, y) and the heading of the
+# leg that arrives at it, which is the direction of travel through the gate
+G_X, G_Y, G_HEADING = range(3)
+# the task parameter vector: these fields (of BoatOnStepParams, or derived), in this order
+CFG_FIELDS = (
+    "w_speed",
+    "w_progress",
+    "w_gate",
+    "w_buoy",
+    "w_porpoise",
+    "w_fuel",
+    "w_crash",
+    "speed_scale_mps",
+    "gate_half_width_m",
+    "buoy_radius_m",
+    "course_half_width_m",
+    "capsize_heel_deg",
+    "porpoise_deg",
+    "porpoise_min_speed_mps",
+    "porpoise_window_s",
+    "engine_power_w",
+    "max_thrust_n",
+    "min_thrust_n",
+    "step_s",
+    "rest_height_m",
+    "bow_x_m",
+    "bow_z_m",
+    "hull_half_beam_m",
+)
+(
+    C_W_SPEED,
+    C_W_PROGRESS,
+    C_W_GATE,
+    C_W_BUOY,
+    C_W_PORPOISE,
+    C_W_FUEL,
+    C_W_CRASH,
+    C_SPEED_SCALE,
+    C_GATE_HALF,
+    C_BUOY_R,
+    C_COURSE_HALF,
+    C_CAPSIZE,
+    C_PORPOISE,
+    C_PORPOISE_SPEED,
+    C_PORPOISE_WINDOW,
+    C_POWER,
+    C_MAX_THRUST,
+    C_MIN_THRUST,
+    C_STEP,
+    C_REST,
+    C_BOW_X,
+    C_BOW_Z,
+    C_HALF_BEAM,
+) = range(len(CFG_FIELDS))
+
+_JIT = dict(cache=True, error_model="numpy")
+
+
+@njit(**_JIT)
+def thrust_command(u, throttle, cfg):
+    """Propeller thrust (N) for a throttle in [-1, 1] at forward speed u (m/s): 0 at idle,
+    linear to full ahead (``max_thrust_n``) or full astern (``min_thrust_n``), and ahead never
+    more than the engine's power allows, ``engine_power_w / u``: a fixed-pitch propeller's
+    thrust falls with speed, which sets the boat's top speed."""
+    if throttle >= 0.0:
+        return throttle * min(cfg[C_MAX_THRUST], cfg[C_POWER] / max(u, 1.0))
+    return -throttle * cfg[C_MIN_THRUST]
+
+
+@njit(**_JIT)
+def controls(st, actions, cfg, ctrl):
+    """The craft's channel values ctrl[E, 3] (throttle, rudder, trim tabs, each in [-1, 1] of
+    the craft's ranges) for the agent's actions [E, 3]."""
+    lo, hi = cfg[C_MIN_THRUST], cfg[C_MAX_THRUST]
+    for e in range(st.shape[2]):
+        rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
+        u = rot[0] * st[OV, 0, e] + rot[3] * st[OV + 1, 0, e] + rot[6] * st[OV + 2, 0, e]
+        thrust = thrust_command(u, actions[e, 0], cfg)
+        ctrl[e, 0] = 2.0 * (thrust - lo) / (hi - lo) - 1.0
+        ctrl[e, 1] = actions[e, 1]
+        ctrl[e, 2] = actions[e, 2]
+
+
+@njit(**_JIT)
+def attitude(rot):
+    """Trim (bow up +) and heel (starboard side down +) in radians from the rotation matrix."""
+    trim = math.asin(min(1.0, max(-1.0, rot[6])))
+    heel = math.atan2(rot[7], rot[8])
+    return trim, heel
+
+
+@njit(**_JIT)
+def _gate_frame(course, e, g, px, py):
+    """Position relative to gate g of env e: along its heading (+ past it) and across (+ left)."""
+    c, s = math.cos(course[e, g, G_HEADING]), math.sin(course[e, g, G_HEADING])
+    dx, dy = px - course[e, g, G_X], py - course[e, g, G_Y]
+    return c * dx + s * dy, -s * dx + c * dy
+
+
+@njit(**_JIT)
+def observe(st, body, course, task, cfg, out):
+    """Observation rows out[E, 18] (float32) from the boat's state st[13, 1, E]."""
+    inv_inertia = _inv_inertia(body, 0)
+    last = course.shape[1] - 1
+    for e in range(st.shape[2]):
+        px, py, pz = st[OX, 0, e], st[OX + 1, 0, e], st[OX + 2, 0, e]
+        vx, vy, vz = st[OV, 0, e], st[OV + 1, 0, e], st[OV + 2, 0, e]
+        rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
+        r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
+        wx, wy, wz = world_omega(rot, st[10, 0, e], st[11, 0, e], st[12, 0, e], inv_inertia)
+        out[e, 0] = r0 * vx + r3 * vy + r6 * vz  # R^T v
+        out[e, 1] = r1 * vx + r4 * vy + r7 * vz
+        out[e, 2] = r2 * vx + r5 * vy + r8 * vz
+        out[e, 3] = r0 * wx + r3 * wy + r6 * wz
+        out[e, 4] = r1 * wx + r4 * wy + r7 * wz
+        out[e, 5] = r2 * wx + r5 * wy + r8 * wz
+        trim, heel = attitude(rot)
+        out[e, 6] = trim
+        out[e, 7] = heel
+        out[e, 8] = pz - cfg[C_REST]
+        speed = math.sqrt(vx * vx + vy * vy)
+        out[e, 9] = task[K_TARGET, e] - speed
+        heading = math.atan2(r3, r0)
+        g = min(int(task[K_GATE, e]), last)
+        dx, dy = course[e, g, G_X] - px, course[e, g, G_Y] - py
+        err = math.atan2(dy, dx) - heading
+        out[e, 10] = math.sin(err)
+        out[e, 11] = math.cos(err)
+        c, s = math.cos(heading), math.sin(heading)
+        out[e, 12] = c * dx + s * dy
+        out[e, 13] = -s * dx + c * dy
+        gate_err = course[e, g, G_HEADING] - heading
+        out[e, 14] = math.sin(gate_err)
+        out[e, 15] = math.cos(gate_err)
+        out[e, 16] = task[K_TARGET, e]
+        out[e, 17] = 2.0 * math.sqrt(2.0 * task[K_PITCH_VAR, e])  # pitch oscillation, p-p
+
+
+@njit(**_JIT)
+def start(st, course, task, e):
+    """Task state of env e at the start of an episode (target speed already set)."""
+    task[K_GATE, e] = 1.0
+    task[K_PASSED, e] = 0.0
+    task[K_MISSED, e] = 0.0
+    rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
+    task[K_TRIM_MEAN, e] = attitude(rot)[0]
+    task[K_DEV_MEAN, e] = 0.0
+    task[K_PITCH_VAR, e] = 0.0
+    along, _ = _gate_frame(course, e, 1, st[OX, 0, e], st[OX + 1, 0, e])
+    task[K_SIDE, e] = along
+    task[K_DIST, e] = math.hypot(
+        course[e, 1, G_X] - st[OX, 0, e], course[e, 1, G_Y] - st[OX + 1, 0, e]
+    )
+
+
+@njit(**_JIT)
+def score(st, diverged, actions, course, buoys, task, cfg, terms, flags):
+    """Gates, buoys, porpoising, capsize, bow stuffing and leaving the course, and the reward
+    terms, of every env after a step; writes ``terms`` [7, E] and ``flags`` [8, E].
+
+    Porpoising is measured on the trim, high-passed twice (``HIGHPASS_S``): the running mean
+    square of what passes, over ``porpoise_window_s``, is A^2 / 8 for a sustained sinusoid
+    of peak-to-peak amplitude A (times the filter's gain, 0.82 at 1.6 Hz), so the estimate
+    2 sqrt(2 var) reads A.
+    """
+    last = course.shape[1] - 1  # the last gate's index (0 is the start point)
+    k = 1.0 - math.exp(-cfg[C_STEP] / cfg[C_PORPOISE_WINDOW])
+    hp = 1.0 - math.exp(-cfg[C_STEP] / HIGHPASS_S)
+    capsize = math.radians(cfg[C_CAPSIZE])
+    for e in range(st.shape[2]):
+        for j in range(NTERMS):
+            terms[j, e] = 0.0
+        for j in range(NFLAGS):
+            flags[j, e] = False
+        if diverged[e]:
+            terms[T_CRASH, e] = -cfg[C_W_CRASH]
+            continue
+        px, py, pz = st[OX, 0, e], st[OX + 1, 0, e], st[OX + 2, 0, e]
+        vx, vy = st[OV, 0, e], st[OV + 1, 0, e]
+        rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
+        trim, heel = attitude(rot)
+        speed = math.sqrt(vx * vx + vy * vy)
+
+        # porpoising: the trim's oscillation about its running mean
+        dev = trim - task[K_TRIM_MEAN, e]
+        task[K_TRIM_MEAN, e] += hp * dev
+        dev2 = dev - task[K_DEV_MEAN, e]
+        task[K_DEV_MEAN, e] += hp * dev2
+        if speed > cfg[C_PORPOISE_SPEED]:  # a planing instability: measured when planing
+            task[K_PITCH_VAR, e] += k * (dev2 * dev2 - task[K_PITCH_VAR, e])
+        else:
+            task[K_PITCH_VAR, e] = 0.0
+        amp = math.degrees(2.0 * math.sqrt(2.0 * task[K_PITCH_VAR, e]))
+        if amp > cfg[C_PORPOISE]:
+            flags[F_PORPOISE, e] = True
+            terms[T_PORPOISE, e] = -cfg[C_W_PORPOISE] * (amp / cfg[C_PORPOISE] - 1.0)
+
+        # speed and fuel
+        err = task[K_TARGET, e] - speed
+        terms[T_SPEED, e] = cfg[C_W_SPEED] * math.exp(-abs(err) / cfg[C_SPEED_SCALE])
+        terms[T_FUEL, e] = -cfg[C_W_FUEL] * max(0.0, actions[e, 0])
+
+        # gates: crossing the current gate's line, inside or outside its buoys
+        g = int(task[K_GATE, e])
+        if g <= last:
+            along, across = _gate_frame(course, e, g, px, py)
+            dist = math.hypot(course[e, g, G_X] - px, course[e, g, G_Y] - py)
+            terms[T_PROGRESS, e] = cfg[C_W_PROGRESS] * (task[K_DIST, e] - dist)
+            if task[K_SIDE, e] < 0.0 <= along:
+                if abs(across) <= cfg[C_GATE_HALF]:
+                    flags[F_PASSED, e] = True
+                    task[K_PASSED, e] += 1.0
+                    terms[T_GATE, e] = cfg[C_W_GATE]
+                else:
+                    flags[F_MISSED, e] = True
+                    task[K_MISSED, e] += 1.0
+                    terms[T_GATE, e] = -cfg[C_W_GATE]
+                g += 1
+                task[K_GATE, e] = g
+                if g > last:
+                    flags[F_FINISHED, e] = True
+                else:
+                    along, _ = _gate_frame(course, e, g, px, py)
+                    dist = math.hypot(course[e, g, G_X] - px, course[e, g, G_Y] - py)
+            task[K_SIDE, e] = along
+            task[K_DIST, e] = dist
+
+        # buoys: the hull (a circle of its half beam) against each buoy, no contact physics
+        reach = cfg[C_BUOY_R] + cfg[C_HALF_BEAM]
+        for b in range(buoys.shape[1]):
+            bx, by = buoys[e, b, 0], buoys[e, b, 1]
+            for f in (-0.5, 0.0, 1.0):  # stern, center, bow along the keel
+                qx = px + rot[0] * f * cfg[C_BOW_X]
+                qy = py + rot[3] * f * cfg[C_BOW_X]
+                if (qx - bx) ** 2 + (qy - by) ** 2 < reach * reach:
+                    flags[F_BUOY, e] = True
+        if flags[F_BUOY, e]:
+            terms[T_BUOY, e] = -cfg[C_W_BUOY]
+
+        # capsize, bow stuffing (the stem's top under water while making way), leaving the course
+        flags[F_CAPSIZE, e] = abs(heel) > capsize or rot[8] < 0.0
+        bow_z = pz + rot[6] * cfg[C_BOW_X] + rot[8] * cfg[C_BOW_Z]
+        flags[F_STUFF, e] = bow_z < 0.0 and speed > 3.0
+        # off the course: farther than course_half_width_m from the leg to the current gate
+        g = min(g, last)
+        ax, ay = course[e, g - 1, G_X], course[e, g - 1, G_Y]
+        lx, ly = course[e, g, G_X] - ax, course[e, g, G_Y] - ay
+        t = min(1.0, max(0.0, ((px - ax) * lx + (py - ay) * ly) / (lx * lx + ly * ly)))
+        off = math.hypot(px - ax - t * lx, py - ay - t * ly)
+        flags[F_LEFT, e] = off > cfg[C_COURSE_HALF]
+        if flags[F_CAPSIZE, e] or flags[F_STUFF, e] or flags[F_LEFT, e]:
+            terms[T_CRASH, e] = -cfg[C_W_CRASH]
