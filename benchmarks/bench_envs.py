@@ -27,7 +27,7 @@ from machine import describe
 
 import fluidsim_envs  # noqa: F401  (registers the envs)
 
-ENVS = ("fluidsim/PaperAirplane-v0", "fluidsim/SubmarineWake-v0")
+ENVS = ("fluidsim/PaperAirplane-v0", "fluidsim/SubmarineWake-v0", "fluidsim/BoatOnStep-v0")
 # extra rows: (label, env id, make kwargs, watch): SubmarineWake-v0 without its wake, and
 # with the wake's tracers of sub-env 0 advanced every step (what rendering or logging costs)
 VARIANTS = (

@@ -1,6 +1,7 @@
 """Demo (the README's main command until training lands): a paper dart thrown from 10 m
 glides to the floor, a buoy dropped into water settles at its waterline, and on
-PaperAirplane-v0 the scripted pilot, a random policy and idle controls fly 256 seeded throws.
+PaperAirplane-v0 the scripted pilot, a random policy and idle controls fly 256 seeded throws;
+the same for SubmarineWake-v0 and BoatOnStep-v0.
 
     python -m fluidsim_envs.demo
 """
@@ -94,8 +95,37 @@ def hold_station(num_envs: int = 256, seed: int = 0) -> None:
         )
 
 
+def run_course(num_envs: int = 256, seed: int = 0) -> None:
+    from fluidsim_envs.controllers import BoatOnStepPilot
+    from fluidsim_envs.envs import BoatOnStepVectorEnv
+    from fluidsim_envs.evaluation import first_episodes, random_policy, zero_policy
+
+    venv = BoatOnStepVectorEnv(num_envs=num_envs)
+    print(f"\nBoatOnStep-v0: {num_envs} courses (seed {seed}), one episode each, 60 s at most")
+    print(
+        f"{'policy':>14} {'return':>15} {'gates':>6} {'success':>8} {'porpoise':>9} "
+        f"{'crash':>6} {'to plane (s)':>13}"
+    )
+    for name, policy in (
+        ("scripted pilot", BoatOnStepPilot()),
+        ("random", random_policy(venv, seed)),
+        ("zero controls", zero_policy(venv)),
+    ):
+        r = first_episodes(venv, policy, seed=seed)
+        crash = r["capsized"] | r["bow_stuffed"] | r["left_course"] | r["physics_diverged"]
+        planed = r["time_to_plane_s"][r["time_to_plane_s"] >= 0.0]
+        to_plane = planed.mean() if planed.size else float("nan")
+        print(
+            f"{name:>14} {r['return'].mean():7.1f} +- {r['return'].std():5.1f} "
+            f"{r['gates_passed'].mean():6.2f} {r['success'].mean():8.1%} "
+            f"{r['porpoising_fraction'].mean():9.1%} {crash.mean():6.1%} "
+            f"{to_plane:13.1f}"
+        )
+
+
 if __name__ == "__main__":
     glide()
     float_buoy()
     fly_task()
     hold_station()
+    run_course()

@@ -12,10 +12,11 @@ How the hull becomes samples (body frame at the center of gravity, x forward, y 
   normal to it, so the pressure drag is lift x tan(trim), as in a real planing bottom). The
   plates in water lift the hull; as it rises fewer of them are wet, which is all the planing
   model there is: no planing formula. Two corrections of the bare flat plate, both from
-  planing-surface data. A plate's normal-force slope is sin(alpha) per unit area, about 2.5
-  times what a planing bottom of aspect ratio 1-3 develops at 3 degrees (Savitsky 1964:
-  C_L per wetted area ~0.012 tau^1.1 lambda^-0.5, tau in degrees), so the plates' area is
-  ``lift_factor`` of the geometric area. And the pressure falls to zero at the transom where
+  planing-surface data. A plate's lift per unit area is sin(alpha) cos^2(beta), 2.3 times
+  what a planing bottom develops at 3 degrees of trim, lambda 1.4 and 18 degrees of
+  deadrise (Savitsky 1964: C_L0 = tau^1.1 (0.012 lambda^0.5 + ...) per b^2, tau in degrees,
+  less his deadrise correction), so the plates' area is ``lift_factor`` of the geometric
+  area. And the pressure falls to zero at the transom where
   the flow leaves the hull (the Kutta condition), so within ``transom_taper_m`` of it the
   area falls off as the square root of the distance, as thin-wing pressure does near a
   trailing edge. With both, the steady trim and resistance sit within 1 degree and 10% of

@@ -64,7 +64,9 @@ class BoatOnStepParams:
     # detection
     capsize_heel_deg: float = 70.0
     porpoise_deg: float = 1.0  # peak-to-peak trim oscillation that counts as porpoising
-    porpoise_min_speed_mps: float = 10.0  # planing (Cv > 2.4): the hump is not porpoising
+    # planing speed (Cv 2.4): porpoising is measured above it (the hump is not porpoising),
+    # and info["time_to_plane_s"] is the time to reach it
+    porpoise_min_speed_mps: float = 10.0
     porpoise_window_s: float = 1.0  # averaging time of the oscillation estimate
     # rewards
     speed_scale_mps: float = 2.0
@@ -244,6 +246,10 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
             "gate_missed": f[TK.F_MISSED],
             "gates_passed": self.task[TK.K_PASSED].astype(np.int64),
             "gates_missed": self.task[TK.K_MISSED].astype(np.int64),
+            # of this episode's steps so far
+            "porpoising_fraction": self.task[TK.K_PORPOISING] / (self._elapsed + 1),
+            # seconds from the start to planing speed (porpoise_min_speed_mps); -1: not yet
+            "time_to_plane_s": self.task[TK.K_PLANED].copy(),
             # the course run through, every gate passed, nothing crashed
             "success": f[TK.F_FINISHED] & (self.task[TK.K_MISSED] == 0) & ~crashed & ~diverged,
         }
@@ -331,8 +337,10 @@ class BoatOnStepEnv(FluidEnv):
     ``course_half_width_m`` from the current leg (``info["left_course"]``); a non-finite
     physics state (``info["physics_diverged"]``; the observation is then the last finite
     one). Truncated: ``max_episode_steps`` actions. ``info["porpoising"]`` flags the steps
-    with a trim oscillation above ``porpoise_deg`` at speed; the buoys are markers (touching
-    one is penalized; they do not push back).
+    with a trim oscillation above ``porpoise_deg`` at speed (``porpoising_fraction``: the
+    episode's share of them); ``time_to_plane_s`` is the time it took to reach planing speed
+    (``porpoise_min_speed_mps``). The buoys are markers: touching one is penalized, they do
+    not push back (contact comes with the tetrahedron bodies).
 
     ## Arguments
 

@@ -16,8 +16,8 @@ F_CAPSIZE, F_STUFF, F_LEFT, F_PORPOISE, F_BUOY, F_PASSED, F_MISSED, F_FINISHED =
 NFLAGS = 8
 # per-env task state rows task[K_*, E]
 K_GATE, K_TARGET, K_TRIM_MEAN, K_DEV_MEAN, K_PITCH_VAR, K_SIDE, K_DIST = range(7)
-K_PASSED, K_MISSED = 7, 8
-NTASK = 9
+K_PASSED, K_MISSED, K_PORPOISING, K_PLANED, K_TIME = 7, 8, 9, 10, 11
+NTASK = 12
 # porpoising is a pitch-heave oscillation of 0.5-2 s period: the trim is high-passed twice with
 # this time constant (a corner near 0.8 Hz) so that the slow trim changes of getting on plane
 # or of a turn (ramps included) do not read as oscillation
@@ -166,6 +166,9 @@ def start(st, course, task, e):
     task[K_GATE, e] = 1.0
     task[K_PASSED, e] = 0.0
     task[K_MISSED, e] = 0.0
+    task[K_PORPOISING, e] = 0.0
+    task[K_PLANED, e] = -1.0  # the time the boat first planed, -1 until it does
+    task[K_TIME, e] = 0.0
     rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
     task[K_TRIM_MEAN, e] = attitude(rot)[0]
     task[K_DEV_MEAN, e] = 0.0
@@ -215,8 +218,12 @@ def score(st, diverged, actions, course, buoys, task, cfg, terms, flags):
         else:
             task[K_PITCH_VAR, e] = 0.0
         amp = math.degrees(2.0 * math.sqrt(2.0 * task[K_PITCH_VAR, e]))
+        task[K_TIME, e] += cfg[C_STEP]
+        if task[K_PLANED, e] < 0.0 and speed > cfg[C_PORPOISE_SPEED]:
+            task[K_PLANED, e] = task[K_TIME, e]
         if amp > cfg[C_PORPOISE]:
             flags[F_PORPOISE, e] = True
+            task[K_PORPOISING, e] += 1.0
             terms[T_PORPOISE, e] = -cfg[C_W_PORPOISE] * (amp / cfg[C_PORPOISE] - 1.0)
 
         # speed and fuel

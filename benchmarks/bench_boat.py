@@ -1,0 +1,107 @@
+"""What the speedboat's physics costs, part by part: the step kernel on the speedboat craft with
+all its samples, and with each group left out, so that the cost split between the hull's
+plates (lift and skin friction), its buoyancy columns and the rest reads off one table.
+
+For each variant: body-steps per second of ``Simulator.step(controls, steps=k)`` at
+E = 4096 environments (float64, symplectic Euler, the parallel kernel on all threads; the
+boats planing at 15 m/s), the best of ``--repeats`` calls of ~0.3 s each. The share of a
+group is the time it adds to a body-step over the variant without it.
+
+Writes ``docs/bench_boat.csv`` (machine in ``#`` lines).
+
+    python benchmarks/bench_boat.py [--quick]
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+from machine import describe
+
+from fluidsim_envs.physics import Craft, Simulator, World
+
+NUM_ENVS = 4096
+DT = 1.0 / 200.0
+
+
+def variants(craft: Craft) -> dict[str, Craft]:
+    def plates(prefix: str, keep: bool):
+        return tuple(p for p in craft.plates if p.name.startswith(prefix) == keep)
+
+    drop_bottom = plates("bottom", keep=False)
+    drop_friction = plates("friction", keep=False)
+    controls = {c for s in (craft.controls) for c in (x.sample for x in s.surfaces)}
+    return {
+        "full": craft,
+        "without bottom plates": replace(craft, plates=drop_bottom),
+        "without friction plates": replace(craft, plates=drop_friction),
+        "without buoyancy": replace(craft, buoyancy=()),
+        "thrust and control surfaces only": replace(
+            craft, plates=tuple(p for p in craft.plates if p.name in controls), buoyancy=()
+        ),
+    }
+
+
+def rate(craft: Craft, seconds: float, repeats: int) -> float:
+    sim = Simulator(craft, World(water=True), num_envs=NUM_ENVS, dt=DT)
+    controls = np.zeros((NUM_ENVS, len(sim.control_names)))
+    controls[:, 0] = 0.1
+    controls[:, 2] = -1.0
+    sim.reset(pos=(0.0, 0.0, 0.3), lin_vel=(15.0, 0.0, 0.0))
+    sim.step(controls)  # compile / warm
+    t0 = time.perf_counter()
+    sim.step(controls, steps=4)
+    steps = max(1, int(seconds / max(time.perf_counter() - t0, 1e-6) * 4))
+    best = 0.0
+    for _ in range(repeats):
+        sim.reset(pos=(0.0, 0.0, 0.3), lin_vel=(15.0, 0.0, 0.0))
+        t0 = time.perf_counter()
+        sim.step(controls, steps=steps)
+        best = max(best, NUM_ENVS * steps / (time.perf_counter() - t0))
+    return best
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true", help="shorter, noisier runs")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--out", default=str(Path(__file__).parents[1] / "docs/bench_boat.csv"))
+    args = parser.parse_args()
+    seconds, repeats = (0.1, 1) if args.quick else (0.3, args.repeats)
+
+    machine = describe()
+    print("\n".join(machine))
+    craft = Craft.load("speedboat")
+    rows = []
+    for label, c in variants(craft).items():
+        r = rate(c, seconds, repeats)
+        n = len(c.plates) + len(c.buoyancy) + len(c.thrusters)
+        rows.append((label, n, r))
+        print(f"{label:34s} {n:3d} samples {r:14,.0f} body-steps/s {1e9 / r:8.0f} ns/body-step")
+    full = 1e9 / rows[0][2]
+    print("\nshare of a body-step's time")
+    shares = {}
+    for label, _, r in rows[1:4]:
+        group = label.removeprefix("without ")
+        shares[group] = (full - 1e9 / r) / full
+        print(f"  {group:24s} {100 * shares[group]:5.1f}%")
+
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with out.open("w", newline="") as f:
+        f.write("".join(f"# {line}\n" for line in machine))
+        w = csv.writer(f)
+        w.writerow(("variant", "samples", "body_steps_per_s", "ns_per_body_step", "share_of_full"))
+        for label, n, r in rows:
+            share = shares.get(label.removeprefix("without "), float("nan"))
+            w.writerow((label, n, f"{r:.1f}", f"{1e9 / r:.1f}", f"{share:.4f}"))
+    print(f"\nwrote {out}")
+
+
+if __name__ == "__main__":
+    main()
