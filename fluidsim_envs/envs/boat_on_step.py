@@ -212,8 +212,7 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         )
         self.sim.reset(pos=(0.0, 0.0, self.rest_height_m), quat=quat[:, None], env_ids=ids)
         st, _, _ = self.sim.kernel_arrays()
-        for e in ids:
-            TK.start(st, self.course, self.task, int(e))
+        TK.start(st, self.course, self.task, np.asarray(ids, dtype=np.int64))
 
     # ---- step -----------------------------------------------------------------------------
 

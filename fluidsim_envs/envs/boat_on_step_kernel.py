@@ -161,23 +161,24 @@ def observe(st, body, course, task, cfg, out):
 
 
 @njit(**_JIT)
-def start(st, course, task, e):
-    """Task state of env e at the start of an episode (target speed already set)."""
-    task[K_GATE, e] = 1.0
-    task[K_PASSED, e] = 0.0
-    task[K_MISSED, e] = 0.0
-    task[K_PORPOISING, e] = 0.0
-    task[K_PLANED, e] = -1.0  # the time the boat first planed, -1 until it does
-    task[K_TIME, e] = 0.0
-    rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
-    task[K_TRIM_MEAN, e] = attitude(rot)[0]
-    task[K_DEV_MEAN, e] = 0.0
-    task[K_PITCH_VAR, e] = 0.0
-    along, _ = _gate_frame(course, e, 1, st[OX, 0, e], st[OX + 1, 0, e])
-    task[K_SIDE, e] = along
-    task[K_DIST, e] = math.hypot(
-        course[e, 1, G_X] - st[OX, 0, e], course[e, 1, G_Y] - st[OX + 1, 0, e]
-    )
+def start(st, course, task, ids):
+    """Task state of the envs ``ids`` at the start of an episode (target speed already set)."""
+    for e in ids:
+        task[K_GATE, e] = 1.0
+        task[K_PASSED, e] = 0.0
+        task[K_MISSED, e] = 0.0
+        task[K_PORPOISING, e] = 0.0
+        task[K_PLANED, e] = -1.0  # the time the boat first planed, -1 until it does
+        task[K_TIME, e] = 0.0
+        rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
+        task[K_TRIM_MEAN, e] = attitude(rot)[0]
+        task[K_DEV_MEAN, e] = 0.0
+        task[K_PITCH_VAR, e] = 0.0
+        along, _ = _gate_frame(course, e, 1, st[OX, 0, e], st[OX + 1, 0, e])
+        task[K_SIDE, e] = along
+        task[K_DIST, e] = math.hypot(
+            course[e, 1, G_X] - st[OX, 0, e], course[e, 1, G_Y] - st[OX + 1, 0, e]
+        )
 
 
 @njit(**_JIT)

@@ -1,0 +1,624 @@
+"""BoatOnStep-v0: the env contract (checkers, vector == single, determinism across batch sizes,
+the episode boundary, pickling, bad inputs, divergence, the docstring) and the scene's task
+logic (gates, buoys, capsize, leaving the course, finishing, the observation and the engine's
+power curve)."""
+
+import math
+import pickle
+import re
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env as gym_check_env
+
+import fluidsim_envs  # noqa: F401  (registers the envs)
+from fluidsim_envs.envs import boat_on_step_kernel as TK
+from fluidsim_envs.envs.boat_on_step import (
+    GATES,
+    OBSERVATION,
+    BoatOnStepEnv,
+    BoatOnStepVectorEnv,
+)
+
+ID = "fluidsim/BoatOnStep-v0"
+# many episode ends per test. The single env is built from its class: gym.make consumes a
+# max_episode_steps keyword itself (a TimeLimit wrapper) and never passes it to the env.
+SHORT = {"max_episode_steps": 40}
+OBS = {name: i for i, (name, _, _) in enumerate(OBSERVATION)}
+
+
+def actions_for(seed, steps, n=1):
+    """A fixed action sequence [steps, n, 3]: mostly ahead, rudder and tabs wiggling."""
+    rng = np.random.default_rng(seed)
+    a = rng.normal(0.0, 0.5, size=(steps, n, 3))
+    a[..., 0] += 0.6
+    return np.clip(a, -1, 1)
+
+
+# ---- helpers: independent geometry --------------------------------------------------------
+
+
+def qmul(a, b):
+    w1, x1, y1, z1 = a
+    w2, x2, y2, z2 = b
+    return np.array(
+        [
+            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
+        ]
+    )
+
+
+def attitude_quat(yaw, trim=0.0, heel=0.0):
+    """Yaw about world z, then trim (bow up +: a negative rotation about body y), then heel
+    (starboard side down +: a positive rotation about body x)."""
+    qz = np.array([math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
+    qy = np.array([math.cos(-trim / 2), 0.0, math.sin(-trim / 2), 0.0])
+    qx = np.array([math.cos(heel / 2), math.sin(heel / 2), 0.0, 0.0])
+    return qmul(qmul(qz, qy), qx)
+
+
+def rotation(q):
+    """Body -> world rotation matrix of a unit quaternion (w, x, y, z)."""
+    w, x, y, z = q
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def gate_point(venv, e, gate, along, across):
+    """World (x, y) at ``along`` (+ past the line) and ``across`` (+ left) of gate ``gate``."""
+    gx, gy, h = venv.course[e, gate]
+    return (
+        gx + along * math.cos(h) - across * math.sin(h),
+        gy + along * math.sin(h) + across * math.cos(h),
+    )
+
+
+def place(venv, e, gate, along, across, speed=0.0, heel_deg=0.0):
+    """Put sub-env e's boat at (along, across) of ``gate``, at its floating height and trim,
+    heading along the gate's direction of travel at ``speed``, and re-run the task's start
+    (then aim it at ``gate``)."""
+    h = venv.course[e, gate, TK.G_HEADING]
+    x, y = gate_point(venv, e, gate, along, across)
+    venv.sim.reset(
+        pos=(x, y, venv.rest_height_m),
+        quat=attitude_quat(h, venv.rest_trim_rad, math.radians(heel_deg)),
+        lin_vel=(speed * math.cos(h), speed * math.sin(h), 0.0),
+        env_ids=[e],
+    )
+    st, _, _ = venv.sim.kernel_arrays()
+    TK.start(st, venv.course, venv.task, np.array([e]))
+    if gate != 1:
+        venv.task[TK.K_GATE, e] = gate
+        venv.task[TK.K_SIDE, e] = along
+        venv.task[TK.K_DIST, e] = math.hypot(along, across)
+
+
+def expected_gate_xy(venv, e, gate):
+    """The gate's center in the boat's heading frame, from sim state and course."""
+    R = rotation(venv.sim.quat[e, 0])
+    heading = math.atan2(R[1, 0], R[0, 0])
+    dx = venv.course[e, gate, 0] - venv.sim.pos[e, 0, 0]
+    dy = venv.course[e, gate, 1] - venv.sim.pos[e, 0, 1]
+    c, s = math.cos(heading), math.sin(heading)
+    return np.array([c * dx + s * dy, -s * dx + c * dy])
+
+
+# ---- the env contract ---------------------------------------------------------------------
+
+
+def test_gymnasium_check_env():
+    gym_check_env(gym.make(ID).unwrapped)
+    gym_check_env(gym.make(ID, render_mode="rgb_array").unwrapped, skip_render_check=False)
+
+
+def test_sb3_check_env():
+    sb3_env_checker = pytest.importorskip("stable_baselines3.common.env_checker")
+    sb3_env_checker.check_env(BoatOnStepEnv(), warn=True)
+
+
+def run_single(seed, actions):
+    env = BoatOnStepEnv(**SHORT)
+    obs, _ = env.reset(seed=seed)
+    rows, rewards, dones = [obs], [], []
+    for a in actions:
+        obs, r, term, trunc, _ = env.step(a)
+        rewards.append(r)
+        dones.append((term, trunc))
+        if term or trunc:
+            obs, _ = env.reset()
+        rows.append(obs)
+    return np.array(rows), np.array(rewards), np.array(dones)
+
+
+def test_vector_env_matches_single_env_across_episode_ends():
+    """Sub-env i of a vector env seeded with a list of seeds is, bit for bit, the single env
+    seeded with seed i, through several same-step autoresets."""
+    seeds = [3, 17, 99]
+    acts = actions_for(0, 100, len(seeds))
+    venv = gym.make_vec(ID, num_envs=3, vectorization_mode="vector_entry_point", **SHORT)
+    assert venv.unwrapped.params.max_episode_steps == 40
+    obs, _ = venv.reset(seed=seeds)
+    vobs, vrew, vdone = [obs], [], []
+    for a in acts:
+        obs, r, term, trunc, _ = venv.step(a)
+        vobs.append(obs)
+        vrew.append(r)
+        vdone.append(np.stack([term, trunc], 1))
+    vobs, vrew, vdone = np.array(vobs), np.array(vrew), np.array(vdone)
+    for i, s in enumerate(seeds):
+        sobs, srew, sdone = run_single(s, acts[:, i])
+        assert sdone.any(axis=1).sum() >= 2  # the comparison crosses episode boundaries
+        np.testing.assert_array_equal(vobs[:, i], sobs)
+        np.testing.assert_array_equal(vrew[:, i], srew)
+        np.testing.assert_array_equal(vdone[:, i], sdone)
+
+
+@pytest.mark.parametrize(
+    "num_envs, idx, steps",
+    [
+        (1, [0], 40),
+        (7, [0, 3, 6], 40),
+        (130, [0, 63, 64, 129], 40),  # across the kernel's 64-env blocks
+        (1100, list(range(7)), 8),  # >= 1024 bodies: the threaded kernel
+    ],
+)
+def test_same_seed_same_trajectory_for_any_num_envs(num_envs, idx, steps):
+    """Sub-env i's trajectory depends only on its seed and actions: the batch of num_envs and
+    a small batch holding the same seeds (plus one other) agree bit for bit, resets included."""
+    seeds = [1000 + i for i in range(num_envs)]
+    acts = actions_for(7, steps, num_envs)
+    params = {"max_episode_steps": 15}
+    env = BoatOnStepVectorEnv(num_envs=num_envs, **params)
+    ref = BoatOnStepVectorEnv(num_envs=len(idx) + 1, **params)
+    assert env.sim.parallel == (num_envs >= 1024)
+    obs, _ = env.reset(seed=seeds)
+    ref_obs, _ = ref.reset(seed=[seeds[i] for i in idx] + [1])
+    np.testing.assert_array_equal(obs[idx], ref_obs[:-1])
+    ref_act = np.zeros((len(idx) + 1, 3))
+    for a in acts:
+        ref_act[:-1] = a[idx]
+        obs, r, term, trunc, _ = env.step(a)
+        ref_obs, ref_r, ref_term, ref_trunc, _ = ref.step(ref_act)
+        np.testing.assert_array_equal(obs[idx], ref_obs[:-1])
+        np.testing.assert_array_equal(r[idx], ref_r[:-1])
+        np.testing.assert_array_equal(term[idx], ref_term[:-1])
+        np.testing.assert_array_equal(trunc[idx], ref_trunc[:-1])
+
+
+def test_terminal_observation_is_the_terminal_state():
+    """Leaving the course ends the episode: the vector env returns the next episode's first
+    observation and puts the terminal one in final_obs (and its flags in final_info); the
+    single env returns the terminal observation itself."""
+    params = {"course_half_width_m": 5.0, "start_heading_deg": 60.0}
+    venv = BoatOnStepVectorEnv(num_envs=3, **params)
+    obs, _ = venv.reset(seed=[11, 12, 13])
+    single = BoatOnStepEnv(**params)
+    s_obs, _ = single.reset(seed=11)
+    ahead = np.array([1.0, 0.0, 0.0])
+    for _ in range(400):
+        obs, r, term, trunc, info = venv.step(np.tile(ahead, (3, 1)))
+        s_obs, *_, s_term, s_trunc, s_info = single.step(ahead)
+        if s_term or s_trunc:
+            break
+    assert s_term and s_info["left_course"] and not s_info["success"]
+    assert term[0] and info["_final_obs"][0]
+    np.testing.assert_array_equal(info["final_obs"][0], s_obs)
+    fin = info["final_info"]
+    assert fin["left_course"][0] and not fin["success"][0] and not fin["capsized"][0]
+    assert not fin["physics_diverged"][0]
+    assert fin["reward_terms"]["crash"][0] == -venv.params.w_crash
+    assert s_obs[OBS["u"]] > 3.0  # the terminal state is under way ...
+    # ... and the returned one is the next episode's start: at rest, at its floating height,
+    # the first gate a first leg away, exactly what the single env's next reset gives
+    first, _ = single.reset()
+    np.testing.assert_array_equal(obs[0], first)
+    assert np.all(obs[0, :6] == 0.0) and obs[0, OBS["heave"]] == 0.0
+    assert obs[0, OBS["speed_error"]] == obs[0, OBS["target_speed"]]
+    lo, hi = venv.params.first_leg_m
+    assert lo - 1e-3 <= np.hypot(*obs[0, OBS["gate_x"] : OBS["gate_y"] + 1]) <= hi + 1e-3
+    # the episode's reward terms sum to its return
+    assert sum(fin["episode_terms"][k][0] for k in venv.reward_terms) == pytest.approx(
+        sum(s_info["episode_terms"].values())
+    )
+
+
+def test_time_limit_truncates_without_terminating():
+    env = BoatOnStepEnv(max_episode_steps=5)
+    env.reset(seed=0)
+    for k in range(5):
+        _, _, term, trunc, _ = env.step(np.zeros(3))
+        assert not term
+        assert trunc == (k == 4)
+
+
+def test_pickle_round_trip_continues_identically():
+    env = BoatOnStepEnv()
+    env.reset(seed=2)
+    for a in actions_for(2, 10)[:, 0]:
+        env.step(a)
+    clone = pickle.loads(pickle.dumps(env))
+    for a in actions_for(3, 20)[:, 0]:
+        out, out_clone = env.step(a), clone.step(a)
+        np.testing.assert_array_equal(out[0], out_clone[0])
+        assert out[1:4] == out_clone[1:4]
+
+
+def test_vector_env_pickle_round_trip_continues_identically_across_resets():
+    venv = BoatOnStepVectorEnv(num_envs=3, max_episode_steps=25)
+    venv.reset(seed=5)
+    for a in actions_for(4, 10, 3):
+        venv.step(a)
+    clone = pickle.loads(pickle.dumps(venv))
+    for a in actions_for(5, 30, 3):  # past an autoreset: the generators travel too
+        out, out_clone = venv.step(a), clone.step(a)
+        for x, y in zip(out[:4], out_clone[:4], strict=True):
+            np.testing.assert_array_equal(x, y)
+    assert venv._elapsed.max() < 25 and (venv._elapsed == clone._elapsed).all()
+
+
+def test_diverged_state_ends_the_episode_with_a_flag_and_finite_observation():
+    venv = BoatOnStepVectorEnv(num_envs=2)
+    venv.reset(seed=4)
+    for _ in range(5):
+        venv.step(np.tile([1.0, 0.0, 0.0], (2, 1)))
+    before = venv._obs[1].copy()
+    st, _, _ = venv.sim.kernel_arrays()
+    st[:, 0, 1] = np.nan  # sub-env 1's state blows up (a stand-in for a real blow-up)
+    obs, r, term, trunc, info = venv.step(np.tile([1.0, 0.0, 0.0], (2, 1)))
+    assert info["physics_diverged"].tolist() == [False, True]
+    assert term.tolist() == [False, True] and not trunc.any()
+    assert np.isfinite(obs).all() and np.isfinite(r).all()
+    np.testing.assert_array_equal(info["final_obs"][1], before)  # the last finite one
+    assert info["reward_terms"]["crash"][1] == -venv.params.w_crash
+    assert r[1] <= -venv.params.w_crash
+    assert not info["final_info"]["success"][1]
+    obs, *_ = venv.step(np.zeros((2, 3)))  # it was reset: it runs on
+    assert np.isfinite(obs).all() and not venv.sim.diverged.any()
+
+
+def test_single_env_divergence_keeps_the_last_finite_observation():
+    env = BoatOnStepEnv()
+    env.reset(seed=9)
+    for _ in range(3):
+        obs, *_ = env.step(np.array([1.0, 0.0, 0.0]))
+    env.vector.sim.kernel_arrays()[0][7:10, 0, 0] = np.inf  # the velocity
+    obs2, r, term, trunc, info = env.step(np.array([1.0, 0.0, 0.0]))
+    assert term and not trunc and info["physics_diverged"]
+    np.testing.assert_array_equal(obs2, obs)
+    assert r == -env.params.w_crash
+    with pytest.raises(RuntimeError, match="call reset first"):
+        env.step(np.zeros(3))
+
+
+def test_bad_inputs_name_the_bad_value():
+    with pytest.raises(TypeError, match=r"unknown parameter\(s\) \['w_gates'\]; valid: .*'w_gate'"):
+        gym.make(ID, w_gates=1.0)
+    with pytest.raises(TypeError, match=r"unknown parameter\(s\) \['dtt'\]"):
+        gym.make_vec(ID, num_envs=2, vectorization_mode="vector_entry_point", dtt=0.01)
+    cases = [
+        ({"dt": 0.0}, r"dt must be a finite number in \[1e-05, 0.05\], got 0.0"),
+        ({"substeps": 2.5}, "substeps must be an integer"),
+        ({"target_speed_mps": (20.0, 10.0)}, r"target_speed_mps must have low <= high"),
+        ({"target_speed_mps": (10.0,)}, "target_speed_mps must be a \\(low, high\\) pair"),
+        ({"turn_deg": (-200.0, 0.0)}, "turn_deg must be a finite number"),
+        ({"buoy_radius_m": 2.0, "gate_half_width_m": 2.0}, "buoy_radius_m .* gate_half_width_m"),
+        ({"integrator": "bogus"}, r"integrator must be one of .*got 'bogus'"),
+        ({"dtype": "float16"}, "dtype must be one of"),
+        ({"engine_power_w": -5.0}, "engine_power_w must be"),
+        ({"w_gate": float("nan")}, "w_gate must be"),
+        ({"capsize_heel_deg": 5.0}, "capsize_heel_deg must be"),
+    ]
+    for kwargs, msg in cases:
+        with pytest.raises(ValueError, match=msg):
+            BoatOnStepEnv(**kwargs)
+    env = BoatOnStepEnv()
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match=r"actions contain nan at \(0, 1\)"):
+        env.step(np.array([0.5, np.nan, 0.0]))
+    with pytest.raises(ValueError, match=r"actions contain inf at \(0, 0\)"):
+        env.step(np.array([np.inf, 0.0, 0.0]))
+    with pytest.raises(ValueError, match=r"shape \(1, 3\).*throttle, rudder, trim_tabs"):
+        env.step(np.zeros(2))
+    venv = BoatOnStepVectorEnv(num_envs=2)
+    venv.reset(seed=0)
+    with pytest.raises(ValueError, match=r"shape \(2, 3\)"):
+        venv.step(np.zeros(3))
+
+
+def test_docstring_sections_and_observation_table():
+    doc = BoatOnStepEnv.__doc__
+    for section in (
+        "Description",
+        "Action Space",
+        "Observation Space",
+        "Rewards",
+        "Starting State",
+        "Episode End",
+        "Arguments",
+        "Version History",
+    ):
+        assert f"## {section}\n" in doc, section
+    assert f"({len(OBSERVATION)},)" in doc
+    rows = re.findall(r"^\s*\| (\d+)(?:-(\d+))? \| ([^|]+?) \|", doc, flags=re.M)
+    covered = []
+    for lo, hi, names in rows:
+        lo = int(lo)
+        covered += range(lo, int(hi or lo) + 1)
+        assert names.split(",")[0].strip() == OBSERVATION[lo][0], (lo, names)
+    assert covered == list(range(len(OBSERVATION)))
+    for term in BoatOnStepVectorEnv.reward_terms:
+        assert f"``{term}``" in doc.split("## Rewards")[1].split("## Starting State")[0], term
+
+
+# ---- the task -----------------------------------------------------------------------------
+
+
+def test_gate_passed_between_the_buoys_targets_the_next_gate():
+    """Sub-env 0 runs through gate 1 between its buoys (2 m left of center); sub-env 1 runs
+    parallel to it but stops short of the line."""
+    venv = BoatOnStepVectorEnv(num_envs=2)
+    venv.reset(seed=3)
+    place(venv, 0, 1, along=-0.2, across=2.0, speed=8.0)
+    place(venv, 1, 1, along=-12.0, across=2.0, speed=8.0)
+    obs, r, term, trunc, info = venv.step(np.zeros((2, 3)))
+    assert info["gate_passed"].tolist() == [True, False]
+    assert not info["gate_missed"].any() and not info["hit_buoy"].any() and not term.any()
+    assert info["reward_terms"]["gate"].tolist() == [venv.params.w_gate, 0.0]
+    assert info["gates_passed"].tolist() == [1, 0]
+    assert venv.task[TK.K_GATE].tolist() == [2.0, 1.0]
+    ix = OBS["gate_x"]
+    # sub-env 0 now aims at gate 2 (a leg ahead), sub-env 1 still at gate 1 (just ahead)
+    np.testing.assert_allclose(obs[0, ix : ix + 2], expected_gate_xy(venv, 0, 2), atol=1e-3)
+    np.testing.assert_allclose(obs[1, ix : ix + 2], expected_gate_xy(venv, 1, 1), atol=1e-3)
+    assert np.hypot(*obs[0, ix : ix + 2]) > venv.params.leg_m[0] - 1.0
+    assert np.hypot(*obs[1, ix : ix + 2]) < 12.0
+    # the gate counts once
+    obs, r, term, trunc, info = venv.step(np.zeros((2, 3)))
+    assert not info["gate_passed"][0] and info["reward_terms"]["gate"][0] == 0.0
+
+
+def test_gate_line_crossed_outside_the_buoys_is_missed():
+    venv = BoatOnStepVectorEnv(num_envs=2)
+    venv.reset(seed=3)
+    half = venv.params.gate_half_width_m
+    place(venv, 0, 1, along=-0.2, across=half + 4.0, speed=8.0)  # left of the left buoy
+    place(venv, 1, 1, along=-0.2, across=-(half + 4.0), speed=8.0)  # right of the right one
+    obs, r, term, trunc, info = venv.step(np.zeros((2, 3)))
+    assert info["gate_missed"].tolist() == [True, True]
+    assert not info["gate_passed"].any() and not info["hit_buoy"].any()
+    assert info["reward_terms"]["gate"].tolist() == [-venv.params.w_gate] * 2
+    assert info["gates_missed"].tolist() == [1, 1] and venv.task[TK.K_GATE].tolist() == [2, 2]
+    ix = OBS["gate_x"]
+    for e in range(2):
+        np.testing.assert_allclose(obs[e, ix : ix + 2], expected_gate_xy(venv, e, 2), atol=1e-3)
+
+
+def test_hull_on_a_buoy_is_flagged_and_penalized():
+    """Sub-env 0 lies on gate 2's left buoy, sub-env 1 on its right one, sub-env 2 in the
+    middle of the gate (no buoy within reach)."""
+    venv = BoatOnStepVectorEnv(num_envs=3)
+    venv.reset(seed=6)
+    half = venv.params.gate_half_width_m
+    for e, across in enumerate((half, -half, 0.0)):
+        place(venv, e, 2, along=-0.5, across=across)
+    buoys = venv.buoys[:, 2:4]  # gate 2's pair
+    assert np.allclose(buoys[0, 0], gate_point(venv, 0, 2, 0.0, half))
+    assert np.allclose(buoys[1, 1], gate_point(venv, 1, 2, 0.0, -half))
+    obs, r, term, trunc, info = venv.step(np.zeros((3, 3)))
+    assert info["hit_buoy"].tolist() == [True, True, False]
+    w = venv.params.w_buoy
+    assert info["reward_terms"]["buoy"].tolist() == [-w, -w, 0.0]
+    assert not term.any()  # the buoys are markers: no episode end
+
+
+def test_capsized_boat_terminates():
+    venv = BoatOnStepVectorEnv(num_envs=3)
+    venv.reset(seed=1)
+    for e, heel in enumerate((80.0, -80.0, 30.0)):
+        place(venv, e, 1, along=-50.0, across=0.0, heel_deg=heel)
+    o = np.zeros_like(venv._obs)
+    venv._observe(o)
+    np.testing.assert_allclose(np.degrees(o[:, OBS["heel"]]), [80.0, -80.0, 30.0], atol=1e-4)
+    obs, r, term, trunc, info = venv.step(np.zeros((3, 3)))
+    assert term.tolist() == [True, True, False]
+    assert info["final_info"]["capsized"].tolist() == [True, True, False]
+    crash = info["reward_terms"]["crash"]
+    assert crash.tolist() == [-venv.params.w_crash] * 2 + [0.0]
+
+
+def test_leaving_the_course_terminates():
+    venv = BoatOnStepVectorEnv(num_envs=2)
+    venv.reset(seed=2)
+    # 100 m and 30 m to the side of the first leg's middle (course_half_width_m is 60)
+    for e, off in enumerate((100.0, 30.0)):
+        leg = math.hypot(*venv.course[e, 1, :2])
+        place(venv, e, 1, along=-leg / 2, across=off)
+    obs, r, term, trunc, info = venv.step(np.zeros((2, 3)))
+    assert term.tolist() == [True, False]
+    assert info["final_info"]["left_course"].tolist() == [True, False]
+    assert not info["final_info"]["success"].any()
+    assert info["reward_terms"]["crash"].tolist() == [-venv.params.w_crash, 0.0]
+
+
+def test_running_every_gate_is_a_success():
+    """A short straight course run at full throttle straight ahead: sub-env 0 on the course
+    line passes the six gates in turn and finishes with success; sub-env 1, started 10 m to
+    the side of it, crosses every gate's line outside the buoys and finishes without."""
+    venv = BoatOnStepVectorEnv(
+        num_envs=2,
+        first_leg_m=(20.0, 20.0),
+        leg_m=(12.0, 12.0),
+        turn_deg=(0.0, 0.0),
+        start_heading_deg=0.0,
+        gate_half_width_m=5.0,
+    )
+    venv.reset(seed=0)
+    place(venv, 1, 1, along=-20.0, across=10.0)
+    passed, missed, fin = [], [], None
+    for _ in range(400):
+        obs, r, term, trunc, info = venv.step(np.tile([1.0, 0.0, 0.0], (2, 1)))
+        passed.append(info["gate_passed"].copy())
+        missed.append(info["gate_missed"].copy())
+        if info["gate_passed"][0]:
+            assert info["reward_terms"]["gate"][0] == venv.params.w_gate
+        if term.any() or trunc.any():
+            fin = info["final_info"]
+            break
+    assert term.tolist() == [True, True] and not trunc.any()
+    passed, missed = np.array(passed), np.array(missed)
+    assert passed.sum(axis=0).tolist() == [GATES, 0]
+    assert missed.sum(axis=0).tolist() == [0, GATES]
+    assert fin["gates_passed"].tolist() == [GATES, 0]
+    assert fin["gates_missed"].tolist() == [0, GATES]
+    assert fin["success"].tolist() == [True, False]
+    for flag in ("capsized", "left_course", "bow_stuffed", "hit_buoy", "physics_diverged"):
+        assert not fin[flag].any(), flag
+    w = venv.params.w_gate
+    assert fin["episode_terms"]["gate"].tolist() == [GATES * w, -GATES * w]
+    assert fin["episode_terms"]["crash"].tolist() == [0.0, 0.0]
+
+
+def test_observation_matches_the_simulator_state():
+    """speed_error, trim, heel, heave, body velocities and rates and the gate columns, from
+    the simulator's pos/quat/lin_vel/ang_vel and the course, computed here."""
+    venv = BoatOnStepVectorEnv(num_envs=3)
+    obs, _ = venv.reset(seed=21)
+    acts = actions_for(8, 60, 3)
+    acts[:, :, 0] = 1.0
+    checked = 0
+    for k, a in enumerate(acts):
+        obs, r, term, trunc, info = venv.step(a)
+        if k % 15 != 14:
+            continue
+        for e in range(3):
+            if term[e] or trunc[e]:
+                continue
+            R = rotation(venv.sim.quat[e, 0])
+            pos, vel, omega = venv.sim.pos[e, 0], venv.sim.lin_vel[e, 0], venv.sim.ang_vel[e, 0]
+            target = venv.task[TK.K_TARGET, e]
+            gate = int(info["gates_passed"][e] + info["gates_missed"][e]) + 1
+            expect = {
+                "speed_error": target - math.hypot(vel[0], vel[1]),
+                "trim": math.asin(R[2, 0]),  # the bow's elevation
+                "heel": math.atan2(R[2, 1], R[2, 2]),  # the left side's rise
+                "heave": pos[2] - venv.rest_height_m,
+                "target_speed": target,
+            }
+            for name, value in expect.items():
+                assert obs[e, OBS[name]] == pytest.approx(value, rel=1e-6, abs=1e-6), name
+            np.testing.assert_allclose(obs[e, 0:3], R.T @ vel, rtol=1e-6, atol=1e-5)
+            np.testing.assert_allclose(obs[e, 3:6], R.T @ omega, rtol=1e-6, atol=1e-5)
+            gx, gy = expected_gate_xy(venv, e, gate)
+            ix = OBS["gate_x"]
+            np.testing.assert_allclose(obs[e, ix : ix + 2], (gx, gy), rtol=1e-6, atol=1e-4)
+            bearing = math.atan2(gy, gx)
+            b = OBS["gate_bearing_sin"]
+            np.testing.assert_allclose(
+                obs[e, b : b + 2], (math.sin(bearing), math.cos(bearing)), atol=1e-6
+            )
+            heading = math.atan2(R[1, 0], R[0, 0])
+            d = venv.course[e, gate, TK.G_HEADING] - heading
+            h = OBS["gate_heading_sin"]
+            np.testing.assert_allclose(obs[e, h : h + 2], (math.sin(d), math.cos(d)), atol=1e-6)
+            checked += 1
+    assert checked >= 9
+    assert obs[:, OBS["u"]].min() > 5.0  # under way: the speed columns are not trivially 0
+
+
+def test_actions_turn_and_trim_as_documented():
+    """From the same planing run: rudder + turns the bow to starboard (yaw rate < 0) and
+    rudder - to port, symmetrically; trim tabs + push the bow down, - let it rise."""
+    venv = BoatOnStepVectorEnv(
+        num_envs=5, start_heading_deg=0.0, first_leg_m=(5000.0, 5000.0), course_half_width_m=1e4
+    )
+    venv.reset(seed=[1] * 5)
+    for _ in range(100):
+        venv.step(np.tile([1.0, 0.0, 0.0], (5, 1)))
+    a = np.array([[1, 0, 0], [1, 1, 0], [1, -1, 0], [1, 0, 1], [1, 0, -1]], dtype=float)
+    for _ in range(20):
+        obs, r, term, trunc, info = venv.step(a)
+    assert not (term.any() or trunc.any())
+    yaw_rate, trim = obs[:, OBS["r"]], obs[:, OBS["trim"]]
+    assert abs(yaw_rate[0]) < 1e-9
+    assert yaw_rate[1] < -0.05 and yaw_rate[2] == pytest.approx(-yaw_rate[1], rel=1e-6)
+    assert trim[3] < trim[0] - 1e-3 < trim[4] - 2e-3
+
+
+def test_actions_saturate_at_the_limits():
+    a, b = BoatOnStepEnv(), BoatOnStepEnv()
+    a.reset(seed=8)
+    b.reset(seed=8)
+    for _ in range(3):
+        oa = a.step(np.array([4.0, -2.0, 1.5]))
+        ob = b.step(np.array([1.0, -1.0, 1.0]))
+        np.testing.assert_array_equal(oa[0], ob[0])
+        assert oa[1:4] == ob[1:4]
+
+
+# ---- the engine ---------------------------------------------------------------------------
+
+
+def test_thrust_follows_the_power_curve():
+    """Full ahead gives min(max_thrust_n, engine_power_w / u); full astern min_thrust_n; idle
+    nothing, in the kernel and in the force the simulator applies."""
+    venv = BoatOnStepVectorEnv(num_envs=1)
+    cfg = venv._cfg
+    prop = venv.craft.thrusters[0]
+    power = venv.params.engine_power_w
+    for u in (1.0, 5.0, 12.0, 17.0, 18.0, 20.0, 25.0, 35.0):
+        full = TK.thrust_command(u, 1.0, cfg)
+        assert full == pytest.approx(min(prop.max_thrust_n, power / u), rel=1e-12)
+        assert full * u <= power * (1 + 1e-12)
+        assert TK.thrust_command(u, 0.5, cfg) == pytest.approx(0.5 * full, rel=1e-12)
+        assert TK.thrust_command(u, -1.0, cfg) == prop.min_thrust_n
+        assert TK.thrust_command(u, 0.0, cfg) == 0.0
+    # the power limit binds above power / max_thrust (17.8 m/s)
+    assert TK.thrust_command(25.0, 1.0, cfg) < prop.max_thrust_n
+    # at rest the only horizontal force is the propeller's (the craft's channel is linear
+    # from min_thrust_n at -1 to max_thrust_n at +1)
+    venv.reset(seed=0)
+    st, _, _ = venv.sim.kernel_arrays()
+    ctrl = np.zeros((1, 3))
+    trim = venv.rest_trim_rad
+    for throttle, thrust in ((1.0, prop.max_thrust_n), (0.0, 0.0), (-1.0, prop.min_thrust_n)):
+        TK.controls(st, np.array([[throttle, 0.0, 0.0]]), cfg, ctrl)
+        force, _ = venv.sim.wrench(ctrl)
+        horizontal = math.hypot(force[0, 0, 0], force[0, 0, 1])
+        assert horizontal == pytest.approx(abs(thrust) * math.cos(trim), rel=1e-9, abs=1e-6)
+
+
+def test_less_power_less_top_speed():
+    """Full throttle, straight ahead on a long first leg: the power-limited top speed
+    satisfies thrust x speed = engine_power_w, and halving the power lowers it."""
+    top = {}
+    for power in (80_000.0, 40_000.0):
+        venv = BoatOnStepVectorEnv(
+            num_envs=1,
+            engine_power_w=power,
+            first_leg_m=(5000.0, 5000.0),
+            start_heading_deg=0.0,
+            course_half_width_m=1e4,
+        )
+        venv.reset(seed=0)
+        speeds = []
+        for _ in range(500):  # 25 s
+            obs, r, term, trunc, info = venv.step(np.array([[1.0, 0.0, 0.0]]))
+            assert not (term[0] or trunc[0])
+            speeds.append(float(obs[0, OBS["u"]]))
+        u = speeds[-1]
+        assert abs(speeds[-1] - speeds[-41]) < 0.05 * u  # steady
+        thrust = TK.thrust_command(u, 1.0, venv._cfg)
+        # on top speed the engine's power, not the propeller's static thrust, is the limit
+        assert thrust < venv.craft.thrusters[0].max_thrust_n
+        assert thrust * u == pytest.approx(power, rel=1e-9)
+        top[power] = u
+    assert top[40_000.0] < top[80_000.0] - 1.0
