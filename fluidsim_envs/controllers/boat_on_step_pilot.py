@@ -6,7 +6,7 @@
   crosses the gate along its direction of travel; rudder on the heading error with yaw-rate
   damping, and less rudder at speed (the same deflection turns a fast boat harder);
 - trim tabs: down while climbing onto the plane (less bow rise), then trimmed to keep the
-  running trim near ``trim_deg``, and down further when the trim starts to oscillate
+  running trim near ``trim_deg``, and down further as the trim starts to oscillate
   (porpoising).
 
 The bar a trained policy must beat.
@@ -25,12 +25,12 @@ class HelmGains:
     kp_speed: float = 0.15  # throttle per m/s of speed error
     ki_speed: float = 0.03  # throttle per m/s s
     plane_margin_mps: float = 3.0  # full throttle until this close to the target
-    approach: float = 1.5  # how far the aim bends to cross the gate along its direction
-    kp_heading: float = 5.0  # rudder per rad of heading error (at 10 m/s)
-    kd_yaw: float = 0.3  # rudder per rad/s of yaw rate
-    trim_deg: float = 2.5  # running trim the tabs hold
+    approach: float = 1.0  # how far the aim bends to cross the gate along its direction
+    kp_heading: float = 3.0  # rudder per rad of heading error (at 10 m/s)
+    kd_yaw: float = 0.6  # rudder per rad/s of yaw rate
+    trim_deg: float = 2.0  # running trim the tabs hold
     k_tabs: float = 1.5  # tabs per degree of trim above trim_deg
-    porpoise_deg: float = 0.6  # tabs fully down above this oscillation
+    k_porpoise: float = 3.0  # more tabs per degree of trim oscillation
     step_s: float = 0.05  # the env's action period
 
 
@@ -88,7 +88,7 @@ class BoatOnStepPilot:
         speed_factor = 10.0 / np.maximum(u, 10.0)
         rudder = -(g.kp_heading * speed_factor * aim) + g.kd_yaw * r  # + rudder turns right
 
-        # tabs: down on the way up, then hold the trim, fully down against porpoising
-        tabs = np.where(climbing, 1.0, np.clip(g.k_tabs * (trim - g.trim_deg), -1.0, 1.0))
-        tabs = np.where(oscillation > g.porpoise_deg, 1.0, tabs)
+        # tabs: down on the way up, then hold the trim, and down against porpoising
+        hold = g.k_tabs * (trim - g.trim_deg) + g.k_porpoise * oscillation
+        tabs = np.where(climbing, 1.0, np.clip(hold, -1.0, 1.0))
         return np.clip(np.stack([throttle, rudder, tabs], axis=1), -1.0, 1.0)

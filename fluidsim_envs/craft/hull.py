@@ -64,7 +64,7 @@ class VHull:
     friction_cf: float = 0.0029  # ITTC-1957 at Re ~ 3e7 (0.0025) + roughness 0.0004
     max_thrust_n: float = 4500.0  # ~150 hp outboard, static
     min_thrust_n: float = -1500.0  # astern
-    rudder_area_m2: float = 0.07
+    rudder_area_m2: float = 0.2
     max_rudder_deg: float = 30.0
     tab_area_m2: float = 0.035  # per tab; two tabs
     max_tab_deg: float = 15.0  # trailing edge down from flush

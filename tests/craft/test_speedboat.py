@@ -264,3 +264,26 @@ def test_hard_turn_at_speed_heels_into_the_turn():
     assert yaw_rate[0] < -0.1 and yaw_rate[1] > 0.1  # right, left
     assert heel[0] > 5.0 and heel[1] < -5.0  # starboard down turning right, and mirrored
     assert heel[0] == pytest.approx(-heel[1], rel=1e-6)
+
+
+def test_full_rudder_at_top_speed_spins_out_and_capsizes():
+    """Hard over at 12 and 18 m/s the boat turns, sliding 25-35 degrees; at 24 m/s the same
+    rudder slews the stern round faster than the hull's lateral plane can hold it: the boat
+    spins (sideslip past 90 degrees) and rolls over. The env ends such an episode as
+    capsized."""
+    speeds = np.array([12.0, 18.0, 24.0])
+    sim = Simulator(CRAFT, WORLD, num_envs=3, dt=DT)
+    sim.reset(pos=(0.0, 0.0, 0.3), lin_vel=np.stack([speeds, 0 * speeds, 0 * speeds], 1)[:, None])
+    ctrl = idle(3)
+    ctrl[:, 0] = channel([1500.0, 2300.0, 3300.0])
+    sim.step(ctrl, steps=int(3 / DT))
+    ctrl[:, 1] = 1.0
+    slip, heel = np.zeros(3), np.zeros(3)
+    for _ in range(int(5 / 0.05)):
+        sim.step(ctrl, steps=10)
+        rot = quat_matrices(np.ascontiguousarray(sim.quat[:, 0]))
+        body = np.einsum("eji,ej->ei", rot, sim.lin_vel[:, 0])
+        slip = np.maximum(slip, np.degrees(np.abs(np.arctan2(body[:, 1], body[:, 0]))))
+        heel = np.maximum(heel, np.abs(attitude(sim)[1]))
+    assert np.all(slip[:2] < 45.0) and np.all(heel[:2] < 35.0)  # turning
+    assert slip[2] > 90.0 and heel[2] > 90.0  # spun out and over
