@@ -28,9 +28,9 @@ How the hull becomes samples (body frame at the center of gravity, x forward, y 
 - Skin friction: under each strip, one plate facing forward with area ``cf * wetted area``
   of the strip's two plates (``cf`` the ITTC-1957 line near planing speed plus a roughness
   allowance), so a wet strip feels ``1/2 rho cf S V^2`` against the motion, a dry one nothing.
-- Topsides (side plates), a skeg, the rudder and trim tabs (control surfaces), a windscreen
-  (air drag), and the propeller below the transom, its thrust line below the CG as on an
-  outboard.
+- Topsides (side plates), a skeg, the stem (the bow above the chines, which ploughs when
+  buried), the rudder and trim tabs (control surfaces), a windscreen (air drag), and the
+  propeller below the transom, its thrust line below the CG as on an outboard.
 """
 
 from __future__ import annotations
@@ -65,7 +65,7 @@ class VHull:
     max_thrust_n: float = 4500.0  # ~150 hp outboard, static
     min_thrust_n: float = -1500.0  # astern
     rudder_area_m2: float = 0.2
-    max_rudder_deg: float = 30.0
+    max_rudder_deg: float = 35.0
     tab_area_m2: float = 0.035  # per tab; two tabs
     max_tab_deg: float = 15.0  # trailing edge down from flush
     skeg_area_m2: float = 0.06
@@ -164,6 +164,15 @@ class VHull:
                 offset_m=[r(x0 + 0.55 * self.length_m), 0.0, r(z0 + self.freeboard_m + 0.3)],
                 normal=[1.0, 0.0, 0.0],
                 area_m2=0.9,  # frontal area ~1.8 m^2, Cd ~0.5
+                efficiency=0.0,
+            ),
+            # the bow above the chines: dry unless the bow buries, then it ploughs (the
+            # scene calls it stuffing when this point goes under)
+            dict(
+                name="stem",
+                offset_m=[r(x0 + self.length_m - 0.1), 0.0, r(z0 + self.freeboard_m)],
+                normal=[1.0, 0.0, 0.0],
+                area_m2=0.25,  # ~0.5 m^2 of bow, Cd ~0.5
                 efficiency=0.0,
             ),
             dict(

@@ -156,14 +156,14 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
 
     def _cfg_value(self, name: str) -> float:
         (prop,) = self.craft.thrusters
-        bottom = [s for s in self.craft.plates if s.name.startswith("bottom")]
+        (stem,) = [s for s in self.craft.plates if s.name == "stem"]
         derived = {
             "max_thrust_n": prop.max_thrust_n,
             "min_thrust_n": prop.min_thrust_n,
             "step_s": self.params.dt * self.params.substeps,
             "rest_height_m": self.rest_height_m,
-            "bow_x_m": max(s.offset_m[0] for s in bottom),
-            "bow_z_m": max(s.offset_m[2] for s in self.craft.plates if s.name.startswith("top")),
+            "bow_x_m": stem.offset_m[0],
+            "bow_z_m": stem.offset_m[2],
             "hull_half_beam_m": max(abs(s.offset_m[1]) for s in self.craft.plates),
         }
         return derived[name] if name in derived else float(getattr(self.params, name))
@@ -286,7 +286,7 @@ class BoatOnStepEnv(FluidEnv):
 
     ``Box(-1, 1, (3,), float32)``: throttle (0 idle, +1 full ahead: 4.5 kN static thrust,
     falling above 18 m/s as the engine's power allows; -1 full astern, 1.5 kN), rudder
-    (+ turns the bow to starboard; 30 degrees), trim tabs (-1 flush, +1 fully down at 15
+    (+ turns the bow to starboard; 35 degrees), trim tabs (-1 flush, +1 fully down at 15
     degrees: bow down). Values beyond [-1, 1] saturate; NaN or a wrong shape is an error.
 
     ## Observation Space
@@ -332,7 +332,7 @@ class BoatOnStepEnv(FluidEnv):
 
     Terminated: every gate run through (``info["success"]`` when none was missed and nothing
     crashed); capsized (heel beyond ``capsize_heel_deg``, ``info["capsized"]``); bow stuffed
-    (the stem's top under water while making way, ``info["bow_stuffed"]``); farther than
+    (the stem under water while making way, ``info["bow_stuffed"]``); farther than
     ``course_half_width_m`` from the current leg (``info["left_course"]``); a non-finite
     physics state (``info["physics_diverged"]``; the observation is then the last finite
     one). Truncated: ``max_episode_steps`` actions. ``info["porpoising"]`` flags the steps

@@ -182,7 +182,9 @@ def test_throttle_sweep_traces_the_planing_story(sweep):
     steady = sweep["trim_ptp"] < 0.1  # not porpoising (see below)
     assert (fast & steady).sum() >= 3
     assert np.all(trim[fast] < trim[peak] - 0.5)
-    assert np.all(np.diff(trim[peak:][steady[peak:]]) < 0.0)  # falling all the way
+    # falling all the way to FnV 5.5; above it the hull runs at a changed attitude and then
+    # porpoises (test below)
+    assert np.all(np.diff(trim[peak:][fnv[peak:] < 5.5]) < 0.0)
     assert np.all(height[fast] > rest_height + 0.1)
     assert np.all(sweep["wetted"][fast] < 0.75 * sweep["wetted"][0])
 
@@ -266,19 +268,19 @@ def test_hard_turn_at_speed_heels_into_the_turn():
     assert heel[0] == pytest.approx(-heel[1], rel=1e-6)
 
 
-def test_full_rudder_at_top_speed_spins_out_and_capsizes():
-    """Hard over at 12 and 18 m/s the boat turns, sliding 25-35 degrees; at 24 m/s the same
-    rudder slews the stern round faster than the hull's lateral plane can hold it: the boat
-    spins (sideslip past 90 degrees) and rolls over. The env ends such an episode as
-    capsized."""
-    speeds = np.array([12.0, 18.0, 24.0])
-    sim = Simulator(CRAFT, WORLD, num_envs=3, dt=DT)
+def test_full_rudder_at_speed_spins_out_and_capsizes():
+    """Hard over at 12 and 18 m/s the boat turns, sliding 25-40 degrees; from about 21 m/s
+    the same rudder slews the stern round faster than the hull's lateral plane can hold it:
+    the boat spins (sideslip past 90 degrees) and rolls over. The env ends such an episode
+    as capsized."""
+    speeds = np.array([12.0, 18.0, 22.0, 24.0, 26.0])
+    sim = Simulator(CRAFT, WORLD, num_envs=len(speeds), dt=DT)
     sim.reset(pos=(0.0, 0.0, 0.3), lin_vel=np.stack([speeds, 0 * speeds, 0 * speeds], 1)[:, None])
-    ctrl = idle(3)
-    ctrl[:, 0] = channel([1500.0, 2300.0, 3300.0])
+    ctrl = idle(len(speeds))
+    ctrl[:, 0] = channel(np.interp(speeds, [12.0, 18.0, 22.0, 26.0], [1500, 2300, 2800, 3300]))
     sim.step(ctrl, steps=int(3 / DT))
     ctrl[:, 1] = 1.0
-    slip, heel = np.zeros(3), np.zeros(3)
+    slip, heel = np.zeros(len(speeds)), np.zeros(len(speeds))
     for _ in range(int(5 / 0.05)):
         sim.step(ctrl, steps=10)
         rot = quat_matrices(np.ascontiguousarray(sim.quat[:, 0]))
@@ -286,4 +288,4 @@ def test_full_rudder_at_top_speed_spins_out_and_capsizes():
         slip = np.maximum(slip, np.degrees(np.abs(np.arctan2(body[:, 1], body[:, 0]))))
         heel = np.maximum(heel, np.abs(attitude(sim)[1]))
     assert np.all(slip[:2] < 45.0) and np.all(heel[:2] < 35.0)  # turning
-    assert slip[2] > 90.0 and heel[2] > 90.0  # spun out and over
+    assert np.all(slip[2:] > 90.0) and np.all(heel[2:] > 90.0)  # spun out and over
