@@ -435,6 +435,29 @@ def test_capsized_boat_terminates():
     assert crash.tolist() == [-venv.params.w_crash] * 2 + [0.0]
 
 
+def test_bow_stuffed_at_speed_terminates():
+    """The stem under the surface while making way ends the episode; the same attitude at
+    rest, or a bow just clear of the water at speed, does not."""
+    venv = BoatOnStepVectorEnv(num_envs=3)
+    venv.reset(seed=4)
+    stem = next(p for p in venv.craft.plates if p.name == "stem").offset_m
+    for e, (trim_deg, speed) in enumerate(((-12.0, 15.0), (-12.0, 0.0), (0.0, 15.0))):
+        place(venv, e, 1, along=-50.0, across=0.0, speed=speed)
+        h = venv.course[e, 1, TK.G_HEADING]
+        t = math.radians(trim_deg)
+        # trimmed bow down, the hull placed so that the stem sits 20 cm under water; level, at
+        # its floating height (the stem well clear)
+        z = -0.2 - stem[0] * math.sin(t) - stem[2] * math.cos(t) if trim_deg else None
+        x, y, z_rest = venv.sim.pos[e, 0]
+        vel = (speed * math.cos(h), speed * math.sin(h), 0.0)
+        venv.sim.reset(pos=(x, y, z_rest if z is None else z), quat=attitude_quat(h, t),
+                       lin_vel=vel, env_ids=[e])  # fmt: skip
+    obs, r, term, trunc, info = venv.step(np.zeros((3, 3)))
+    assert info["final_info"]["bow_stuffed"].tolist() == [True, False, False]
+    assert term.tolist() == [True, False, False]
+    assert np.isfinite(obs).all()
+
+
 def test_leaving_the_course_terminates():
     venv = BoatOnStepVectorEnv(num_envs=2)
     venv.reset(seed=2)
