@@ -28,11 +28,14 @@ from machine import describe
 import fluidsim_envs  # noqa: F401  (registers the envs)
 
 ENVS = ("fluidsim/PaperAirplane-v0", "fluidsim/SubmarineWake-v0", "fluidsim/BoatOnStep-v0")
+SWELL = ((0.3, 30.0, 45.0), (0.15, 12.0, -60.0))
 # extra rows: (label, env id, make kwargs, watch): SubmarineWake-v0 without its wake, and
 # with the wake's tracers of sub-env 0 advanced every step (what rendering or logging costs)
 VARIANTS = (
     ("SubmarineWake-v0 wake=False", "fluidsim/SubmarineWake-v0", {"wake": False}, False),
     ("SubmarineWake-v0 +tracers", "fluidsim/SubmarineWake-v0", {"render_mode": "rgb_array"}, True),
+    # BoatOnStep-v0 in two-wave swell: a surface height under every sample, every evaluation
+    ("BoatOnStep-v0 swell", "fluidsim/BoatOnStep-v0", {"swell": SWELL}, False),
 )
 PEER = "CartPole-v1"
 NUM_ENVS = (1, 64, 1024, 4096, 16384)

@@ -9,7 +9,11 @@ Measures, and prints as a table and writes as CSV (``--out``):
 2. ``call_overhead``: microseconds per ``sim.step(controls, steps=1)`` at E = 1 (serial), the
    median of many calls: the cost of one round trip through Python.
 3. ``integrators``: body-steps per second at E = 16384 on 2 threads for every integrator.
-4. ``compile_cold`` / ``compile_cached``: seconds taken by the first ``sim.step()`` in a fresh
+4. ``swell``: body-steps per second at E = 16384 on 2 threads over water, calm (0 waves) and
+   with 1, 2 and 4 swell waves (the ``integrator`` column holds the number of waves): the cost
+   of the surface height under every sample (the same glide, above the water: the swell costs
+   the same wherever the samples are).
+5. ``compile_cold`` / ``compile_cached``: seconds taken by the first ``sim.step()`` in a fresh
    Python process (E = 64, float64, serial), with ``NUMBA_CACHE_DIR`` pointing at an empty
    directory, then again in a second process that finds the cache filled by the first.
 
@@ -59,11 +63,15 @@ print(time.perf_counter() - t0)
 
 
 def make_sim(
-    num_envs: int, dtype: str, kernel: str = "serial", integrator: str = "symplectic_euler"
+    num_envs: int,
+    dtype: str,
+    kernel: str = "serial",
+    integrator: str = "symplectic_euler",
+    world: World | None = None,
 ) -> tuple[Simulator, np.ndarray]:
     sim = Simulator(
         Craft.load(CRAFT),
-        World(),
+        World() if world is None else world,
         num_envs=num_envs,
         dt=DT,
         integrator=integrator,
@@ -182,6 +190,14 @@ def main() -> None:
             sim, controls = make_sim(16384, dtype, "parallel", integrator)
             rate = body_steps_per_s(sim, controls, target_s, repeats)
             record("integrators", dtype, integrator, 16384, 2, "parallel", rate, "body-steps/s")
+
+    for dtype in ("float64", "float32"):
+        for waves in (0, 1, 2, 4):
+            swell = [(0.3, 20.0 + 7.0 * j, 40.0 * j) for j in range(waves)]
+            world = World(water=True, swell=swell)
+            sim, controls = make_sim(16384, dtype, "parallel", world=world)
+            rate = body_steps_per_s(sim, controls, target_s, repeats)
+            record("swell", dtype, f"{waves} waves", 16384, 2, "parallel", rate, "body-steps/s")
 
     with tempfile.TemporaryDirectory(prefix="numba-cache-") as cache_dir:
         for section in ("compile_cold", "compile_cached"):

@@ -100,17 +100,21 @@ def run_course(num_envs: int = 256, seed: int = 0) -> None:
     from fluidsim_envs.envs import BoatOnStepVectorEnv
     from fluidsim_envs.evaluation import first_episodes, random_policy, zero_policy
 
-    venv = BoatOnStepVectorEnv(num_envs=num_envs)
     print(f"\nBoatOnStep-v0: {num_envs} courses (seed {seed}), one episode each, 60 s at most")
     print(
         f"{'policy':>14} {'return':>15} {'gates':>6} {'success':>8} {'porpoise':>9} "
         f"{'crash':>6} {'to plane (s)':>13}"
     )
-    for name, policy in (
-        ("scripted pilot", BoatOnStepPilot()),
-        ("random", random_policy(venv, seed)),
-        ("zero controls", zero_policy(venv)),
+    swell = ((0.2, 40.0, 45.0),)  # 0.4 m crest to trough, 40 m long
+    for name, waves, policy in (
+        ("scripted pilot", (), BoatOnStepPilot()),
+        ("  (in swell)", swell, BoatOnStepPilot()),
+        ("random", (), None),
+        ("zero controls", (), None),
     ):
+        venv = BoatOnStepVectorEnv(num_envs=num_envs, swell=waves)
+        if policy is None:
+            policy = random_policy(venv, seed) if name == "random" else zero_policy(venv)
         r = first_episodes(venv, policy, seed=seed)
         crash = r["capsized"] | r["bow_stuffed"] | r["left_course"] | r["physics_diverged"]
         planed = r["time_to_plane_s"][r["time_to_plane_s"] >= 0.0]

@@ -23,7 +23,7 @@ OBSERVATION = (
     ("r", "rad/s", "yaw rate (+ bow left)"),
     ("trim", "rad", "trim angle, bow up +"),
     ("heel", "rad", "heel angle, starboard side down +"),
-    ("heave", "m", "height of the center of gravity above its height at rest"),
+    ("heave", "m", "center of gravity above the water surface under it, less that at rest"),
     ("speed_error", "m/s", "target speed minus speed over the ground"),
     ("gate_bearing_sin", "1", "sine of the bearing of the next gate's center from the bow"),
     ("gate_bearing_cos", "1", "cosine of that bearing"),
@@ -52,6 +52,10 @@ class BoatOnStepParams:
     max_episode_steps: int = 1200  # 60 s
     # the engine: thrust up to the craft's static thrust, and never above power / speed
     engine_power_w: float = 80_000.0  # delivered thrust power (about 180 hp at the shaft)
+    # the water: calm, or swell (world frame; the course's heading is random, so the swell
+    # meets it from any direction), each wave (amplitude_m, wavelength_m, direction_deg) or
+    # a SwellWave; each episode starts at a random moment of the swell
+    swell: tuple = ()
     # the course
     target_speed_mps: tuple = (13.0, 19.0)  # planing: volumetric Froude number 4-6
     first_leg_m: tuple = (120.0, 180.0)  # straight run to the first gate (getting on plane)
@@ -105,6 +109,11 @@ class BoatOnStepParams:
         for key in ("w_speed", "w_progress", "w_gate", "w_buoy", "w_porpoise", "w_fuel"):
             check_number(own, key, getattr(self, key), 0.0)
         check_number(own, "w_crash", self.w_crash, 0.0)
+        try:
+            swell = World(water=True, swell=self.swell).swell
+        except ValueError as err:
+            raise ValueError(f"{own}: swell: {err}") from None
+        object.__setattr__(self, "swell", swell)
         if self.buoy_radius_m >= self.gate_half_width_m:
             raise ValueError(
                 f"{own}: buoy_radius_m ({self.buoy_radius_m}) must be smaller than "
@@ -139,7 +148,7 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         p = self.params
         E = self.num_envs
         self.craft = Craft.load("speedboat")
-        self.world = World(water=True)
+        self.world = World(water=True, swell=p.swell)
         self.sim = Simulator(
             self.craft, self.world, num_envs=E, dt=p.dt, integrator=p.integrator, dtype=p.dtype
         )
@@ -210,7 +219,12 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
             ],
             axis=1,
         )
-        self.sim.reset(pos=(0.0, 0.0, self.rest_height_m), quat=quat[:, None], env_ids=ids)
+        # a random moment of the swell (a day of it), the boat floating on its surface
+        clock = 86400.0 * u[:, 3 + 2 * GATES]
+        self.sim.set_clock(clock, env_ids=ids)
+        surface = self.world.surface_height(0.0, 0.0, clock)
+        pos = np.stack([0 * clock, 0 * clock, self.rest_height_m + surface], axis=1)
+        self.sim.reset(pos=pos[:, None], quat=quat[:, None], env_ids=ids)
         st, _, _ = self.sim.kernel_arrays()
         TK.start(st, self.course, self.task, np.asarray(ids, dtype=np.int64))
 
@@ -222,6 +236,7 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         TK.controls(st, actions, self._cfg, self._ctrl)
         self.sim.step(self._ctrl, steps=p.substeps)
         diverged = self.sim.diverged.copy()
+        swell, clock = self.sim.surface_arrays()
         TK.score(
             st,
             diverged,
@@ -229,6 +244,8 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
             self.course,
             self.buoys,
             self.task,
+            swell,
+            clock,
             self._cfg,
             self._terms,
             self._flags,
@@ -258,7 +275,8 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
 
     def _observe(self, out) -> None:
         st, _, body = self.sim.kernel_arrays()
-        TK.observe(st, body, self.course, self.task, self._cfg, out)
+        swell, clock = self.sim.surface_arrays()
+        TK.observe(st, body, self.course, self.task, swell, clock, self._cfg, out)
 
     # ---- render ---------------------------------------------------------------------------
 
@@ -299,7 +317,7 @@ class BoatOnStepEnv(FluidEnv):
     | 3-5 | p, q, r | rad/s | body rates: p + starboard down, q + bow down, r + bow left |
     | 6 | trim | rad | bow up + |
     | 7 | heel | rad | starboard side down + |
-    | 8 | heave | m | height of the center of gravity above its height at rest |
+    | 8 | heave | m | center of gravity above the surface under it, less its height at rest |
     | 9 | speed_error | m/s | target speed minus speed over the ground |
     | 10-11 | gate_bearing_sin, _cos | 1 | bearing of the next gate's center from the bow |
     | 12-13 | gate_x, gate_y | m | next gate's center in the boat's heading frame |
@@ -323,8 +341,9 @@ class BoatOnStepEnv(FluidEnv):
 
     ## Starting State
 
-    At rest, floating at the height and trim its buoyancy gives (calm water), at the first
-    leg's start, the bow within ``start_heading_deg`` of the leg's heading (uniform in every
+    At rest, floating at the height and trim its buoyancy gives (in calm water; on the
+    surface under it in swell, at a random moment of the swell), at the first leg's start,
+    the bow within ``start_heading_deg`` of the leg's heading (uniform in every
     direction). The course: a first leg of ``first_leg_m``, then five legs of ``leg_m``, each
     turning by ``turn_deg`` at its gate; the target speed is drawn from ``target_speed_mps``.
 
@@ -346,8 +365,11 @@ class BoatOnStepEnv(FluidEnv):
     ``gym.make("fluidsim/BoatOnStep-v0", **kwargs)`` and ``gym.make_vec(...,
     vectorization_mode="vector_entry_point", **kwargs)`` accept ``render_mode``
     (``"rgb_array"``) and every field of :class:`BoatOnStepParams` (physics ``dt``,
-    ``substeps``, ``integrator``, ``dtype``; the engine; the course; detection thresholds and
-    reward weights); an unknown key is an error listing the valid ones.
+    ``substeps``, ``integrator``, ``dtype``; the engine; ``swell``, e.g.
+    ``swell=[(0.3, 30.0, 45.0)]`` for 0.3 m waves 30 m long travelling north-east (up to
+    four, each ``(amplitude_m, wavelength_m, direction_deg)``; calm by default); the course;
+    detection thresholds and reward weights); an unknown key is an error listing the valid
+    ones.
 
     ## Version History
 

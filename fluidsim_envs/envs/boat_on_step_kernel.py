@@ -9,6 +9,7 @@ import math
 from numba import njit
 
 from ..physics.kernels import OQ, OV, OX, _inv_inertia, quat_to_matrix, world_omega
+from ..physics.surface import surface_height
 
 T_SPEED, T_PROGRESS, T_GATE, T_BUOY, T_PORPOISE, T_FUEL, T_CRASH = range(7)
 NTERMS = 7
@@ -122,8 +123,9 @@ def _gate_frame(course, e, g, px, py):
 
 
 @njit(**_JIT)
-def observe(st, body, course, task, cfg, out):
-    """Observation rows out[E, 18] (float32) from the boat's state st[13, 1, E]."""
+def observe(st, body, course, task, swell, clock, cfg, out):
+    """Observation rows out[E, 18] (float32) from the boat's state st[13, 1, E]; heave is
+    measured from the water surface under the boat (the swell at the env's clock)."""
     inv_inertia = _inv_inertia(body, 0)
     last = course.shape[1] - 1
     for e in range(st.shape[2]):
@@ -141,7 +143,7 @@ def observe(st, body, course, task, cfg, out):
         trim, heel = attitude(rot)
         out[e, 6] = trim
         out[e, 7] = heel
-        out[e, 8] = pz - cfg[C_REST]
+        out[e, 8] = pz - surface_height(px, py, clock[e], swell) - cfg[C_REST]
         speed = math.sqrt(vx * vx + vy * vy)
         out[e, 9] = task[K_TARGET, e] - speed
         heading = math.atan2(r3, r0)
@@ -182,7 +184,7 @@ def start(st, course, task, ids):
 
 
 @njit(**_JIT)
-def score(st, diverged, actions, course, buoys, task, cfg, terms, flags):
+def score(st, diverged, actions, course, buoys, task, swell, clock, cfg, terms, flags):
     """Gates, buoys, porpoising, capsize, bow stuffing and leaving the course, and the reward
     terms, of every env after a step; writes ``terms`` [7, E] and ``flags`` [8, E].
 
@@ -269,10 +271,12 @@ def score(st, diverged, actions, course, buoys, task, cfg, terms, flags):
         if flags[F_BUOY, e]:
             terms[T_BUOY, e] = -cfg[C_W_BUOY]
 
-        # capsize, bow stuffing (the stem's top under water while making way), leaving the course
+        # capsize, bow stuffing (the stem under the surface while making way), off the course
         flags[F_CAPSIZE, e] = abs(heel) > capsize or rot[8] < 0.0
-        bow_z = pz + rot[6] * cfg[C_BOW_X] + rot[8] * cfg[C_BOW_Z]
-        flags[F_STUFF, e] = bow_z < 0.0 and speed > 3.0
+        bx = px + rot[0] * cfg[C_BOW_X] + rot[2] * cfg[C_BOW_Z]
+        by = py + rot[3] * cfg[C_BOW_X] + rot[5] * cfg[C_BOW_Z]
+        bz = pz + rot[6] * cfg[C_BOW_X] + rot[8] * cfg[C_BOW_Z]
+        flags[F_STUFF, e] = bz < surface_height(bx, by, clock[e], swell) and speed > 3.0
         # off the course: farther than course_half_width_m from the leg to the current gate
         g = min(g, last)
         ax, ay = course[e, g - 1, G_X], course[e, g - 1, G_Y]

@@ -9,7 +9,7 @@
 - Elevation, 480 x 180 px: seen from starboard, the boat's heading to the right, 52 px/m
   (about 9 m across), the hull's profile (keel, chine and sheer lines) turned by its trim and
   heel and raised by its heave over the water surface line (calm water at z = 0, or the
-  world's ``surface_height(x, y) -> z``, on arrays of world x and y, where a world has one),
+  swell along the view at the sub-env's clock),
   the outboard's leg and propeller, the skeg and rudder, the windscreen and the trim tab at
   its deflection (the last action's; flush at -1, fully down at +1). Along the bottom, a
   speed bar: speed over the ground from 0 (left) to 1.5 times the highest target speed,
@@ -286,17 +286,17 @@ def _elevation(env, e: int, shape: HullShape, pos, rot) -> np.ndarray:
         center = np.array([0.0, 0.0, SIDE_CENTER_Z])
     cam = OrthoCamera(center, np.stack([fwd, [0.0, 0.0, -1.0], left]), SIDE_SCALE, WIDTH, SIDE_H)
 
-    # the water: calm, or the world's surface where it has one
+    # the water: calm, or the swell at this sub-env's clock
     half = 0.5 * WIDTH / SIDE_SCALE + 0.5
-    surface_height = getattr(env.world, "surface_height", None)
-    s = np.linspace(-half, half, 49 if surface_height is not None else 2)
+    calm = not env.world.swell
+    s = np.linspace(-half, half, 2 if calm else 49)
     line = center + s[:, None] * fwd
-    if surface_height is None:
+    if calm:
         line[:, 2] = 0.0
         row = cam.project(line[:1])[0][0, 1]
         canvas.fill_rows(row, SIDE_H, WATER)
     else:
-        line[:, 2] = surface_height(line[:, 0], line[:, 1])
+        line[:, 2] = env.world.surface_height(line[:, 0], line[:, 1], env.sim.clock[e])
         deep = line.copy()
         deep[:, 2] = zc - SIDE_H / SIDE_SCALE
         canvas.triangles(cam, _strip(deep, line), WATER)

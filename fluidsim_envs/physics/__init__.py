@@ -6,6 +6,7 @@
 from .craft import Buoyancy, Control, Craft, CraftError, Cylinder, Plate, Surface, Thruster
 from .kernels import EVALS_PER_STEP, INTEGRATORS
 from .simulator import Simulator
+from .surface import SwellWave
 from .tracers import SpatialHash, Tracers
 from .wake import WakeField
 from .world import World
@@ -22,6 +23,7 @@ __all__ = [
     "Simulator",
     "Surface",
     "SpatialHash",
+    "SwellWave",
     "Thruster",
     "Tracers",
     "WakeField",

@@ -20,6 +20,25 @@ an inlined array helper leaves reference counting in the loop).
 State per body: position x, orientation quaternion q (w, x, y, z; body -> world), linear
 velocity v and angular momentum L about the center of mass, all in the world frame. Angular
 velocity is derived, ``w = R I^-1 R^T L``, so torque-free motion conserves L exactly.
+
+The water surface and the clock. Each environment has its own time ``clock[E]`` (float64 in
+either simulation dtype, so that wave phases stay exact over long episodes); the kernel
+advances it by ``dt`` (the simulation dtype's) per step and writes it back. The force loops
+read a sample's height above the surface from the row ``H`` (the body's z minus the surface
+height under the sample): in calm water (no waves: ``prm[P_NWAVES] = 0``, an empty ``swell``
+table) ``H`` is a copy of z, made once per force evaluation, and the force loops do exactly
+what they did on a flat surface at z = 0. With swell, ``_phase_rows`` stores each wave's time
+phase ``phase - omega t`` per environment at the start of each step (rows ``PH``, from the
+float64 clock and ``swell`` table), and ``_swell_rows`` (not inlined, like ``_wake_rows``;
+vectorized across environments thanks to a branch-free cosine, ``surface.wave_cos``) fills
+``H`` for each sample's point before that sample's force loop, from the waves in ``prm``.
+The integrators and ``_evaluate`` take no array beyond those they took on a flat surface (each
+array argument of a compiled call costs reference counting, measurable at small batches).
+Each force evaluation sees the surface at its own stage time, ``tau`` after the step's start:
+t for (symplectic, explicit) Euler and Verlet's first evaluation, t + dt for Verlet's second
+(its positions are the step's end), t and t + dt/2 for RK2, t, t + dt/2, t + dt/2, t + dt for
+RK4, so that every integrator keeps its order of accuracy when the surface moves (a surface
+frozen at the step's start would make RK2 and RK4 first order in time).
 """
 
 from __future__ import annotations
@@ -40,6 +59,7 @@ from .forces import (
     rotate_about_axis,
     water_fraction,
 )
+from .surface import MAX_WAVES, time_phase, wave_cos
 from .wake import NSRC, W_ON, wake_at
 
 BLOCK = 64  # environments per block: a multiple of the SIMD width, scratch fits in L1/L2
@@ -50,7 +70,10 @@ Y, Y0, ACC, D, R, W = 0, 13, 26, 39, 52, 61  # state, step start, RK sum, deriva
 FL = 64  # per-environment fluid: air velocity (3), water minus air velocity (3)
 FB = 70  # with a wake: the environment's own water minus air velocity (FL + 3 then varies)
 SRC = 73  # with a wake: the wake source row (wake.NSRC values: pos, rotation, vel, offset)
-ROWS = 91
+H = 91  # the body's z minus the surface height under the current sample (z in calm water)
+SX, SY = 92, 93  # with swell: the current sample's world x and y
+PH = 94  # with swell: each wave's time phase (surface.time_phase) at the step's start
+ROWS = PH + MAX_WAVES
 OX, OQ, OV, OL = 0, 3, 7, 10  # offsets inside a 13-row state
 
 INTEGRATORS = {
@@ -73,9 +96,12 @@ EVALS_PER_STEP = {
 P_G, P_RHO_AIR, P_RHO_WATER, P_WATER = 0, 1, 2, 3
 P_WIND, P_CURRENT = 4, 7  # 3 each: the World's defaults (the kernel reads flow[6, E])
 P_INV_BLEND, P_VMAX, P_FMAX, P_DT = 10, 11, 12, 13
-NPRM = 14
+P_NWAVES = 14  # swell: the number of waves (0: calm water), then per wave (a, kx, ky, omega)
+P_SWELL = 15
+NPRM = P_SWELL + 4 * MAX_WAVES
 
 SIX = np.float32(6.0)
+T0 = 0.0  # the step's start, as a float64 stage time offset
 _JIT = dict(cache=True, error_model="numpy", fastmath={"contract"})
 _INLINE = dict(cache=True, error_model="numpy", inline="always", fastmath={"contract"})
 
@@ -211,10 +237,11 @@ def _fluid(prm):
 
 @njit(**_INLINE)
 def _body_point(S, i):
-    """Height, velocity relative to the air, angular velocity and the water's velocity
-    relative to the air at body i: (z, vx, vy, vz, wx, wy, wz, dux, duy, duz)."""
+    """Height above the surface under the current sample, velocity relative to the air,
+    angular velocity and the water's velocity relative to the air at body i:
+    (z - eta, vx, vy, vz, wx, wy, wz, dux, duy, duz)."""
     return (
-        S[(Y + OX + 2) * BLOCK + i],
+        S[H * BLOCK + i],
         S[(Y + OV) * BLOCK + i] - S[FL * BLOCK + i],
         S[(Y + OV + 1) * BLOCK + i] - S[(FL + 1) * BLOCK + i],
         S[(Y + OV + 2) * BLOCK + i] - S[(FL + 2) * BLOCK + i],
@@ -278,15 +305,48 @@ def _wake_rows(S, n, ox, oy, oz, wprm):
 
 
 @njit(**_JIT)
-def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm):
-    """Derivative rows D of the state rows Y: dx = v, dq, dv = F/m + g, dL = torque."""
+def _phase_rows(S, n, e0, swell, clock):
+    """Rows PH: each wave's time phase ``phase - omega t`` at each environment's clock."""
+    for j in range(swell.shape[0]):
+        for i in range(n):
+            S[(PH + j) * BLOCK + i] = time_phase(clock[e0 + i], swell, j)
+
+
+@njit(**_JIT)
+def _swell_rows(S, n, ox, oy, oz, prm, tau):
+    """Row H at one sample's point: the body's z minus the surface height under the sample,
+    at the step's start plus ``tau``. Not inlined, like ``_wake_rows``: it runs only with
+    swell, and the force loops keep their vectorized form. ``surface.surface_height`` with
+    the time phases of rows PH and the waves outside the loops over environments, so that
+    they vectorize (``wave_cos`` is branch-free); H accumulates eta, then becomes z - eta."""
+    for i in range(n):
+        rx, ry, _ = _rotate(S, i, ox, oy, oz)
+        S[SX * BLOCK + i] = S[(Y + OX) * BLOCK + i] + rx
+        S[SY * BLOCK + i] = S[(Y + OX + 1) * BLOCK + i] + ry
+        S[H * BLOCK + i] = ZERO
+    for j in range(int(prm[P_NWAVES])):
+        w = P_SWELL + 4 * j
+        a, kx, ky, shift = prm[w], prm[w + 1], prm[w + 2], prm[w + 3] * tau  # omega tau
+        for i in range(n):
+            phase = kx * S[SX * BLOCK + i] + ky * S[SY * BLOCK + i]
+            S[H * BLOCK + i] += a * wave_cos(phase + (S[(PH + j) * BLOCK + i] - shift))
+    for i in range(n):
+        S[H * BLOCK + i] = S[(Y + OX + 2) * BLOCK + i] - S[H * BLOCK + i]
+
+
+@njit(**_JIT)
+def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau):
+    """Derivative rows D of the state rows Y: dx = v, dq, dv = F/m + g, dL = torque; the
+    surface ``tau`` seconds after the time phases of rows PH (the step's start)."""
     body, fpl, fpl_at, cpl, cpl_at, cyl, cyl_at, buo, buo_at, thr, thr_ch, thr_at = tables
     vmax, fmax = prm[P_VMAX], prm[P_FMAX]
     wake = wprm[W_ON] != 0.0
+    sea = prm[P_NWAVES] > ZERO
     fluid = _fluid(prm)
     water, inv_blend, rho_w = fluid[0], fluid[1], fluid[3]
     _omega_row(S, body, b, n)
     for i in range(n):
+        S[H * BLOCK + i] = S[(Y + OX + 2) * BLOCK + i]  # calm water: the surface is z = 0
         for k in range(3):
             S[(D + OX + k) * BLOCK + i] = S[(Y + OV + k) * BLOCK + i]
             S[(D + OV + k) * BLOCK + i] = ZERO
@@ -308,6 +368,8 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm):
         area, eff = fpl[6, p], fpl[7, p]
         if wake:
             _wake_rows(S, n, ox, oy, oz, wprm)
+        if sea:
+            _swell_rows(S, n, ox, oy, oz, prm, tau)
         for i in range(n):
             rx, ry, rz = _rotate(S, i, ox, oy, oz)
             nx, ny, nz = _rotate(S, i, bx, by, bz)
@@ -319,6 +381,8 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm):
         ox, oy, oz, area, eff = cpl[0, p], cpl[1, p], cpl[2, p], cpl[9, p], cpl[10, p]
         if wake:
             _wake_rows(S, n, ox, oy, oz, wprm)
+        if sea:
+            _swell_rows(S, n, ox, oy, oz, prm, tau)
         for i in range(n):
             rx, ry, rz = _rotate(S, i, ox, oy, oz)
             nx, ny, nz = _rotate(
@@ -333,6 +397,8 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm):
         area = cyl[6, p]
         if wake:
             _wake_rows(S, n, ox, oy, oz, wprm)
+        if sea:
+            _swell_rows(S, n, ox, oy, oz, prm, tau)
         for i in range(n):
             rx, ry, rz = _rotate(S, i, ox, oy, oz)
             ax, ay, az = _rotate(S, i, bx, by, bz)
@@ -343,9 +409,11 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm):
     g = prm[P_G]
     for p in range(buo_at[b], buo_at[b + 1]):
         ox, oy, oz, vol, area = buo[0, p], buo[1, p], buo[2, p], buo[3, p], buo[4, p]
+        if sea:
+            _swell_rows(S, n, ox, oy, oz, prm, tau)
         for i in range(n):
             rx, ry, rz = _rotate(S, i, ox, oy, oz)
-            z = S[(Y + OX + 2) * BLOCK + i] + rz
+            z = S[H * BLOCK + i] + rz  # the sample's height above the surface
             frac = water_fraction(z, water, inv_blend)
             fz = buoyancy_force(z, frac, water, rho_w, g, vol, area)
             _add_force(S, i, rx, ry, rz, ZERO, ZERO, fz)
@@ -447,19 +515,22 @@ def _drift(S, n, h):
 @njit(**_JIT)
 def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, wprm, method):
     """One time step of every body slot in a block (stage-synchronous across slots, so that
-    forces coupling bodies of one environment can be added per stage)."""
+    forces coupling bodies of one environment can be added per stage); each evaluation sees
+    the surface at its stage time, the step's start plus ``tau`` (see the module docstring)."""
     body = tables[0]
     dt = prm[P_DT]
     h2 = HALF * dt
+    tdt = np.float64(dt)  # stage time offsets, float64 like the clock
+    th = 0.5 * tdt
     if method == 0:  # explicit Euler: everything from the old state
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0)
         for b in range(nb):
             _axpy(scr_blk[b], Y, Y, dt, n)
             _normalize_quat(scr_blk[b], Y + OQ, n)
     elif method == 1:  # symplectic Euler: velocities first, then positions with new velocities
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0)
         for b in range(nb):
             S = scr_blk[b]
             _kick(S, n, dt)
@@ -467,24 +538,24 @@ def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, wprm, method):
             _rotate_by_omega(S, body, b, n, dt)
     elif method == 2:  # velocity Verlet: half kick, drift, new forces, half kick
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0)
         for b in range(nb):
             S = scr_blk[b]
             _kick(S, n, h2)
             _drift(S, n, dt)
             _rotate_by_omega(S, body, b, n, dt)
-        for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm)
+        for b in range(nb):  # at the step's end
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, tdt)
         for b in range(nb):
             _kick(scr_blk[b], n, h2)
     elif method == 3:  # RK2, explicit midpoint: Y0 keeps the step's start
         for b in range(nb):
             _copy(scr_blk[b], Y0, Y, n)
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0)
         for b in range(nb):
             _axpy(scr_blk[b], Y, Y0, h2, n)
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, th)
         for b in range(nb):
             _axpy(scr_blk[b], Y, Y0, dt, n)
             _normalize_quat(scr_blk[b], Y + OQ, n)
@@ -492,8 +563,9 @@ def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, wprm, method):
         for b in range(nb):
             _copy(scr_blk[b], Y0, Y, n)
         for stage in range(4):
+            tau = T0 if stage == 0 else (th if stage < 3 else tdt)
             for b in range(nb):
-                _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm)
+                _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, tau)
             for b in range(nb):
                 S = scr_blk[b]
                 weight = ONE if stage == 0 or stage == 3 else TWO
@@ -570,15 +642,23 @@ def _load_block(blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, scr):
 
 @njit(**_JIT)
 def _advance_block(
-    blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged
-):
+    blk, st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, method, steps, scr,
+    diverged,
+):  # fmt: skip
     e0, n = _load_block(blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, scr)
     nb = st.shape[1]
     scr_blk = scr[blk]
     wake = wprm[W_ON] != 0.0
     dt = prm[P_DT]
+    tdt = np.float64(dt)
+    sea = swell.shape[0] > 0
     for _ in range(steps):
+        if sea:  # the waves' time phases at the step's start
+            for b in range(nb):
+                _phase_rows(scr_blk[b], n, e0, swell, clock)
         _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, wprm, method)
+        for i in range(n):  # each environment's clock: its own slots only
+            clock[e0 + i] += tdt
         if wake:  # the source moves on at its velocity (rows: pos 0-2, velocity 12-14)
             for b in range(nb):
                 for k in range(3):
@@ -600,37 +680,51 @@ def _advance_block(
                 diverged[e0 + i] |= not math.isfinite(x)
 
 
+# The kernels' leading arguments (``Simulator._args``): st[13, B, E] state, flow[6, E] air and
+# water velocity, src[NSRC, E] and wprm the wake, swell[n, 5] (float64; empty: calm water) and
+# clock[E] (float64, s), ctrl[C, E] controls, tables, cmix, cnorm, prm.
+
+
 @njit(**_JIT)
-def step_serial(st, flow, src, wprm, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged):
+def step_serial(
+    st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, method, steps, scr,
+    diverged,
+):  # fmt: skip
     """Advance every environment ``steps`` steps on the calling thread."""
     for blk in range(scr.shape[0]):
         _advance_block(
-            blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged
-        )
+            blk, st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, method,
+            steps, scr, diverged,
+        )  # fmt: skip
 
 
 @njit(parallel=True, **_JIT)
 def step_parallel(
-    st, flow, src, wprm, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged
-):
+    st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, method, steps, scr,
+    diverged,
+):  # fmt: skip
     """Advance every environment ``steps`` steps, blocks spread over numba's threads."""
     for blk in prange(scr.shape[0]):
         _advance_block(
-            blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, prm, method, steps, scr, diverged
-        )
+            blk, st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, method,
+            steps, scr, diverged,
+        )  # fmt: skip
 
 
 @njit(**_JIT)
-def wrench(st, flow, src, wprm, ctrl, tables, cmix, cnorm, prm, scr, out):
+def wrench(st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, scr, out):
     """Net force and torque about the center of mass of every body from its samples,
-    buoyancy and thrusters (gravity excluded), out[6, B, E], world frame."""
+    buoyancy and thrusters (gravity excluded), out[6, B, E], world frame, at each
+    environment's clock."""
     body = tables[0]
     g = prm[P_G]
     for blk in range(scr.shape[0]):
         e0, n = _load_block(blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, scr)
         for b in range(st.shape[1]):
             S = scr[blk, b]
-            _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm)
+            if swell.shape[0] > 0:
+                _phase_rows(S, n, e0, swell, clock)
+            _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, T0)
             m = body[b, 0]
             for i in range(n):
                 out[0, b, e0 + i] = m * S[(D + OV) * BLOCK + i]

@@ -116,6 +116,14 @@ class Simulator:
     State (world frame, arrays ``[E, B, ...]``, read-only views): ``pos``, ``quat`` (w, x, y,
     z), ``lin_vel``, ``ang_vel``, and ``diverged`` ``[E]`` (a non-finite state).
 
+    Time: every environment has its own clock, ``clock`` ``[E]`` (s, float64, read-only view),
+    starting at 0 and advanced by ``dt`` per step; :meth:`set_clock` sets it (a scene sets a
+    random clock offset on reset to randomize the swell's phase; :meth:`reset` leaves the
+    clock alone). A World with ``swell`` moves each environment's water surface with its
+    clock; the surface under each sample is taken at the force evaluation's stage time
+    (``kernels.py``). Calm water gives the same results, bit for bit, as a flat surface did
+    before swell existed, at the same speed (within measurement noise).
+
     Examples:
         >>> import numpy as np
         >>> from fluidsim_envs.physics import Craft, Simulator, World
@@ -190,6 +198,10 @@ class Simulator:
         prm[K.P_VMAX] = world.max_fluid_speed_mps
         prm[K.P_FMAX] = world.max_sample_force_n
         prm[K.P_DT] = dt
+        swell = world.swell_table()  # rows (a, kx, ky, omega, phase)
+        prm[K.P_NWAVES] = len(swell)
+        for j, (a, kx, ky, omega, _) in enumerate(swell):
+            prm[K.P_SWELL + 4 * j : K.P_SWELL + 4 * j + 4] = (a, kx, ky, omega)
         self._prm = prm.astype(dtype)
 
         # buffers, allocated once
@@ -208,12 +220,18 @@ class Simulator:
         self._wprm = wake.params(dtype) if wake is not None else np.zeros(WK.NWPRM, dtype)
         self._src = np.zeros((WK.NSRC, E), dtype=dtype)  # the wake source of each env
         self._src[3:12:4] = 1.0  # identity rotation
+        # the surface: swell table [n_waves, 5] (empty: calm water) and each env's clock, both
+        # float64 whatever the dtype (wave phases omega t stay exact over long episodes)
+        self._swell = np.ascontiguousarray(swell, dtype=np.float64)
+        self._clock = np.zeros(E, dtype=np.float64)
         # the kernels' leading arguments: buffers updated in place, never rebound
         self._args = (
             self._st,
             self._flow,
             self._src,
             self._wprm,
+            self._swell,
+            self._clock,
             self._ctrl,
             self._tables,
             self._cmix,
@@ -306,6 +324,47 @@ class Simulator:
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"{name} has non-finite values: {value!r}")
         self._flow[rows, ids] = arr.T
+
+    @property
+    def clock(self) -> np.ndarray:
+        """Each environment's time [E] (s), float64: advanced by ``dt`` per step (the
+        simulation dtype's ``dt``); the swell moves with it. See :meth:`set_clock`."""
+        v = self._clock.view()
+        v.flags.writeable = False
+        return v
+
+    def set_clock(self, t, env_ids=None) -> None:
+        """Set the clock (s) of every environment, or of ``env_ids`` only; ``t`` broadcasts to
+        ``[n]``. The swell's surface at a point is a function of the clock, so a random clock
+        offset randomizes the phase of every wave at once."""
+        ids = self._env_ids("set_clock", env_ids)
+        arr = np.asarray(t, dtype=np.float64)
+        try:
+            arr = np.broadcast_to(arr, (ids.size,))
+        except ValueError:
+            raise ValueError(
+                f"set_clock: t of shape {arr.shape} does not broadcast to [{ids.size}]"
+            ) from None
+        if not np.all(np.isfinite(arr)):
+            raise ValueError(f"set_clock: t has non-finite values: {t!r}")
+        self._clock[ids] = arr
+
+    def surface_height(self, x, y) -> np.ndarray:
+        """Height of the water surface (m) above z = 0 in every environment at its own clock:
+        ``x``, ``y`` broadcast to ``[E, ...]`` (leading axis: environments); the result is
+        float64 of that shape (zeros in calm water). See :meth:`World.surface_height`."""
+        x = np.asarray(x, dtype=np.float64)
+        y = np.asarray(y, dtype=np.float64)
+        ndim = max(x.ndim, y.ndim, 1)
+        t = self._clock.reshape((self.num_envs,) + (1,) * (ndim - 1))
+        return self.world.surface_height(x, y, t)
+
+    def surface_arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """The arrays env kernels read the surface from, without copies: ``(swell [n, 5]``
+        (float64 rows ``(a, kx, ky, omega, phase)``, empty in calm water; pass it to
+        ``surface.surface_height(x, y, t, swell)``), ``clock [E]`` (float64, s)). Treat them
+        as read-only."""
+        return self._swell, self._clock
 
     def set_wake_source(
         self, pos, quat, lin_vel, noise_offset=(0.0, 0.0, 0.0), env_ids=None
@@ -432,7 +491,8 @@ class Simulator:
         self._diverged[ids] = False
 
     def step(self, controls=None, steps: int = 1) -> None:
-        """Advance every environment by ``steps`` time steps, holding ``controls``.
+        """Advance every environment by ``steps`` time steps, holding ``controls``; each
+        environment's :attr:`clock` advances by ``dt`` per step.
 
         Args:
             controls: ``[E, n_controls]`` in [-1, 1], the channels in ``control_names`` order;

@@ -5,12 +5,21 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from .craft import Vec3
+from .surface import SwellWave, coerce_swell, surface_heights, swell_table
 
 
 @dataclass(frozen=True)
 class World:
-    """Gravity along -z; air above z = 0 and, with ``water=True``, water below it.
+    """Gravity along -z; air above the water surface and, with ``water=True``, water below it.
+
+    The surface is flat at z = 0 (calm water, the default) or, with ``swell``, the sum of a
+    few linear deep-water waves (``physics/surface.py``): each environment's surface moves
+    with its own clock (:meth:`Simulator.set_clock`), and every sample's water fraction and
+    buoyancy depth are taken from the surface height under it. The swell moves the surface
+    only: the water under it stays still (no orbital velocities).
 
     Args:
         gravity_mps2: magnitude of gravity (>= 0), acting along -z.
@@ -18,12 +27,24 @@ class World:
         water: whether there is water below z = 0 (otherwise air everywhere, no buoyancy).
         wind_mps: uniform air velocity (world frame).
         current_mps: uniform water velocity (world frame).
-        surface_blend_m: thickness of the layer around z = 0 across which a sample's density,
+        swell: waves on the surface, at most 4: :class:`SwellWave` s, or tuples
+            ``(amplitude_m, wavelength_m, direction_deg, phase_rad)`` or dicts with those keys
+            (direction and phase optional), each of steepness ``2 pi a / wavelength <= 0.3``;
+            needs ``water=True``. Empty (default): calm water, at no cost.
+        surface_blend_m: thickness of the layer around the surface across which a sample's density,
             fluid velocity and volume buoyancy blend linearly from air to water; 0 gives a sharp
             surface. A blend keeps forces continuous when samples cross the surface.
         max_fluid_speed_mps: clamp on each sample's speed relative to the fluid (the seed's
             350 mph); keeps forces finite whatever the state.
         max_sample_force_n: clamp on each sample's force magnitude.
+
+    Examples:
+        >>> import numpy as np
+        >>> world = World(water=True, swell=[(0.5, 40.0, 90.0)])  # 0.5 m, 40 m, toward +y
+        >>> world.swell[0].period_s(world.gravity_mps2) > 5.0
+        True
+        >>> np.round(world.surface_height([0.0, 10.0], [0.0, 10.0], 0.0), 12)  # crest; node
+        array([0.5, 0. ])
     """
 
     gravity_mps2: float = 9.81
@@ -35,6 +56,7 @@ class World:
     surface_blend_m: float = 0.05
     max_fluid_speed_mps: float = 156.0
     max_sample_force_n: float = 1.0e7
+    swell: tuple[SwellWave, ...] = ()
 
     def __post_init__(self) -> None:
         def check(key: str, lo: float, strict: bool) -> None:
@@ -58,3 +80,25 @@ class World:
             if len(v) != 3 or not all(isinstance(c, (int, float)) and math.isfinite(c) for c in v):
                 raise ValueError(f"World: {key} must be 3 finite numbers, got {v!r}")
             object.__setattr__(self, key, tuple(float(c) for c in v))
+        swell = coerce_swell(self.swell)
+        if swell and not self.water:
+            raise ValueError(
+                f"World: swell needs water=True (got water={self.water!r} with swell {swell!r})"
+            )
+        object.__setattr__(self, "swell", swell)
+
+    def swell_table(self) -> np.ndarray:
+        """The swell as the kernels read it: a new float64 array ``[n_waves, 5]`` of rows
+        ``(amplitude, kx, ky, omega, phase)`` (``physics/surface.py``); ``[0, 5]`` in calm
+        water."""
+        return swell_table(self.swell, self.gravity_mps2)
+
+    def surface_height(self, x, y, t) -> np.ndarray:
+        """Height of the water surface above z = 0 (m) at horizontal points (x, y) and times t
+        (s); the arguments broadcast, the result is a float64 array of their shape (zeros in
+        calm water). The same formula the kernels use (``surface.surface_height``)."""
+        xs, ys, ts = np.broadcast_arrays(*(np.asarray(v, dtype=np.float64) for v in (x, y, t)))
+        out = np.zeros(xs.shape, dtype=np.float64)
+        if self.swell:  # ravel: contiguous copies of the broadcast views
+            surface_heights(xs.ravel(), ys.ravel(), ts.ravel(), self.swell_table(), out.ravel())
+        return out

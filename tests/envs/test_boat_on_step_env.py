@@ -510,10 +510,15 @@ def test_running_every_gate_is_a_success():
     assert fin["episode_terms"]["crash"].tolist() == [0.0, 0.0]
 
 
-def test_observation_matches_the_simulator_state():
+SWELL = ((0.3, 30.0, 45.0), (0.15, 12.0, -60.0))
+
+
+@pytest.mark.parametrize("swell", [(), SWELL], ids=["calm", "swell"])
+def test_observation_matches_the_simulator_state(swell):
     """speed_error, trim, heel, heave, body velocities and rates and the gate columns, from
-    the simulator's pos/quat/lin_vel/ang_vel and the course, computed here."""
-    venv = BoatOnStepVectorEnv(num_envs=3)
+    the simulator's pos/quat/lin_vel/ang_vel and the course, computed here; heave from the
+    surface under the boat at the sub-env's clock."""
+    venv = BoatOnStepVectorEnv(num_envs=3, swell=swell)
     obs, _ = venv.reset(seed=21)
     acts = actions_for(8, 60, 3)
     acts[:, :, 0] = 1.0
@@ -533,7 +538,9 @@ def test_observation_matches_the_simulator_state():
                 "speed_error": target - math.hypot(vel[0], vel[1]),
                 "trim": math.asin(R[2, 0]),  # the bow's elevation
                 "heel": math.atan2(R[2, 1], R[2, 2]),  # the left side's rise
-                "heave": pos[2] - venv.rest_height_m,
+                "heave": pos[2]
+                - venv.world.surface_height(pos[0], pos[1], venv.sim.clock[e])
+                - venv.rest_height_m,
                 "target_speed": target,
             }
             for name, value in expect.items():
@@ -647,3 +654,33 @@ def test_less_power_less_top_speed():
         assert thrust * u == pytest.approx(power, rel=1e-9)
         top[power] = u
     assert top[40_000.0] < top[80_000.0] - 1.0
+
+
+def test_swell_starts_each_episode_at_its_own_moment_with_the_boat_afloat():
+    """Each episode draws its moment of the swell (the sub-env's clock) from its own seed; the
+    boat starts floating on the surface under it, and then rides the waves."""
+    seeds = [5, 6, 7, 5]
+    venv = BoatOnStepVectorEnv(num_envs=4, swell=SWELL)
+    venv.reset(seed=seeds)
+    clock = venv.sim.clock.copy()
+    assert len(set(clock[:3])) == 3 and clock[3] == clock[0]
+    assert np.all((clock >= 0.0) & (clock <= 86400.0))
+    surface = venv.world.surface_height(0.0, 0.0, clock)
+    np.testing.assert_allclose(venv.sim.pos[:, 0, 2], venv.rest_height_m + surface, atol=1e-12)
+    heights = []
+    for _ in range(100):  # 5 s idle
+        venv.step(np.zeros((4, 3)))
+        heights.append(venv.sim.pos[:, 0, 2].copy())
+    assert np.ptp(heights, axis=0).min() > 0.1  # it heaves with the swell
+    one = BoatOnStepVectorEnv(num_envs=1, swell=SWELL)
+    one.reset(seed=[6])
+    for _ in range(100):
+        one.step(np.zeros((1, 3)))
+    np.testing.assert_array_equal(one.sim.pos[0], venv.sim.pos[1])  # batch-independent
+
+
+def test_bad_swell_names_the_swell():
+    with pytest.raises(ValueError, match="swell.*steepness"):
+        BoatOnStepVectorEnv(num_envs=1, swell=[(2.0, 10.0, 0.0)])
+    with pytest.raises(ValueError, match="swell"):
+        BoatOnStepVectorEnv(num_envs=1, swell=[("big", 10.0)])

@@ -3,7 +3,6 @@ its attitude, the trim tab's deflection, the wake restarting with the episode, a
 frames and gymnasium's RecordVideo."""
 
 import math
-import types
 
 import gymnasium as gym
 import numpy as np
@@ -157,10 +156,13 @@ def test_next_gate_highlighted_and_passed_gates_dimmed():
 
 
 def test_swell_draws_a_wavy_surface(env):
-    venv = env.unwrapped.vector
     calm = panels(env.render())[1]
-    venv.world = types.SimpleNamespace(surface_height=lambda x, y: 0.4 * np.sin(1.3 * x))
-    wavy = panels(env.render())[1]
+    # waves 4 m long travelling along the boat's heading: the side view cuts them square
+    w, x, y, z = env.unwrapped.vector.sim.quat[0, 0]
+    heading = math.degrees(math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z)))
+    swell = gym.make(ID, render_mode="rgb_array", swell=[(0.19, 4.0, heading)])
+    swell.reset(seed=0)
+    wavy = panels(swell.render())[1]
     # the water's top row, column by column
     top_calm = np.argmax(mask(calm, R.WATER), axis=0)
     top_wavy = np.argmax(mask(wavy, R.WATER), axis=0)
