@@ -9,7 +9,15 @@ import math
 import numpy as np
 from numba import njit
 
-from ..physics.kernels import OQ, OV, OX, _inv_inertia, quat_to_matrix, world_omega
+from ..physics.kernels import (
+    OQ,
+    OV,
+    OX,
+    _inv_inertia,
+    body_state,
+    quat_to_matrix,
+    to_body,
+)
 
 # rows of the per-step outputs
 T_PROGRESS, T_ACCURACY, T_SOFTNESS, T_CRASH, T_EFFORT = range(5)
@@ -52,18 +60,13 @@ def observe(st, body, flow, target, out):
     """Observation rows out[E, 15] (float32) from the state st[13, 1, E]: see OBSERVATION."""
     inv_inertia = _inv_inertia(body, 0)
     for e in range(st.shape[2]):
-        px, py, pz = st[OX, 0, e], st[OX + 1, 0, e], st[OX + 2, 0, e]
-        vx, vy, vz = st[OV, 0, e], st[OV + 1, 0, e], st[OV + 2, 0, e]
-        rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
+        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, inv_inertia)
         r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
-        wx, wy, wz = world_omega(rot, st[10, 0, e], st[11, 0, e], st[12, 0, e], inv_inertia)
-        ax, ay, az = vx - flow[0, e], vy - flow[1, e], vz - flow[2, e]
-        out[e, 0] = r0 * ax + r3 * ay + r6 * az  # R^T (v - wind)
-        out[e, 1] = r1 * ax + r4 * ay + r7 * az
-        out[e, 2] = r2 * ax + r5 * ay + r8 * az
-        out[e, 3] = r0 * wx + r3 * wy + r6 * wz
-        out[e, 4] = r1 * wx + r4 * wy + r7 * wz
-        out[e, 5] = r2 * wx + r5 * wy + r8 * wz
+        # airspeed: R^T (v - wind)
+        out[e, 0], out[e, 1], out[e, 2] = to_body(
+            rot, vx - flow[0, e], vy - flow[1, e], vz - flow[2, e]
+        )
+        out[e, 3], out[e, 4], out[e, 5] = to_body(rot, omega[0], omega[1], omega[2])
         out[e, 6], out[e, 7], out[e, 8] = -r6, -r7, -r8  # R^T (0, 0, -1)
         out[e, 9] = pz
         heading = math.atan2(r3, r0)

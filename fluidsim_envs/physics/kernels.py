@@ -144,6 +144,30 @@ def world_omega(rot, lx, ly, lz, inv_inertia):
 
 
 @njit(**_INLINE)
+def to_body(rot, x, y, z):
+    """Body-frame components R^T (x, y, z) of a world vector; ``rot`` is R row-major."""
+    return (
+        rot[0] * x + rot[3] * y + rot[6] * z,
+        rot[1] * x + rot[4] * y + rot[7] * z,
+        rot[2] * x + rot[5] * y + rot[8] * z,
+    )
+
+
+@njit(**_INLINE)
+def body_state(st, b, e, inv_inertia):
+    """Position, velocity, rotation matrix (row-major 9-tuple) and world angular velocity of
+    body slot b in environment e of a state ``st[13, B, E]``: what env kernels observe."""
+    rot = quat_to_matrix(st[OQ, b, e], st[OQ + 1, b, e], st[OQ + 2, b, e], st[OQ + 3, b, e])
+    w = world_omega(rot, st[OL, b, e], st[OL + 1, b, e], st[OL + 2, b, e], inv_inertia)
+    return (
+        (st[OX, b, e], st[OX + 1, b, e], st[OX + 2, b, e]),
+        (st[OV, b, e], st[OV + 1, b, e], st[OV + 2, b, e]),
+        rot,
+        w,
+    )
+
+
+@njit(**_INLINE)
 def quat_rate(qw, qx, qy, qz, wx, wy, wz):
     """dq/dt = 1/2 [0, w] (x) q for a world-frame angular velocity w."""
     return (
