@@ -1,6 +1,7 @@
 """What the speedboat's physics costs, part by part: the step kernel on the speedboat craft with
 all its samples, and with each group left out, so that the cost split between the hull's
-plates (lift and skin friction), its buoyancy columns and the rest reads off one table.
+plates (lift and skin friction), its buoyancy columns and the rest reads off one table; and
+the whole craft in two-wave swell (the surface height under every sample).
 
 For each variant: body-steps per second of ``Simulator.step(controls, steps=k)`` at
 E = 4096 environments (float64, symplectic Euler, the parallel kernel on all threads; the
@@ -47,8 +48,8 @@ def variants(craft: Craft) -> dict[str, Craft]:
     }
 
 
-def rate(craft: Craft, seconds: float, repeats: int) -> float:
-    sim = Simulator(craft, World(water=True), num_envs=NUM_ENVS, dt=DT)
+def rate(craft: Craft, seconds: float, repeats: int, world: World | None = None) -> float:
+    sim = Simulator(craft, world or World(water=True), num_envs=NUM_ENVS, dt=DT)
     controls = np.zeros((NUM_ENVS, len(sim.control_names)))
     controls[:, 0] = 0.1
     controls[:, 2] = -1.0
@@ -83,6 +84,11 @@ def main() -> None:
         n = len(c.plates) + len(c.buoyancy) + len(c.thrusters)
         rows.append((label, n, r))
         print(f"{label:34s} {n:3d} samples {r:14,.0f} body-steps/s {1e9 / r:8.0f} ns/body-step")
+    # the whole craft in two-wave swell: the surface height under every sample
+    swell = World(water=True, swell=[(0.3, 30.0, 45.0), (0.15, 12.0, -60.0)])
+    r = rate(craft, seconds, repeats, swell)
+    rows.append(("full, in two-wave swell", rows[0][1], r))
+    print(f"{rows[-1][0]:34s} {rows[-1][1]:3d} samples {r:14,.0f} body-steps/s {1e9 / r:8.0f} ns")
     full = 1e9 / rows[0][2]
     print("\nshare of a body-step's time")
     shares = {}

@@ -99,6 +99,7 @@ class World:
         calm water). The same formula the kernels use (``surface.surface_height``)."""
         xs, ys, ts = np.broadcast_arrays(*(np.asarray(v, dtype=np.float64) for v in (x, y, t)))
         out = np.zeros(xs.shape, dtype=np.float64)
-        if self.swell:  # ravel: contiguous copies of the broadcast views
-            surface_heights(xs.ravel(), ys.ravel(), ts.ravel(), self.swell_table(), out.ravel())
+        if self.swell:  # contiguous copies of the broadcast views (which may repeat values)
+            flat = [np.ascontiguousarray(v).ravel() for v in (xs, ys, ts)]
+            surface_heights(*flat, self.swell_table(), out.ravel())
         return out
