@@ -26,12 +26,17 @@ def _pack(crafts: Sequence[Craft], dtype) -> tuple[tuple, np.ndarray, list[str]]
         )
     n_ch = len(names)
 
-    body = np.zeros((len(crafts), 7))
+    body = np.zeros((len(crafts), K.NBODY))
     fpl, cpl, cyl, buo, thr, thr_ch, mix = [], [], [], [], [], [], []
     at = {k: [0] for k in ("fpl", "cpl", "cyl", "buo", "thr")}
     for b, c in enumerate(crafts):
         inv = np.linalg.inv(c.inertia_tensor)
-        body[b] = (c.mass_kg, inv[0, 0], inv[1, 1], inv[2, 2], inv[0, 1], inv[0, 2], inv[1, 2])
+        sec = 0.5 * np.trace(c.inertia_tensor) * np.eye(3) - c.inertia_tensor  # tetra.py
+        body[b] = (
+            c.mass_kg,
+            *(inv[0, 0], inv[1, 1], inv[2, 2], inv[0, 1], inv[0, 2], inv[1, 2]),
+            *(sec[0, 0], sec[1, 1], sec[2, 2], sec[0, 1], sec[0, 2], sec[1, 2]),
+        )
         drive: dict[str, np.ndarray] = {}
         for j, ctl in enumerate(c.controls):
             for s in ctl.surfaces:
@@ -102,6 +107,12 @@ class Simulator:
               gains energy (``|1 + i h - h^2/2| > 1``).
             - ``rk4`` [4]: classic Runge-Kutta. Fourth order; slowly loses energy on
               oscillations; the most accurate per step, the costliest.
+            - ``verlet_tetra`` [1]: the body as four particles matched to its mass and
+              inertia (``tetra.match_inertia``): velocities and positions as symplectic
+              Euler, the turn as the particles' drift with the shape restored by the
+              best-fitting rotation and the momenta kept. Above ``World.tetra_rigid_spin_rad``
+              per step a body turns rigidly instead. (Contact, which the tetrahedron is for,
+              comes next: see issue 3.)
 
             Every method keeps world angular momentum exact under zero torque (it is the
             state) and renormalizes the quaternion each step.
@@ -198,6 +209,7 @@ class Simulator:
         prm[K.P_VMAX] = world.max_fluid_speed_mps
         prm[K.P_FMAX] = world.max_sample_force_n
         prm[K.P_DT] = dt
+        prm[K.P_TETRA_SWITCH] = world.tetra_rigid_spin_rad
         swell = world.swell_table()  # rows (a, kx, ky, omega, phase)
         prm[K.P_NWAVES] = len(swell)
         for j, (a, kx, ky, omega, _) in enumerate(swell):

@@ -37,6 +37,10 @@ class World:
         max_fluid_speed_mps: clamp on each sample's speed relative to the fluid (the seed's
             350 mph); keeps forces finite whatever the state.
         max_sample_force_n: clamp on each sample's force magnitude.
+        tetra_rigid_spin_rad: with ``integrator="verlet_tetra"``, a body that turns more than
+            this angle in one step (|w| dt, radians) turns as a rigid body for that step: the
+            tetrahedron's straight particle paths misrepresent fast turns (tests and the
+            chart in tests/physics/test_tetra_integrator.py); ``math.inf``: never.
 
     Examples:
         >>> import numpy as np
@@ -56,6 +60,7 @@ class World:
     surface_blend_m: float = 0.05
     max_fluid_speed_mps: float = 156.0
     max_sample_force_n: float = 1.0e7
+    tetra_rigid_spin_rad: float = 0.1
     swell: tuple[SwellWave, ...] = ()
 
     def __post_init__(self) -> None:
@@ -73,6 +78,9 @@ class World:
         check("surface_blend_m", 0.0, strict=False)
         check("max_fluid_speed_mps", 0.0, strict=True)
         check("max_sample_force_n", 0.0, strict=True)
+        spin = self.tetra_rigid_spin_rad
+        if not (isinstance(spin, (int, float)) and spin > 0.0):  # inf allowed: never switch
+            raise ValueError(f"World: tetra_rigid_spin_rad must be > 0, got {spin!r}")
         if not isinstance(self.water, bool):
             raise ValueError(f"World: water must be True or False, got {self.water!r}")
         for key in ("wind_mps", "current_mps"):
