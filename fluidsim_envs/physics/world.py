@@ -39,8 +39,9 @@ class World:
         max_sample_force_n: clamp on each sample's force magnitude.
         tetra_rigid_spin_rad: with ``integrator="verlet_tetra"``, a body that turns more than
             this angle in one step (|w| dt, radians) turns as a rigid body for that step: the
-            tetrahedron's straight particle paths misrepresent fast turns (tests and the
-            chart in tests/physics/test_tetra_integrator.py); ``math.inf``: never.
+            tetrahedron's straight particle paths misrepresent fast turns (its energy error
+            passes the rigid turn's near 0.05-0.1: tests/physics/test_tetra_integrator.py,
+            docs/tetra_spin.png); ``math.inf``: never.
 
     Examples:
         >>> import numpy as np
@@ -60,7 +61,7 @@ class World:
     surface_blend_m: float = 0.05
     max_fluid_speed_mps: float = 156.0
     max_sample_force_n: float = 1.0e7
-    tetra_rigid_spin_rad: float = 0.1
+    tetra_rigid_spin_rad: float = 0.05
     swell: tuple[SwellWave, ...] = ()
 
     def __post_init__(self) -> None:

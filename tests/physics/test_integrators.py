@@ -154,15 +154,15 @@ def spin(integrator, dt, t_end):
 # fails. Symplectic Euler and velocity Verlet turn the orientation with an explicit-midpoint
 # step (second order), so their energy error stays ~1e-5 and returns to ~1e-7 after the flip;
 # RK2 and RK4 are accurate at their order but not conservative over long times. The Verlet
-# tetrahedron turns the body by its particles' straight drift: first order in the turn, 0.4%
-# and 0.03 s here (tests/physics/test_tetra_integrator.py follows it with the spin).
+# tetrahedron's turn (its particles' drift, the shape refitted) is as good at |w| dt = 0.02;
+# tests/physics/test_tetra_integrator.py follows it to fast spins, where it degrades.
 ENERGY_TOL = {
     "explicit_euler": 0.1,
     "symplectic_euler": 5e-5,
     "velocity_verlet": 5e-5,
     "rk2": 1e-5,
     "rk4": 5e-9,
-    "verlet_tetra": 1e-2,
+    "verlet_tetra": 5e-5,
 }
 FLIP_TOL = {
     "explicit_euler": 0.05,
@@ -170,7 +170,7 @@ FLIP_TOL = {
     "velocity_verlet": 2e-3,
     "rk2": 2e-3,
     "rk4": 1e-6,
-    "verlet_tetra": 0.05,
+    "verlet_tetra": 2e-3,
 }
 
 
