@@ -516,16 +516,24 @@ def _rotate_by_omega(S, body, b, n, h):
         qw, qx = S[(Y + OQ) * BLOCK + i], S[(Y + OQ + 1) * BLOCK + i]
         qy, qz = S[(Y + OQ + 2) * BLOCK + i], S[(Y + OQ + 3) * BLOCK + i]
         w = world_omega(_matrix(S, i), lx, ly, lz, inv_inertia)
-        dq = quat_rate(qw, qx, qy, qz, w[0], w[1], w[2])
-        hh = HALF * h
-        m = quat_to_matrix(qw + hh * dq[0], qx + hh * dq[1], qy + hh * dq[2], qz + hh * dq[3])
-        w = world_omega(m, lx, ly, lz, inv_inertia)
-        dq = quat_rate(qw, qx, qy, qz, w[0], w[1], w[2])
-        S[(Y + OQ) * BLOCK + i] = qw + h * dq[0]
-        S[(Y + OQ + 1) * BLOCK + i] = qx + h * dq[1]
-        S[(Y + OQ + 2) * BLOCK + i] = qy + h * dq[2]
-        S[(Y + OQ + 3) * BLOCK + i] = qz + h * dq[3]
+        tw, tx, ty, tz = _midpoint_turn(qw, qx, qy, qz, w, lx, ly, lz, inv_inertia, h)
+        S[(Y + OQ) * BLOCK + i] = tw
+        S[(Y + OQ + 1) * BLOCK + i] = tx
+        S[(Y + OQ + 2) * BLOCK + i] = ty
+        S[(Y + OQ + 3) * BLOCK + i] = tz
     _normalize_quat(S, Y + OQ, n)
+
+
+@njit(**_INLINE)
+def _midpoint_turn(qw, qx, qy, qz, w, lx, ly, lz, inv_inertia, h):
+    """q turned over h by the angular momentum L (world angular velocity w at q): the
+    explicit-midpoint rule of :func:`_rotate_by_omega`, unnormalized."""
+    dq = quat_rate(qw, qx, qy, qz, w[0], w[1], w[2])
+    hh = HALF * h
+    m = quat_to_matrix(qw + hh * dq[0], qx + hh * dq[1], qy + hh * dq[2], qz + hh * dq[3])
+    w2 = world_omega(m, lx, ly, lz, inv_inertia)
+    dq = quat_rate(qw, qx, qy, qz, w2[0], w2[1], w2[2])
+    return qw + h * dq[0], qx + h * dq[1], qy + h * dq[2], qz + h * dq[3]
 
 
 @njit(**_INLINE)
@@ -578,12 +586,7 @@ def _rotate_tetra(S, body, b, n, h, prm):
         a12 = b12 + h * (wz * b02 - wx * b22)
         a22 = b22 + h * (wx * b12 - wy * b02)
         # the rigid midpoint update: the answer for fast spins, the first guess otherwise
-        dq = quat_rate(qw, qx, qy, qz, wx, wy, wz)
-        hh = HALF * h
-        mm = quat_to_matrix(qw + hh * dq[0], qx + hh * dq[1], qy + hh * dq[2], qz + hh * dq[3])
-        w2 = world_omega(mm, lx, ly, lz, inv_inertia)
-        dq = quat_rate(qw, qx, qy, qz, w2[0], w2[1], w2[2])
-        gw, gx, gy, gz = qw + h * dq[0], qx + h * dq[1], qy + h * dq[2], qz + h * dq[3]
+        gw, gx, gy, gz = _midpoint_turn(qw, qx, qy, qz, (wx, wy, wz), lx, ly, lz, inv_inertia, h)
         g = ONE / math.sqrt(gw * gw + gx * gx + gy * gy + gz * gz)
         pw, px, py, pz = gw * g, gx * g, gy * g, gz * g
         for _ in range(POLAR_ITERATIONS):
