@@ -6,7 +6,7 @@ rotation, the momenta kept), translates as symplectic Euler, and above
 The degradation the switch exists for, measured here on the torque-free intermediate-axis
 body (I = 1, 2, 3, spun about the middle axis, 2 s at dt = 0.01; benchmarks/bench_tetra.py
 charts it at two steps in docs/tetra_spin.png): the largest relative energy error of the
-tetrahedron is 4e-11 at |w| dt = 0.01 and 1e-6 at 0.04 (below the rigid midpoint turn's
+tetrahedron is 5e-11 at |w| dt = 0.01 and 2e-6 at 0.04 (below the rigid midpoint turn's
 4e-10 and 9e-6), then 3e-3 at 0.16 and about 10% at 0.4, against the rigid turn's 1e-3 and
 6e-3: the particles' straight paths cut the corners of fast turns."""
 
