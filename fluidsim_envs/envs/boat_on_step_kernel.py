@@ -8,7 +8,8 @@ import math
 
 from numba import njit
 
-from ..physics.kernels import OQ, OV, OX, _inv_inertia, body_state, quat_to_matrix, to_body
+from ..physics.kernels import OQ, OV, OX, _inv_inertia, body_state
+from ..physics.rotation import quat_to_matrix, to_body
 from ..physics.surface import surface_height
 
 T_SPEED, T_PROGRESS, T_GATE, T_BUOY, T_PORPOISE, T_FUEL, T_CRASH = range(7)

@@ -15,9 +15,8 @@ from ..physics.kernels import (
     OX,
     _inv_inertia,
     body_state,
-    quat_to_matrix,
-    to_body,
 )
+from ..physics.rotation import quat_to_matrix, to_body
 
 # rows of the per-step outputs
 T_PROGRESS, T_ACCURACY, T_SOFTNESS, T_CRASH, T_EFFORT = range(5)

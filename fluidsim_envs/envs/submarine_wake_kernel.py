@@ -13,9 +13,8 @@ from ..physics.kernels import (
     OX,
     _inv_inertia,
     body_state,
-    quat_to_matrix,
-    to_body,
 )
+from ..physics.rotation import quat_to_matrix, to_body
 from ..physics.wake import source_tuple, wake_at
 
 T_STATION, T_EFFORT, T_CRASH = range(3)

@@ -3,7 +3,18 @@
 >>> from fluidsim_envs.physics import Craft, World, Simulator, WakeField
 """
 
-from .craft import Buoyancy, Control, Craft, CraftError, Cylinder, Plate, Surface, Thruster
+from .contact import Ground
+from .craft import (
+    Buoyancy,
+    Control,
+    Craft,
+    CraftError,
+    Cylinder,
+    Plate,
+    Shape,
+    Surface,
+    Thruster,
+)
 from .kernels import EVALS_PER_STEP, INTEGRATORS
 from .simulator import Simulator
 from .surface import SwellWave
@@ -19,7 +30,9 @@ __all__ = [
     "Craft",
     "CraftError",
     "Cylinder",
+    "Ground",
     "Plate",
+    "Shape",
     "Simulator",
     "Surface",
     "SpatialHash",

@@ -16,6 +16,11 @@ File layout (every table optional except the top-level keys)::
     [[buoyancy]]      # name, offset_m, kind = "volume" (volume_m3) or "area" (area_m2)
     [[thrusters]]     # name, offset_m, direction, max_thrust_n, min_thrust_n, control
     [[controls]]      # name, max_deflection_deg, surfaces = [{sample=..., gain=...}, ...]
+    [[shapes]]        # collision shape: name, kind = "sphere" (radius_m) or "box"
+                      # (half_extents_m, axis-aligned in the body frame), center_m
+
+A craft with shapes touches the ground and the other bodies of its environment (contact.py);
+``restitution`` and ``friction`` (top level, default 0.5 each) are its contact material.
 
 Directions (normal, axis, hinge_axis, direction) may have any non-zero length and are
 normalized on load.
@@ -199,6 +204,45 @@ class Thruster:
 
 
 @dataclass(frozen=True)
+class Shape:
+    """A collision shape fixed to the body: a sphere (``radius_m``) or a box
+    (``half_extents_m``, its faces along the body axes), centered at ``center_m``."""
+
+    name: str
+    kind: str
+    center_m: Vec3 = (0.0, 0.0, 0.0)
+    radius_m: float | None = None
+    half_extents_m: Vec3 | None = None
+
+    def __post_init__(self) -> None:
+        where = f"shape {self.name!r}"
+        object.__setattr__(self, "center_m", _vec3(where, "center_m", self.center_m))
+        if self.kind == "sphere":
+            if self.radius_m is None or self.half_extents_m is not None:
+                raise CraftError(f"{where}: kind 'sphere' needs radius_m (and no half_extents_m)")
+            object.__setattr__(self, "radius_m", _positive(where, "radius_m", self.radius_m))
+        elif self.kind == "box":
+            if self.half_extents_m is None or self.radius_m is not None:
+                raise CraftError(f"{where}: kind 'box' needs half_extents_m (and no radius_m)")
+            half = _vec3(where, "half_extents_m", self.half_extents_m)
+            for i, h in enumerate(half):
+                _positive(where, f"half_extents_m[{i}]", h)
+            object.__setattr__(self, "half_extents_m", half)
+        else:
+            raise CraftError(f"{where}: kind must be 'sphere' or 'box', got {self.kind!r}")
+
+    @property
+    def reach_m(self) -> float:
+        """The distance from the center of mass to the shape's farthest point."""
+        extent = (
+            self.radius_m
+            if self.kind == "sphere"
+            else math.sqrt(sum(h * h for h in self.half_extents_m))
+        )
+        return math.sqrt(sum(c * c for c in self.center_m)) + extent
+
+
+@dataclass(frozen=True)
 class Surface:
     """A plate driven by a control channel; ``gain`` scales (and may flip) the deflection."""
 
@@ -278,12 +322,21 @@ class Craft:
     buoyancy: tuple[Buoyancy, ...] = ()
     thrusters: tuple[Thruster, ...] = ()
     controls: tuple[Control, ...] = ()
+    shapes: tuple[Shape, ...] = ()
+    restitution: float = 0.5
+    friction: float = 0.5
     description: str = ""
     _tensor: np.ndarray = field(default=None, repr=False, compare=False)  # type: ignore[assignment]
 
     def __post_init__(self) -> None:
         where = f"craft {self.name!r}"
         object.__setattr__(self, "mass_kg", _positive(where, "mass_kg", self.mass_kg))
+        for key in ("restitution", "friction"):
+            value = _finite(where, key, getattr(self, key))
+            if not (0.0 <= value <= (1.0 if key == "restitution" else math.inf)):
+                limits = "in [0, 1]" if key == "restitution" else ">= 0"
+                raise CraftError(f"{where}: {key} must be {limits}, got {value!r}")
+            object.__setattr__(self, key, value)
         tensor = _inertia_tensor(where, self.inertia_kgm2)
         tensor.setflags(write=False)
         object.__setattr__(self, "_tensor", tensor)
@@ -298,6 +351,7 @@ class Craft:
             ("buoyancy", Buoyancy),
             ("thrusters", Thruster),
             ("controls", Control),
+            ("shapes", Shape),
         ):
             items = []
             for i, item in enumerate(getattr(self, key)):
@@ -316,6 +370,10 @@ class Craft:
         dup = sorted({n for n in names if names.count(n) > 1})
         if dup:
             raise CraftError(f"{where}: sample names must be unique, repeated: {dup}")
+        shapes = [s.name for s in self.shapes]
+        dup = sorted({n for n in shapes if shapes.count(n) > 1})
+        if dup:
+            raise CraftError(f"{where}: shape names must be unique, repeated: {dup}")
         channels = [c.name for c in self.controls]
         if len(set(channels)) != len(channels):
             raise CraftError(f"{where}: control names must be unique, got {channels}")
@@ -370,9 +428,15 @@ class Craft:
         def moved(items):
             return tuple(
                 replace(
-                    s, offset_m=tuple(round(a - b, 12) for a, b in zip(s.offset_m, dx, strict=True))
+                    s,
+                    **{
+                        key: tuple(
+                            round(a - b, 12) for a, b in zip(getattr(s, key), dx, strict=True)
+                        )
+                    },
                 )
                 for s in items
+                for key in ("center_m" if isinstance(s, Shape) else "offset_m",)
             )
 
         return replace(
@@ -381,6 +445,7 @@ class Craft:
             cylinders=moved(self.cylinders),
             buoyancy=moved(self.buoyancy),
             thrusters=moved(self.thrusters),
+            shapes=moved(self.shapes),
         )
 
     # ---- loading ------------------------------------------------------------------------

@@ -48,6 +48,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from .contact import C_ON, NW, collide, num_pairs
 from .forces import (
     HALF,
     ONE,
@@ -60,11 +61,11 @@ from .forces import (
     rotate_about_axis,
     water_fraction,
 )
+from .rotation import NSTATE, OL, OQ, OV, OX, quat_rate, quat_to_matrix, world_omega
 from .surface import MAX_WAVES, time_phase, wave_cos
 from .wake import NSRC, W_ON, wake_at
 
 BLOCK = 64  # environments per block: a multiple of the SIMD width, scratch fits in L1/L2
-NSTATE = 13
 # A slot's scratch is one flat row-major array S[row * BLOCK + i]: with the row length a
 # compile-time constant the compiler can prove that rows do not overlap, and vectorizes.
 Y, Y0, ACC, D, R, W = 0, 13, 26, 39, 52, 61  # state, step start, RK sum, derivative, R, w
@@ -75,7 +76,6 @@ H = 91  # the body's z minus the surface height under the current sample (z in c
 SX, SY = 92, 93  # with swell: the current sample's world x and y
 PH = 94  # with swell: each wave's time phase (surface.time_phase) at the step's start
 ROWS = PH + MAX_WAVES
-OX, OQ, OV, OL = 0, 3, 7, 10  # offsets inside a 13-row state
 
 INTEGRATORS = {
     "explicit_euler": 0,
@@ -120,49 +120,6 @@ _INLINE = dict(cache=True, error_model="numpy", inline="always", fastmath={"cont
 
 
 @njit(**_INLINE)
-def quat_to_matrix(qw, qx, qy, qz):
-    """Rotation matrix (row-major 9-tuple) of q / |q|: body -> world."""
-    s = TWO / (qw * qw + qx * qx + qy * qy + qz * qz)
-    return (
-        ONE - s * (qy * qy + qz * qz),
-        s * (qx * qy - qw * qz),
-        s * (qx * qz + qw * qy),
-        s * (qx * qy + qw * qz),
-        ONE - s * (qx * qx + qz * qz),
-        s * (qy * qz - qw * qx),
-        s * (qx * qz - qw * qy),
-        s * (qy * qz + qw * qx),
-        ONE - s * (qx * qx + qy * qy),
-    )
-
-
-@njit(**_INLINE)
-def world_omega(rot, lx, ly, lz, inv_inertia):
-    """Angular velocity w = R I_body^-1 R^T L from world angular momentum L. ``rot`` is the
-    row-major 9-tuple of R, ``inv_inertia`` the entries (xx, yy, zz, xy, xz, yz) of the
-    symmetric inverse body inertia tensor."""
-    r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
-    ixx, iyy, izz, ixy, ixz, iyz = inv_inertia
-    bx = r0 * lx + r3 * ly + r6 * lz
-    by = r1 * lx + r4 * ly + r7 * lz
-    bz = r2 * lx + r5 * ly + r8 * lz
-    wx = ixx * bx + ixy * by + ixz * bz
-    wy = ixy * bx + iyy * by + iyz * bz
-    wz = ixz * bx + iyz * by + izz * bz
-    return (r0 * wx + r1 * wy + r2 * wz, r3 * wx + r4 * wy + r5 * wz, r6 * wx + r7 * wy + r8 * wz)
-
-
-@njit(**_INLINE)
-def to_body(rot, x, y, z):
-    """Body-frame components R^T (x, y, z) of a world vector; ``rot`` is R row-major."""
-    return (
-        rot[0] * x + rot[3] * y + rot[6] * z,
-        rot[1] * x + rot[4] * y + rot[7] * z,
-        rot[2] * x + rot[5] * y + rot[8] * z,
-    )
-
-
-@njit(**_INLINE)
 def body_state(st, b, e, inv_inertia):
     """Position, velocity, rotation matrix (row-major 9-tuple) and world angular velocity of
     body slot b in environment e of a state ``st[13, B, E]``: what env kernels observe."""
@@ -173,17 +130,6 @@ def body_state(st, b, e, inv_inertia):
         (st[OV, b, e], st[OV + 1, b, e], st[OV + 2, b, e]),
         rot,
         w,
-    )
-
-
-@njit(**_INLINE)
-def quat_rate(qw, qx, qy, qz, wx, wy, wz):
-    """dq/dt = 1/2 [0, w] (x) q for a world-frame angular velocity w."""
-    return (
-        -HALF * (wx * qx + wy * qy + wz * qz),
-        HALF * (qw * wx + wy * qz - wz * qy),
-        HALF * (qw * wy + wz * qx - wx * qz),
-        HALF * (qw * wz + wx * qy - wy * qx),
     )
 
 
@@ -371,7 +317,7 @@ def _swell_rows(S, n, ox, oy, oz, prm, tau):
 def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau):
     """Derivative rows D of the state rows Y: dx = v, dq, dv = F/m + g, dL = torque; the
     surface ``tau`` seconds after the time phases of rows PH (the step's start)."""
-    body, fpl, fpl_at, cpl, cpl_at, cyl, cyl_at, buo, buo_at, thr, thr_ch, thr_at = tables
+    body, fpl, fpl_at, cpl, cpl_at, cyl, cyl_at, buo, buo_at, thr, thr_ch, thr_at = tables[:12]
     vmax, fmax = prm[P_VMAX], prm[P_FMAX]
     wake = wprm[W_ON] != 0.0
     sea = prm[P_NWAVES] > ZERO
@@ -790,11 +736,17 @@ def _advance_block(
     dt = prm[P_DT]
     tdt = np.float64(dt)
     sea = swell.shape[0] > 0
+    touching = tables[16][C_ON] != 0.0
+    work = np.empty((num_pairs(nb) if touching else 0, NW), dtype=scr.dtype)  # contact.py
     for _ in range(steps):
         if sea:  # the waves' time phases at the step's start
             for b in range(nb):
                 _phase_rows(scr_blk[b], n, e0, swell, clock)
         _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, wprm, method)
+        if touching:  # contact.py: scalar per environment, after the step's integration
+            for i in range(n):
+                collide(scr_blk, nb, i, BLOCK, tables[0], tables[12], tables[13], tables[14],
+                        tables[15], tables[16], work, tables[17][e0 + i])  # fmt: skip
         for i in range(n):  # each environment's clock: its own slots only
             clock[e0 + i] += tdt
         if wake:  # the source moves on at its velocity (rows: pos 0-2, velocity 12-14)

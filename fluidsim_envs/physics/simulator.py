@@ -7,6 +7,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from . import contact as CT
 from . import kernels as K
 from . import wake as WK
 from .craft import Craft
@@ -15,7 +16,9 @@ from .world import World
 _BATCH_PARALLEL_MIN = 1024  # below this many bodies the serial kernel wins (thread start-up)
 
 
-def _pack(crafts: Sequence[Craft], dtype) -> tuple[tuple, np.ndarray, list[str]]:
+def _pack(
+    crafts: Sequence[Craft], world: World, dt: float, num_envs: int, dtype
+) -> tuple[tuple, np.ndarray, list[str]]:
     """Flatten the crafts' samples into the kernel's tables (field-major, slot ranges)."""
     names: list[str] = []
     offsets = []
@@ -76,6 +79,9 @@ def _pack(crafts: Sequence[Craft], dtype) -> tuple[tuple, np.ndarray, list[str]]
         table(thr, 8),
         np.asarray(thr_ch, dtype=np.int64),
         ranges("thr"),
+        *CT.pack(  # tables[12:18]: contact.py
+            crafts, world.ground, dt, world.gravity_mps2, world.contact_passes, num_envs, dtype
+        ),
     )
     cmix = np.asarray(mix, dtype=dtype).reshape(len(mix), n_ch)
     return tables, cmix, names
@@ -193,7 +199,7 @@ class Simulator:
         self._method = K.INTEGRATORS[integrator]
         self._kernel = K.step_parallel if self.parallel else K.step_serial
 
-        self._tables, self._cmix, names = _pack(crafts, dtype)
+        self._tables, self._cmix, names = _pack(crafts, world, dt, E, dtype)
         self.control_names: tuple[str, ...] = tuple(names)
         self._mass = np.array([c.mass_kg for c in crafts])
 
@@ -501,6 +507,8 @@ class Simulator:
         ):
             st[rows, :, ids] = val.transpose(2, 1, 0)
         self._diverged[ids] = False
+        if self._tables[17].shape[0]:  # contact warm starts belong to the old state
+            self._tables[17][ids] = 0.0
 
     def step(self, controls=None, steps: int = 1) -> None:
         """Advance every environment by ``steps`` time steps, holding ``controls``; each

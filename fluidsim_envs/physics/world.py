@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .contact import Ground
 from .craft import Vec3
 from .surface import SwellWave, coerce_swell, surface_heights, swell_table
 
@@ -37,6 +38,12 @@ class World:
         max_fluid_speed_mps: clamp on each sample's speed relative to the fluid (the seed's
             350 mph); keeps forces finite whatever the state.
         max_sample_force_n: clamp on each sample's force magnitude.
+        ground: a solid :class:`~fluidsim_envs.physics.contact.Ground` (a plane or a height
+            field) that bodies with collision shapes (``Craft.shapes``) touch; None (default):
+            none. Bodies of one environment with shapes also touch each other.
+        contact_passes: passes over an environment's contacts per step (>= 1). One is the
+            seed's method; a resting stack settles its contacts over several steps then, and
+            more passes settle them within the step (contact.py).
         tetra_rigid_spin_rad: with ``integrator="verlet_tetra"``, a body that turns more than
             this angle in one step (|w| dt, radians) turns as a rigid body for that step: the
             tetrahedron's straight particle paths misrepresent fast turns (its energy error
@@ -63,6 +70,8 @@ class World:
     max_sample_force_n: float = 1.0e7
     tetra_rigid_spin_rad: float = 0.05
     swell: tuple[SwellWave, ...] = ()
+    ground: Ground | None = None
+    contact_passes: int = 1
 
     def __post_init__(self) -> None:
         def check(key: str, lo: float, strict: bool) -> None:
@@ -95,6 +104,11 @@ class World:
                 f"World: swell needs water=True (got water={self.water!r} with swell {swell!r})"
             )
         object.__setattr__(self, "swell", swell)
+        passes = self.contact_passes
+        if isinstance(passes, bool) or not isinstance(passes, int) or passes < 1:
+            raise ValueError(f"World: contact_passes must be an integer >= 1, got {passes!r}")
+        if self.ground is not None and not isinstance(self.ground, Ground):
+            raise ValueError(f"World: ground must be a Ground or None, got {self.ground!r}")
 
     def swell_table(self) -> np.ndarray:
         """The swell as the kernels read it: a new float64 array ``[n_waves, 5]`` of rows
