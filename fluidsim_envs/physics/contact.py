@@ -62,7 +62,6 @@ from .forces import HALF, ONE, TINY, TWO, ZERO
 from .rotation import OL, OQ, OV, OX, quat_rate, quat_to_matrix, world_omega
 
 TWO_THIRDS = np.float32(2.0 / 3.0)
-SLOP = np.float32(0.0)
 PAIR_ENERGY_BOUND = 1.1  # the seed's: two bodies' kinetic energy may rise 10% before scaling
 
 # shape table columns (field-major, [NSHAPE, n_shapes]): kind, center (3), size (3), reach
@@ -752,7 +751,10 @@ def _patch(acc, inv, px, py, pz, nx, ny, nz):
 # a contact's row in the work array W[pair, NW]
 W_ON, W_A, W_B, W_P, W_N, W_E1, W_E2, W_L1, W_L2 = 0, 1, 2, 3, 6, 9, 12, 15, 16
 W_GOAL, W_J, W_T1, W_T2, W_F1, W_F2, W_TW, W_MU, W_KE0, W_IMPACT = range(17, 27)
-NW = 27
+# and, in row b for body b: its velocity and spin before the contacts, and whether it rests
+# on something this step
+W_V0, W_W0, W_REST = 27, 30, 33
+NW = 34
 # warm start, per environment and pair [E, num_pairs, NWARM]: the last step's accumulated
 # impulses as world vectors (normal j, patch torque T (3), friction F (3), twist)
 NWARM = 8
@@ -815,9 +817,14 @@ def _open(S, W, k, a, b, i, n, body, cbody, cprm, acc):
     e = math.sqrt(cbody[a, 0] * eb)
     un = _dot(_relative(S, a, b, i, n, body, p)[0], nrm)
     impact = -un > cprm[C_REST_SPEED]
-    # 1. projection: out by the depth, mass-weighted between two bodies (a resting contact
-    # keeps a slop of half the margin: pushing its every hair out would rock it)
-    d = depth if impact else max(depth - SLOP * cprm[C_MARGIN], ZERO)
+    # 1. projection: out by the depth, mass-weighted between two bodies. A resting contact
+    # is instead undone where the step moved the body (see collide); only a depth beyond
+    # the margin, which that leaves, is pushed out here.
+    d = depth if impact else max(depth - cprm[C_MARGIN], ZERO)
+    if not impact:
+        W[a, W_REST] = ONE
+        if not ground:
+            W[b, W_REST] = ONE
     ma = body[a, 0]
     share = ONE if ground else body[b, 0] / (ma + body[b, 0])
     W[k, W_KE0] = _energy(S, a, i, n, body) + (ZERO if ground else _energy(S, b, i, n, body))
@@ -909,6 +916,41 @@ def _add_response(K, S, b, i, n, body, p, dirs):
             K[q, m] += v
 
 
+@njit(**_INLINE)
+def _solve6(K, rhs, use):
+    """x with K x = rhs over the dimensions in ``use`` (the others zero), K symmetric
+    positive definite (6x6): Cholesky on a copy."""
+    L = K.copy()
+    x = rhs.copy()
+    for q in range(6):  # a left-out impulse: identity row, zero change
+        if not use[q]:
+            for m in range(6):
+                L[q, m] = ZERO
+                L[m, q] = ZERO
+            L[q, q] = ONE
+            x[q] = ZERO
+    for q in range(6):  # L L^T, in the lower triangle
+        for m in range(q + 1):
+            v = L[q, m]
+            for t in range(m):
+                v -= L[q, t] * L[m, t]
+            if q == m:
+                L[q, q] = math.sqrt(max(v, TINY))
+            else:
+                L[q, m] = v / L[m, m]
+    for q in range(6):
+        v = x[q]
+        for t in range(q):
+            v -= L[q, t] * x[t]
+        x[q] = v / L[q, q]
+    for q in range(5, -1, -1):
+        v = x[q]
+        for t in range(q + 1, 6):
+            v -= L[t, q] * x[t]
+        x[q] = v / L[q, q]
+    return x
+
+
 @njit(**_JIT)
 def _pass(S, W, k, i, n, body):
     """One velocity pass over contact k (stage 2, projected Gauss-Seidel): the impulse that
@@ -948,36 +990,22 @@ def _pass(S, W, k, i, n, body):
     rhs[0] = W[k, W_GOAL] - _dot(u, nrm)
     rhs[1], rhs[2] = -_dot(u, e1), -_dot(u, e2)
     rhs[3], rhs[4], rhs[5] = -_dot(w, e1), -_dot(w, e2), -_dot(w, nrm)
-    for q in range(6):  # a left-out impulse: identity row, zero change
-        if not use[q]:
-            for m in range(6):
-                K[q, m] = ZERO
-                K[m, q] = ZERO
-            K[q, q] = ONE
-            rhs[q] = ZERO
-    # Cholesky K = L L^T, in place in the lower triangle
-    for q in range(6):
-        for m in range(q + 1):
-            v = K[q, m]
-            for t in range(m):
-                v -= K[q, t] * K[m, t]
-            if q == m:
-                K[q, q] = math.sqrt(max(v, TINY))
-            else:
-                K[q, m] = v / K[m, m]
-    x = rhs
-    for q in range(6):
-        v = x[q]
-        for t in range(q):
-            v -= K[q, t] * x[t]
-        x[q] = v / K[q, q]
-    for q in range(5, -1, -1):
-        v = x[q]
-        for t in range(q + 1, 6):
-            v -= K[t, q] * x[t]
-        x[q] = v / K[q, q]
-    # add to what it gave, and clamp
+    x = _solve6(K, rhs, use)
+    # friction beyond the cone: hold it at the cone's edge and solve the rest again with it
+    # fixed (a torque sized for the unclamped friction would tip the body the other way)
     j0, f10, f20 = W[k, W_J], W[k, W_F1], W[k, W_F2]
+    f1, f2 = f10 + x[1], f20 + x[2]
+    f = math.sqrt(f1 * f1 + f2 * f2)
+    cone = mu * max(j0 + x[0], ZERO)
+    if f > cone and (use[1] or use[2]):
+        scale = cone / f
+        d1, d2 = f1 * scale - f10, f2 * scale - f20
+        for q in range(6):
+            rhs[q] -= K[q, 1] * d1 + K[q, 2] * d2
+        use = (True, False, False, use[3], use[4], use[5])
+        x = _solve6(K, rhs, use)
+        x[1], x[2] = d1, d2
+    # add to what it gave, and clamp
     t10, t20, tw0 = W[k, W_T1], W[k, W_T2], W[k, W_TW]
     j = max(j0 + x[0], ZERO)
     f1, f2 = f10 + x[1], f20 + x[2]
@@ -1046,7 +1074,15 @@ def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm):
     warm-start impulses [num_pairs(nb), NWARM], updated). Each body against the ground, then
     every pair of bodies whose shapes' reaches overlap: each touching pair is one contact,
     opened (pushed apart, warm-started) as found; then ``C_PASSES`` velocity passes over
-    them all; then the energy check of the impacts."""
+    them all; then the energy check of the impacts; then the resting bodies' positions are
+    put back where the velocity the contacts took away had carried them this step."""
+    for b in range(nb):
+        rot = _pose(S, b, i, n)[1]
+        w = _omega(S, b, i, n, rot, body)
+        for c in range(3):
+            W[b, W_V0 + c] = S[b, i + (OV + c) * n]
+            W[b, W_W0 + c] = w[c]
+        W[b, W_REST] = ZERO
     k = 0
     for b in range(nb):
         W[k, W_ON] = ZERO
@@ -1076,6 +1112,33 @@ def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm):
         if W[c, W_ON] != ZERO:
             _close(S, W, c, i, n, body, cprm)
         _keep(W, c, warm)
+    # A body at rest was carried into its support by the step's drift (x += dt v, after
+    # gravity's kick) before its contacts took that velocity away: undo that part of the
+    # drift, x += dt dv and the same for the turn. Unlike a push along the normal this
+    # moves it exactly back along the way it came, so friction that holds it also holds
+    # its position (a push along a sloped normal would walk it downhill).
+    dt = cprm[C_DT]
+    for b in range(nb):
+        if W[b, W_REST] == ZERO:
+            continue
+        rot = _pose(S, b, i, n)[1]
+        w = _omega(S, b, i, n, rot, body)
+        for c in range(3):
+            S[b, i + (OX + c) * n] += dt * (S[b, i + (OV + c) * n] - W[b, W_V0 + c])
+        tx, ty, tz = (
+            dt * (w[0] - W[b, W_W0]),
+            dt * (w[1] - W[b, W_W0 + 1]),
+            dt * (w[2] - W[b, W_W0 + 2]),
+        )
+        qw, qx = S[b, i + OQ * n], S[b, i + (OQ + 1) * n]
+        qy, qz = S[b, i + (OQ + 2) * n], S[b, i + (OQ + 3) * n]
+        dq = quat_rate(qw, qx, qy, qz, tx, ty, tz)
+        qw, qx, qy, qz = qw + dq[0], qx + dq[1], qy + dq[2], qz + dq[3]
+        norm = ONE / math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
+        S[b, i + OQ * n] = qw * norm
+        S[b, i + (OQ + 1) * n] = qx * norm
+        S[b, i + (OQ + 2) * n] = qy * norm
+        S[b, i + (OQ + 3) * n] = qz * norm
 
 
 @njit(**_INLINE)
