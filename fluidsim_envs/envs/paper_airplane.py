@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..physics import Craft, Simulator, World
+from ..physics import Craft, Ground, Simulator, World
 from ..physics.kernels import INTEGRATORS, quat_matrices
 from . import paper_airplane_kernel as TK
 from .base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
@@ -124,13 +124,20 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
         p = self.params
         E = self.num_envs
         self.craft = Craft.load("paper_airplane")
+        # a floor the dart lands on: it touches down on its collision box (contact.py)
+        world = World(ground=Ground(restitution=0.5, friction=0.5))
         self.sim = Simulator(
-            self.craft, World(), num_envs=E, dt=p.dt, integrator=p.integrator, dtype=p.dtype
+            self.craft, world, num_envs=E, dt=p.dt, integrator=p.integrator, dtype=p.dtype
         )
-        # points whose touching the ground is touchdown: every sample's place on the airframe
-        self._hull = np.array(
-            [s.offset_m for s in (*self.craft.plates, *self.craft.cylinders)], dtype=np.float64
+        # points whose touching the ground is touchdown: the collision boxes' corners
+        signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+        self._hull = np.concatenate(
+            [
+                np.asarray(b.center_m) + signs * np.asarray(b.half_extents_m)
+                for b in self.craft.shapes
+            ]
         )
+        self._v_prev = np.zeros((E, 4))  # each dart's velocity and up-ness a step before
         self.target = np.zeros((E, 2))  # target on the ground (x, y), m
         self.launch = np.zeros((E, 2))  # launch point, the arena's center
         self._distance = np.zeros(E)
@@ -178,6 +185,8 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
             lin_vel=(speed[:, None] * nose)[:, None],
             env_ids=ids,
         )
+        self._v_prev[ids, :3] = speed[:, None] * nose
+        self._v_prev[ids, 3] = quat_matrices(quat)[:, 2, 2]
         wind = np.stack([np.cos(wind_dir), np.sin(wind_dir), 0 * wind_dir], 1) * wind_speed[:, None]
         self.sim.set_wind(wind, env_ids=ids)
         self.launch[ids] = 0.0
@@ -202,6 +211,8 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
             self._terms,
             self._flags,
             self._sink,
+            self._v_prev,
+            self.sim.ground_impulse[:, 0],
         )
         flags = self._flags.copy()
         info = {
@@ -253,7 +264,9 @@ class PaperAirplaneEnv(FluidEnv):
     trimmed at about 6.7 m/s and 4:1; its ailerons, elevators and rudder are the actions.
     It is thrown from a random height, speed and attitude in a random horizontal wind; a
     target lies on the ground ahead, within gliding reach. Touching the ground ends the
-    episode: a landing if right way up and slow enough, else a crash.
+    episode: a landing if right way up and slow enough, else a crash. The ground is solid:
+    the dart's airframe (three thin collision boxes) lands on it and stops there (contact.py),
+    so the terminal state is the dart on the floor, never under it.
 
     ## Action Space
 
@@ -299,12 +312,14 @@ class PaperAirplaneEnv(FluidEnv):
 
     ## Episode End
 
-    Terminated: touchdown (any sample point at or below the ground; ``info["landed"]`` if
-    the body is right way up, sinks slower than ``crash_sink_mps`` and moves slower than
-    ``crash_speed_mps``, else ``info["crashed"]``); leaving the arena
-    (``info["out_of_arena"]``: farther than ``arena_radius_m`` from the launch point or
-    above ``ceiling_m``); a non-finite physics state (``info["physics_diverged"]``; the
-    observation is then the last finite one). Truncated: ``max_episode_steps`` actions.
+    Terminated: touchdown (the floor pushing on the airframe's collision boxes, or those
+    within 2 mm of it;
+    ``info["landed"]`` if the body is right way up, sank slower than ``crash_sink_mps`` and
+    moved slower than ``crash_speed_mps`` at the step before, else ``info["crashed"]``);
+    leaving the arena (``info["out_of_arena"]``: farther than ``arena_radius_m`` from the
+    launch point or above ``ceiling_m``); a non-finite physics state
+    (``info["physics_diverged"]``; the observation is then the last finite one).
+    Truncated: ``max_episode_steps`` actions.
     ``info["success"]`` marks a landing within ``success_radius_m`` of the target.
 
     ## Arguments

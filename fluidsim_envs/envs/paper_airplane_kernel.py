@@ -51,6 +51,7 @@ CFG_FIELDS = (
     C_SUCCESS,
 ) = range(len(CFG_FIELDS))
 
+TOUCH_M = 0.002  # the airframe this close to the floor is down (contact rests it within 1 mm)
 _JIT = dict(cache=True, error_model="numpy")
 
 
@@ -79,12 +80,19 @@ def observe(st, body, flow, target, out):
 
 
 @njit(**_JIT)
-def score(st, diverged, hull, target, launch, distance, actions, cfg, terms, flags, sink):
+def score(
+    st, diverged, hull, target, launch, distance, actions, cfg, terms, flags, sink, v_prev, touch
+):
     """Touchdown, landing, arena and reward terms of every env after a step.
 
     ``distance`` [E] holds the horizontal distance to the target before the step and is
     updated (kept where the state diverged); ``terms`` [5, E], ``flags`` [5, E] (bool) and
-    ``sink`` [E] are written."""
+    ``sink`` [E] are written. Touchdown is the floor pushing on the dart during the step
+    (``touch`` [E], the ground's impulse: the dart may touch and bounce clear within a
+    step) or the airframe (``hull``: its collision boxes' corners) within ``TOUCH_M`` of
+    it. The floor has already taken the touchdown's velocity away (and may have turned
+    the dart) by then, so sink, speed and attitude are judged from ``v_prev`` [E, 4], the
+    velocity and the body z axis's height at the step before (updated here)."""
     for e in range(st.shape[2]):
         for k in range(5):
             terms[k, e] = 0.0
@@ -107,11 +115,16 @@ def score(st, diverged, hull, target, launch, distance, actions, cfg, terms, fla
         d = math.hypot(target[e, 0] - px, target[e, 1] - py)
         terms[T_PROGRESS, e] = cfg[C_W_PROGRESS] * (distance[e] - d)
         distance[e] = d
-        if pz + lowest <= 0.0:
+        ux, uy, uz, up = v_prev[e, 0], v_prev[e, 1], v_prev[e, 2], v_prev[e, 3]
+        v_prev[e, 0], v_prev[e, 1], v_prev[e, 2], v_prev[e, 3] = vx, vy, vz, rot[8]
+        if touch[e] > 0.0 or pz + lowest <= TOUCH_M:
             flags[F_TOUCHDOWN, e] = True
+            vz = min(vz, uz)  # the sink before the floor stopped it
             sink[e] = -vz
-            speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-            landed = rot[8] >= cfg[C_UPRIGHT] and -vz < cfg[C_CRASH_SINK]
+            speed = max(
+                math.sqrt(vx * vx + vy * vy + vz * vz), math.sqrt(ux * ux + uy * uy + uz * uz)
+            )
+            landed = up >= cfg[C_UPRIGHT] and -vz < cfg[C_CRASH_SINK]
             landed = landed and speed < cfg[C_CRASH_SPEED]
             if landed:
                 flags[F_LANDED, e] = True

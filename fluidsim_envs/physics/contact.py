@@ -1068,10 +1068,11 @@ def _close(S, W, k, i, n, body, cprm):
 
 
 @njit(**_JIT)
-def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm):
+def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm, touch):
     """All contacts of environment i (its bodies' state in the scratch S: element k of body
     b at ``S[b, i + k * n]``; W a work array [num_pairs(nb), NW]; ``warm`` the environment's
-    warm-start impulses [num_pairs(nb), NWARM], updated). Each body against the ground, then
+    warm-start impulses [num_pairs(nb), NWARM], updated; ``touch`` [nb] its bodies' normal
+    impulses from the ground, added to). Each body against the ground, then
     every pair of bodies whose shapes' reaches overlap: each touching pair is one contact,
     opened (pushed apart, warm-started) as found; then ``C_PASSES`` velocity passes over
     them all; then the energy check of the impacts; then the resting bodies' positions are
@@ -1111,6 +1112,8 @@ def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm):
     for c in range(k):
         if W[c, W_ON] != ZERO:
             _close(S, W, c, i, n, body, cprm)
+            if c < nb:  # a ground contact
+                touch[c] += W[c, W_J]
         _keep(W, c, warm)
     # A body at rest was carried into its support by the step's drift (x += dt v, after
     # gravity's kick) before its contacts took that velocity away: undo that part of the
@@ -1165,7 +1168,8 @@ def _keep(W, k, warm):
 def pack(crafts, ground, dt: float, gravity: float, passes: int, num_envs: int, dtype):
     """The contact tables for the step kernel: ``(shapes [NSHAPE, n], shape ranges [B + 1],
     ground grid, per-body materials [B, NCBODY], parameters [NCPRM], warm-start impulses
-    [E, num_pairs(B), NWARM] (zeros; the kernel updates them))``."""
+    [E, num_pairs(B), NWARM] (zeros; the kernel updates them), the ground's normal impulse
+    on each body over the last step call [E, B])``."""
     rows, ranges, mats = [], [0], []
     for c in crafts:
         for s in c.shapes:
@@ -1195,4 +1199,5 @@ def pack(crafts, ground, dt: float, gravity: float, passes: int, num_envs: int, 
         np.asarray(mats, dtype=dtype).reshape(len(crafts), NCBODY),
         prm.astype(dtype),
         np.zeros((num_envs if touching else 0, num_pairs(len(crafts)), NWARM), dtype=dtype),
+        np.zeros((num_envs if touching else 0, len(crafts)), dtype=dtype),
     )

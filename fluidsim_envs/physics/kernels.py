@@ -738,6 +738,10 @@ def _advance_block(
     sea = swell.shape[0] > 0
     touching = tables[16][C_ON] != 0.0
     work = np.empty((num_pairs(nb) if touching else 0, NW), dtype=scr.dtype)  # contact.py
+    if touching:  # the ground's impulses over this call
+        for i in range(n):
+            for b in range(nb):
+                tables[18][e0 + i, b] = 0.0
     for _ in range(steps):
         if sea:  # the waves' time phases at the step's start
             for b in range(nb):
@@ -746,7 +750,8 @@ def _advance_block(
         if touching:  # contact.py: scalar per environment, after the step's integration
             for i in range(n):
                 collide(scr_blk, nb, i, BLOCK, tables[0], tables[12], tables[13], tables[14],
-                        tables[15], tables[16], work, tables[17][e0 + i])  # fmt: skip
+                        tables[15], tables[16], work, tables[17][e0 + i],
+                        tables[18][e0 + i])  # fmt: skip
         for i in range(n):  # each environment's clock: its own slots only
             clock[e0 + i] += tdt
         if wake:  # the source moves on at its velocity (rows: pos 0-2, velocity 12-14)

@@ -79,7 +79,7 @@ def _pack(
         table(thr, 8),
         np.asarray(thr_ch, dtype=np.int64),
         ranges("thr"),
-        *CT.pack(  # tables[12:18]: contact.py
+        *CT.pack(  # tables[12:19]: contact.py
             crafts, world.ground, dt, world.gravity_mps2, world.contact_passes, num_envs, dtype
         ),
     )
@@ -297,6 +297,17 @@ class Simulator:
         return 0.5 * self._mass * np.einsum("ebk,ebk->eb", v, v) + 0.5 * np.einsum(
             "ebk,ebk->eb", L, w
         )
+
+    @property
+    def ground_impulse(self) -> np.ndarray:
+        """``[E, B]`` (N s, read-only view): the normal impulse the ground gave each body over
+        the last :meth:`step` call (0: it did not touch; all zeros without contact). A body
+        can touch and bounce clear within one call: this is how a scene sees that it did."""
+        if self._tables[18].shape[0] == 0:
+            return np.zeros((self.num_envs, self.num_bodies), dtype=self.dtype)
+        v = self._tables[18].view()
+        v.flags.writeable = False
+        return v
 
     @property
     def diverged(self) -> np.ndarray:

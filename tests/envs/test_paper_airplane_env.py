@@ -208,3 +208,38 @@ def test_record_video_writes_an_episode(tmp_path):
     env.close()
     videos = list(tmp_path.glob("*.mp4"))
     assert len(videos) == 1 and videos[0].stat().st_size > 1000
+
+
+def test_dart_lands_on_the_floor_not_through_it():
+    """The floor is solid (contact.py): at touchdown every corner of the dart's collision
+    boxes is at or above the floor (within the contact's millimetre), whatever the throw."""
+    venv = PaperAirplaneVectorEnv(num_envs=64)
+    venv.reset(seed=21)
+    hull = venv._hull
+    seen = 0
+    for _ in range(900):
+        obs, r, term, trunc, info = venv.step(
+            np.clip(venv.np_random.normal(0, 0.5, (64, 3)), -1, 1)
+        )
+        for e in np.flatnonzero(term & ~info["out_of_arena"] & ~info["physics_diverged"]):
+            final = info["final_obs"][e]
+            up = -final[6:9]  # the body frame's world z row: R^T (0, 0, 1)
+            assert final[9] + (hull @ up).min() > -1e-3
+            seen += 1
+        if seen > 40:
+            break
+    assert seen > 40
+
+
+def test_steep_dive_into_the_floor_is_a_crash():
+    """The floor stops the dart within the step it hits, so the sink judged is the one the
+    step before: a steep dive still reads as one."""
+    env = PaperAirplaneEnv(
+        launch_pitch_deg=(-80.0, -80.0), launch_speed_mps=(8.0, 8.0), launch_height_m=(0.5, 0.5)
+    )
+    env.reset(seed=0)
+    for _ in range(300):
+        *_, term, trunc, info = env.step(np.zeros(3))
+        if term:
+            break
+    assert term and info["crashed"] and info["touchdown_sink_mps"] > env.params.crash_sink_mps
