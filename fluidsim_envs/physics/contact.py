@@ -1,53 +1,52 @@
-"""Contact: bodies against the ground and against each other, resolved the seed's way.
+"""Contact: bodies against the ground and against each other, built on the seed's idea.
 
 The seed article carries a body as a tetrahedron of four Verlet particles (``tetra.py``). A
-contact pushes the penetrating point of the body out along the contact normal; spread over
-the particles with the point's barycentric weights, the push deforms the tetrahedron locally,
-and the shape is restored at the end by the rigid motion that keeps the particles' momentum
-and angular momentum. Kinetic energy is then corrected, so that contact neither invents
-energy nor loses more than the restitution says. One pass over the contacts, in a fixed
-order: no matrix solver, no iteration.
+contact pushes the penetrating point out along the contact normal; spread over the particles
+with the point's barycentric weights, the push deforms the tetrahedron locally, and the shape
+is restored by the rigid motion that keeps the particles' momentum and angular momentum;
+kinetic energy is then corrected so that contact invents none.
 
-Restoring the tetrahedron after a push is a linear map, and it has a closed form: particle
-impulses ``beta_i J`` (the weights sum to 1 and reproduce the point, ``sum beta_i r_i = r``)
-carry total momentum ``J`` and angular momentum ``r x J``, so the fitted rigid body moves
-exactly as under an impulse ``J`` at the point; a displacement restores to the same motion
-with position in place of velocity (the fit's rotation to first order in the push). This
-module applies that closed form directly (``tests/physics/test_contact.py`` checks it
-against the particles pushed and refitted), which also works for flat bodies, whose
-tetrahedron is flat and cannot reproduce points off its plane. One departure from the seed,
-for accuracy: the push is sized by the rigid body's effective mass at the point,
-``1 / (1/m + (r x n) . I^-1 (r x n))``. Sized by the free particles' effective mass
-instead, as the seed does, a ball's push is a sixth of what stops it; the seed then leans on
-the energy correction to make up the difference, which restores the energy but not the
-direction of the bounce.
+Restoring the tetrahedron after a push is a linear map with a closed form: particle impulses
+``beta_i J`` (weights summing to 1 that reproduce the point, ``sum beta_i r_i = r``) carry
+momentum ``J`` and angular momentum ``r x J``, so the restored body moves exactly as under
+an impulse ``J`` at the point (``tests/physics/test_contact.py`` checks it), and a push of
+position restores to the same with position for velocity (the fit's turn to first order).
+This module applies the closed form, which also serves flat bodies (a paper dart), whose
+flat tetrahedron cannot hold points off its plane.
 
-Per contact (a point ``p``, a unit normal ``n`` pushing body a out of body b or the ground,
-a depth ``d``), in this order:
+Where the seed's one pass of point pushes fell short of the tests (a ball's push sized by
+the particles' effective mass is a sixth of what stops it; a box resting on four corners,
+pushed corner by corner, tips and walks; stacks sink), this departs from it, in the way
+rigid-body engines do:
 
-1. Projection: body a's point moves out by ``d`` (ground), or a and b share it in inverse
-   proportion to their masses (``d m_b / (m_a + m_b)`` for a: the seed's mass-weighted
-   split). Momenta are untouched: the projection removes overlap, it adds no velocity.
-2. Velocity: if the point approaches (``u . n < 0``), a normal impulse turns its normal
-   velocity into ``-e (u . n)``, with ``e`` 0 below ``rest_speed`` (so resting contact does
-   not chatter); then Coulomb friction: a tangential impulse that stops the sliding, capped
-   at ``mu`` times the normal impulse.
-3. Energy: if the bodies' kinetic energy rose over the contact, by more than the bound (1
-   against the ground, ``PAIR_ENERGY_BOUND`` = 1.1 between two bodies: the seed's value), it
-   is scaled back to its value before the contact, about the pair's center of mass (so that
-   momentum is kept). A single contact never triggers it; contacts resolved one after
-   another in a pass, and the projection's turn of a spinning body (L kept, the inertia
-   turned), can.
-
-Shapes: spheres and boxes (``craft.Shape``). Sphere-sphere, sphere-box and sphere-ground are
-exact; a box touches with its corners (box-ground: each corner below the ground; box-box: the
-corners of one box inside the other, along the face axis of least overlap, which covers
-face-on-face stacking and corners hitting faces but not edge-on-edge crossings).
+- Each touching pair (a body and the ground, or two bodies) is one contact over its patch:
+  the depth-weighted mean of its touching points (box corners under the ground; a sphere's
+  nearest point; for two boxes, the incident face clipped to the reference face), their
+  spread in the contact plane (an ellipse: a face, an edge's segment, or a point), and the
+  deepest depth. Points within a small margin above the surface (gravity's fall in two
+  steps) count, so that a face resting tilted by a hair is still a face.
+- ``_open``: an impact (approaching faster than gravity's gain in two steps) is pushed out
+  along the normal by its depth, mass-weighted between two bodies (the seed's split), and
+  aims to leave at ``-e`` times its approach; a resting contact aims at no approach.
+- ``_pass``, ``C_PASSES`` times over all contacts (projected Gauss-Seidel, warm-started from
+  the last step's impulses): the patch's six impulses (push, friction along two axes,
+  torques about two axes, twist) solved together for the motion the contact aims at, then
+  clamped: push >= 0, friction within ``mu`` times the push (Coulomb; the rest re-solved
+  with the friction held), the center of pressure inside the patch, twist within the
+  friction of a pressed disc.
+- ``_close``: after an impact, the pair's kinetic energy may not exceed its value before,
+  times 1 against the ground and ``PAIR_ENERGY_BOUND`` = 1.1 between two bodies (the seed's
+  bound); beyond it, the motion about the pair's center of mass is scaled back.
+- A resting body is then put back along its step's drift by the velocity its contacts
+  took away (``x += dt dv``), instead of being pushed out along the normal: friction that
+  holds it also holds its place (a push along a sloped normal walks it downhill).
 
 Materials: a contact's restitution and friction are the geometric means of the two
 materials' (the craft's ``restitution`` and ``friction``, and the :class:`Ground`'s), so a
-pair of like materials keeps its own values.
+pair of like materials keeps its own values. Not modelled: edge-across-edge box contacts,
+continuous collision (a body faster than its size per step can pass through a thin one).
 """
+
 
 from __future__ import annotations
 
@@ -271,17 +270,6 @@ def _energy(S, b, i, n, body):
 
 
 @njit(**_INLINE)
-def _point_velocity(S, b, i, n, body, rx, ry, rz):
-    rot = _pose(S, b, i, n)[1]
-    w = _omega(S, b, i, n, rot, body)
-    return (
-        S[b, i + OV * n] + w[1] * rz - w[2] * ry,
-        S[b, i + (OV + 1) * n] + w[2] * rx - w[0] * rz,
-        S[b, i + (OV + 2) * n] + w[0] * ry - w[1] * rx,
-    )
-
-
-@njit(**_INLINE)
 def _inv_mass(S, b, i, n, body, rx, ry, rz, ux, uy, uz):
     """The body's inverse effective mass for a push along u at r from its center:
     1/m + (r x u) . I_world^-1 (r x u)."""
@@ -355,28 +343,6 @@ def _dot(a, b):
 @njit(**_INLINE)
 def _cross(a, b):
     return a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]
-
-
-@njit(**_INLINE)
-def _response(S, b, i, n, body, p, nrm, e1, e2):
-    """Body b's part of the patch's response matrix: how an impulse j n at p and a torque
-    T1 e1 + T2 e2 change the normal velocity at p and the spin about e1 and e2 (symmetric
-    3x3, entries 00 01 02 11 12 22)."""
-    x, rot = _pose(S, b, i, n)
-    r = (p[0] - x[0], p[1] - x[1], p[2] - x[2])
-    c = _cross(r, nrm)
-    inv = _inv_inertia(body, b)
-    ic = world_omega(rot, c[0], c[1], c[2], inv)
-    i1 = world_omega(rot, e1[0], e1[1], e1[2], inv)
-    i2 = world_omega(rot, e2[0], e2[1], e2[2], inv)
-    return (
-        ONE / body[b, 0] + _dot(c, ic),
-        _dot(c, i1),
-        _dot(c, i2),
-        _dot(e1, i1),
-        _dot(e1, i2),
-        _dot(e2, i2),
-    )
 
 
 @njit(**_INLINE)

@@ -117,11 +117,12 @@ class Simulator:
               inertia (``tetra.match_inertia``): velocities and positions as symplectic
               Euler, the turn as the particles' drift with the shape restored by the
               best-fitting rotation and the momenta kept. Above ``World.tetra_rigid_spin_rad``
-              per step a body turns rigidly instead. (Contact, which the tetrahedron is for,
-              comes next: see issue 3.)
+              per step a body turns rigidly instead.
 
             Every method keeps world angular momentum exact under zero torque (it is the
-            state) and renormalizes the quaternion each step.
+            state) and renormalizes the quaternion each step. Contact (crafts with
+            ``shapes``, against ``World.ground`` and each other: ``contact.py``) runs after
+            each step's integration, whichever the method.
         dtype: ``np.float64`` (default) or ``np.float32``.
         parallel: run blocks of environments on numba's threads; default: when E * B >= 1024.
         wake: a :class:`WakeField` whose flow every fluid sample in the water feels (its
