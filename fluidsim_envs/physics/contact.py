@@ -47,7 +47,6 @@ pair of like materials keeps its own values. Not modelled: edge-across-edge box 
 continuous collision (a body faster than its size per step can pass through a thin one).
 """
 
-
 from __future__ import annotations
 
 import math
@@ -307,9 +306,15 @@ def _displace(S, b, i, n, body, rx, ry, rz, ux, uy, uz, dist):
     S[b, i + (OX + 2) * n] += p * uz * inv_m
     cx, cy, cz = ry * uz - rz * uy, rz * ux - rx * uz, rx * uy - ry * ux
     t = world_omega(rot, p * cx, p * cy, p * cz, _inv_inertia(body, b))
+    _turn(S, b, i, n, t[0], t[1], t[2])
+
+
+@njit(**_INLINE)
+def _turn(S, b, i, n, tx, ty, tz):
+    """Turn body b by the small world rotation vector t (first order; renormalized)."""
     qw, qx = S[b, i + OQ * n], S[b, i + (OQ + 1) * n]
     qy, qz = S[b, i + (OQ + 2) * n], S[b, i + (OQ + 3) * n]
-    dq = quat_rate(qw, qx, qy, qz, t[0], t[1], t[2])
+    dq = quat_rate(qw, qx, qy, qz, tx, ty, tz)
     qw, qx, qy, qz = qw + dq[0], qx + dq[1], qy + dq[2], qz + dq[3]
     s = ONE / math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
     S[b, i + OQ * n] = qw * s
@@ -1094,20 +1099,12 @@ def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm, touch):
         w = _omega(S, b, i, n, rot, body)
         for c in range(3):
             S[b, i + (OX + c) * n] += dt * (S[b, i + (OV + c) * n] - W[b, W_V0 + c])
-        tx, ty, tz = (
+        _turn(
+            S, b, i, n,
             dt * (w[0] - W[b, W_W0]),
             dt * (w[1] - W[b, W_W0 + 1]),
             dt * (w[2] - W[b, W_W0 + 2]),
-        )
-        qw, qx = S[b, i + OQ * n], S[b, i + (OQ + 1) * n]
-        qy, qz = S[b, i + (OQ + 2) * n], S[b, i + (OQ + 3) * n]
-        dq = quat_rate(qw, qx, qy, qz, tx, ty, tz)
-        qw, qx, qy, qz = qw + dq[0], qx + dq[1], qy + dq[2], qz + dq[3]
-        norm = ONE / math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
-        S[b, i + OQ * n] = qw * norm
-        S[b, i + (OQ + 1) * n] = qx * norm
-        S[b, i + (OQ + 2) * n] = qy * norm
-        S[b, i + (OQ + 3) * n] = qz * norm
+        )  # fmt: skip
 
 
 @njit(**_INLINE)
