@@ -415,8 +415,9 @@ class Craft:
 
     def with_center_of_mass(self, offset_m) -> Craft:
         """The same craft with its center of mass moved by ``offset_m`` (body frame, m), as by
-        ballast of negligible mass: every sample keeps its place on the airframe, so its
-        offset from the new center of mass shrinks by ``offset_m``; mass and inertia are kept.
+        ballast of negligible mass: every sample and collision shape keeps its place on the
+        airframe, so its offset from the new center of mass shrinks by ``offset_m``; mass and
+        inertia are kept.
 
         Examples:
             >>> tail_heavy = Craft.load("paper_airplane").with_center_of_mass((-0.02, 0, 0))
@@ -425,19 +426,11 @@ class Craft:
         """
         dx = _vec3(f"craft {self.name!r}", "offset_m", offset_m)
 
-        def moved(items):
-            return tuple(
-                replace(
-                    s,
-                    **{
-                        key: tuple(
-                            round(a - b, 12) for a, b in zip(getattr(s, key), dx, strict=True)
-                        )
-                    },
-                )
-                for s in items
-                for key in ("center_m" if isinstance(s, Shape) else "offset_m",)
-            )
+        def moved(items, key="offset_m"):
+            def shift(v):
+                return tuple(round(a - b, 12) for a, b in zip(v, dx, strict=True))
+
+            return tuple(replace(s, **{key: shift(getattr(s, key))}) for s in items)
 
         return replace(
             self,
@@ -445,7 +438,7 @@ class Craft:
             cylinders=moved(self.cylinders),
             buoyancy=moved(self.buoyancy),
             thrusters=moved(self.thrusters),
-            shapes=moved(self.shapes),
+            shapes=moved(self.shapes, key="center_m"),
         )
 
     # ---- loading ------------------------------------------------------------------------

@@ -39,6 +39,12 @@ t for (symplectic, explicit) Euler and Verlet's first evaluation, t + dt for Ver
 (its positions are the step's end), t and t + dt/2 for RK2, t, t + dt/2, t + dt/2, t + dt for
 RK4, so that every integrator keeps its order of accuracy when the surface moves (a surface
 frozen at the step's start would make RK2 and RK4 first order in time).
+
+Contact. When any body has collision shapes and there is a ground or a second body
+(``tables[16][C_ON]``), each step's integration is followed by ``contact.collide`` for each
+environment of the block in turn: scalar, branchy code that reads and writes the bodies'
+state rows in place (it does not vectorize and need not: a body costs it one distance test
+per pair until something touches). Its tables are ``tables[12:19]`` (``contact.pack``).
 """
 
 from __future__ import annotations
