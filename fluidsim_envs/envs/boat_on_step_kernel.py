@@ -8,8 +8,8 @@ import math
 
 from numba import njit
 
-from ..physics.kernels import OQ, OV, OX, _inv_inertia, body_state
-from ..physics.rotation import quat_to_matrix, to_body
+from ..physics.kernels import OQ, OV, OX, body_state
+from ..physics.rotation import body_inv_inertia, quat_to_matrix, to_body
 from ..physics.surface import surface_height
 
 T_SPEED, T_PROGRESS, T_GATE, T_BUOY, T_PORPOISE, T_FUEL, T_CRASH = range(7)
@@ -127,7 +127,7 @@ def _gate_frame(course, e, g, px, py):
 def observe(st, body, course, task, swell, clock, cfg, out):
     """Observation rows out[E, 18] (float32) from the boat's state st[13, 1, E]; heave is
     measured from the water surface under the boat (the swell at the env's clock)."""
-    inv_inertia = _inv_inertia(body, 0)
+    inv_inertia = body_inv_inertia(body, 0)
     last = course.shape[1] - 1
     for e in range(st.shape[2]):
         (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, inv_inertia)

@@ -178,7 +178,8 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
             ],
             axis=1,
         )
-        nose = quat_matrices(quat)[:, :, 0]
+        rot = quat_matrices(quat)
+        nose = rot[:, :, 0]
         self.sim.reset(
             pos=np.stack([0 * height, 0 * height, height], axis=1)[:, None],
             quat=quat[:, None],
@@ -186,7 +187,7 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
             env_ids=ids,
         )
         self._v_prev[ids, :3] = speed[:, None] * nose
-        self._v_prev[ids, 3] = quat_matrices(quat)[:, 2, 2]
+        self._v_prev[ids, 3] = rot[:, 2, 2]
         wind = np.stack([np.cos(wind_dir), np.sin(wind_dir), 0 * wind_dir], 1) * wind_speed[:, None]
         self.sim.set_wind(wind, env_ids=ids)
         self.launch[ids] = 0.0

@@ -13,10 +13,9 @@ from ..physics.kernels import (
     OQ,
     OV,
     OX,
-    _inv_inertia,
     body_state,
 )
-from ..physics.rotation import quat_to_matrix, to_body
+from ..physics.rotation import body_inv_inertia, quat_to_matrix, to_body
 
 # rows of the per-step outputs
 T_PROGRESS, T_ACCURACY, T_SOFTNESS, T_CRASH, T_EFFORT = range(5)
@@ -58,7 +57,7 @@ _JIT = dict(cache=True, error_model="numpy")
 @njit(**_JIT)
 def observe(st, body, flow, target, out):
     """Observation rows out[E, 15] (float32) from the state st[13, 1, E]: see OBSERVATION."""
-    inv_inertia = _inv_inertia(body, 0)
+    inv_inertia = body_inv_inertia(body, 0)
     for e in range(st.shape[2]):
         (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, inv_inertia)
         r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot

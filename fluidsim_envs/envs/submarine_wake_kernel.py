@@ -11,10 +11,9 @@ from numba import njit
 from ..physics.kernels import (
     OQ,
     OX,
-    _inv_inertia,
     body_state,
 )
-from ..physics.rotation import quat_to_matrix, to_body
+from ..physics.rotation import body_inv_inertia, quat_to_matrix, to_body
 from ..physics.wake import source_tuple, wake_at
 
 T_STATION, T_EFFORT, T_CRASH = range(3)
@@ -117,7 +116,7 @@ def _station(lead, station, e):
 @njit(**_JIT)
 def observe(st, body, lead, station, src, wprm, cfg, out):
     """Observation rows out[E, 22] (float32) from the vehicle's state st[13, 1, E]."""
-    inv_inertia = _inv_inertia(body, 0)
+    inv_inertia = body_inv_inertia(body, 0)
     for e in range(st.shape[2]):
         (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, inv_inertia)
         r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot

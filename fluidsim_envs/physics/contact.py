@@ -57,7 +57,7 @@ import numpy as np
 from numba import njit
 
 from .forces import HALF, ONE, TINY, TWO, ZERO
-from .rotation import OL, OQ, OV, OX, quat_rate, quat_to_matrix, world_omega
+from .rotation import OL, OQ, OV, OX, body_inv_inertia, quat_rate, quat_to_matrix, world_omega
 
 TWO_THIRDS = np.float32(2.0 / 3.0)
 PAIR_ENERGY_BOUND = 1.1  # the seed's: two bodies' kinetic energy may rise 10% before scaling
@@ -247,14 +247,13 @@ def _point(x, rot, px, py, pz):
 
 
 @njit(**_INLINE)
-def _inv_inertia(body, b):
-    return body[b, 1], body[b, 2], body[b, 3], body[b, 4], body[b, 5], body[b, 6]
-
-
-@njit(**_INLINE)
 def _omega(S, b, i, n, rot, body):
     return world_omega(
-        rot, S[b, i + OL * n], S[b, i + (OL + 1) * n], S[b, i + (OL + 2) * n], _inv_inertia(body, b)
+        rot,
+        S[b, i + OL * n],
+        S[b, i + (OL + 1) * n],
+        S[b, i + (OL + 2) * n],
+        body_inv_inertia(body, b),
     )
 
 
@@ -274,7 +273,7 @@ def _inv_mass(S, b, i, n, body, rx, ry, rz, ux, uy, uz):
     1/m + (r x u) . I_world^-1 (r x u)."""
     rot = _pose(S, b, i, n)[1]
     cx, cy, cz = ry * uz - rz * uy, rz * ux - rx * uz, rx * uy - ry * ux
-    w = world_omega(rot, cx, cy, cz, _inv_inertia(body, b))
+    w = world_omega(rot, cx, cy, cz, body_inv_inertia(body, b))
     return ONE / body[b, 0] + cx * w[0] + cy * w[1] + cz * w[2]
 
 
@@ -305,7 +304,7 @@ def _displace(S, b, i, n, body, rx, ry, rz, ux, uy, uz, dist):
     S[b, i + (OX + 1) * n] += p * uy * inv_m
     S[b, i + (OX + 2) * n] += p * uz * inv_m
     cx, cy, cz = ry * uz - rz * uy, rz * ux - rx * uz, rx * uy - ry * ux
-    t = world_omega(rot, p * cx, p * cy, p * cz, _inv_inertia(body, b))
+    t = world_omega(rot, p * cx, p * cy, p * cz, body_inv_inertia(body, b))
     _turn(S, b, i, n, t[0], t[1], t[2])
 
 
@@ -865,7 +864,7 @@ def _add_response(K, S, b, i, n, body, p, dirs):
     unit impulse c."""
     x, rot = _pose(S, b, i, n)
     r = (p[0] - x[0], p[1] - x[1], p[2] - x[2])
-    inv = _inv_inertia(body, b)
+    inv = body_inv_inertia(body, b)
     inv_m = ONE / body[b, 0]
     # the angular effect of each impulse, c = r x a (linear) or b (angular), then I^-1 c
     c = np.empty((6, 3), dtype=K.dtype)

@@ -67,7 +67,17 @@ from .forces import (
     rotate_about_axis,
     water_fraction,
 )
-from .rotation import NSTATE, OL, OQ, OV, OX, quat_rate, quat_to_matrix, world_omega
+from .rotation import (
+    NSTATE,
+    OL,
+    OQ,
+    OV,
+    OX,
+    body_inv_inertia,
+    quat_rate,
+    quat_to_matrix,
+    world_omega,
+)
 from .surface import MAX_WAVES, time_phase, wave_cos
 from .wake import NSRC, W_ON, wake_at
 
@@ -144,12 +154,6 @@ def body_state(st, b, e, inv_inertia):
 
 
 @njit(**_INLINE)
-def _inv_inertia(body, b):
-    """The inverse inertia entries (xx, yy, zz, xy, xz, yz) of body slot b."""
-    return body[b, 1], body[b, 2], body[b, 3], body[b, 4], body[b, 5], body[b, 6]
-
-
-@njit(**_INLINE)
 def _matrix(S, i):
     """The rotation matrix rows R of body i as a row-major 9-tuple."""
     return (
@@ -168,7 +172,7 @@ def _matrix(S, i):
 @njit(**_INLINE)
 def _omega_row(S, body, b, n):
     """Rotation matrix rows R and angular velocity rows W from the state rows Y."""
-    inv_inertia = _inv_inertia(body, b)
+    inv_inertia = body_inv_inertia(body, b)
     for i in range(n):
         m = quat_to_matrix(
             S[(Y + OQ) * BLOCK + i],
@@ -459,7 +463,7 @@ def _rotate_by_omega(S, body, b, n, h):
     Second order; a one-stage update (w at the old q only) is explicit Euler for the
     rotation and gains energy steadily (about 4% in 10 s for a body spinning at 2 rad/s,
     dt = 1/100), which the midpoint stage removes."""
-    inv_inertia = _inv_inertia(body, b)
+    inv_inertia = body_inv_inertia(body, b)
     for i in range(n):
         lx, ly, lz = (
             S[(Y + OL) * BLOCK + i],
@@ -507,7 +511,7 @@ def _rotate_tetra(S, body, b, n, h, prm):
     turn (its energy error passes the rigid turn's near |w| h = 0.05-0.1 and then grows
     fast: docs/tetra_spin.png): that body steps with the rigid midpoint
     update instead (:func:`_rotate_by_omega`), continuously in q and exactly in L."""
-    inv_inertia = _inv_inertia(body, b)
+    inv_inertia = body_inv_inertia(body, b)
     sxx, syy, szz = body[b, 7], body[b, 8], body[b, 9]
     sxy, sxz, syz = body[b, 10], body[b, 11], body[b, 12]
     limit = prm[P_TETRA_SWITCH]
@@ -842,7 +846,7 @@ def body_omega(st, body, out):
         for e in range(st.shape[2]):
             m = quat_to_matrix(st[OQ, b, e], st[OQ + 1, b, e], st[OQ + 2, b, e], st[OQ + 3, b, e])
             w = world_omega(
-                m, st[OL, b, e], st[OL + 1, b, e], st[OL + 2, b, e], _inv_inertia(body, b)
+                m, st[OL, b, e], st[OL + 1, b, e], st[OL + 2, b, e], body_inv_inertia(body, b)
             )
             out[0, b, e] = w[0]
             out[1, b, e] = w[1]

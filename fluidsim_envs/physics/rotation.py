@@ -72,3 +72,10 @@ def quat_rate(qw, qx, qy, qz, wx, wy, wz):
         HALF * (qw * wy + wz * qx - wx * qz),
         HALF * (qw * wz + wx * qy - wy * qx),
     )
+
+
+@njit(**_INLINE)
+def body_inv_inertia(body, b):
+    """The inverse body inertia entries (xx, yy, zz, xy, xz, yz) of body slot b of a body
+    table ``body[B, NBODY]`` (columns 1-6: ``simulator._pack``)."""
+    return body[b, 1], body[b, 2], body[b, 3], body[b, 4], body[b, 5], body[b, 6]
