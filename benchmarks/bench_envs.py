@@ -36,6 +36,8 @@ VARIANTS = (
     ("SubmarineWake-v0 +tracers", "fluidsim/SubmarineWake-v0", {"render_mode": "rgb_array"}, True),
     # BoatOnStep-v0 in two-wave swell: a surface height under every sample, every evaluation
     ("BoatOnStep-v0 swell", "fluidsim/BoatOnStep-v0", {"swell": SWELL}, False),
+    # BoatOnStep-v0 with its 12 buoys as moored floating bodies: 13 bodies and contact
+    ("BoatOnStep-v0 buoy_bodies", "fluidsim/BoatOnStep-v0", {"buoy_bodies": True}, False),
 )
 PEER = "CartPole-v1"
 NUM_ENVS = (1, 64, 1024, 4096, 16384)

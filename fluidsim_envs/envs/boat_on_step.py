@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..craft.buoy import MarkerBuoy
 from ..physics import Craft, Simulator, World
 from ..physics.hydrostatics import static_float
 from ..physics.kernels import INTEGRATORS
@@ -64,6 +65,9 @@ class BoatOnStepParams:
     start_heading_deg: float = 20.0  # the bow starts this far off the first leg at most
     gate_half_width_m: float = 8.0  # center to each buoy
     buoy_radius_m: float = 0.4
+    # the buoys as floating bodies (a MarkerBuoy of buoy_radius_m each, moored at its mark,
+    # that the hull hits and pushes aside: contact.py), or markers the hull passes through
+    buoy_bodies: bool = False
     course_half_width_m: float = 60.0  # farther from the leg than this leaves the course
     # detection
     capsize_heel_deg: float = 70.0
@@ -100,6 +104,8 @@ class BoatOnStepParams:
         check_number(own, "start_heading_deg", self.start_heading_deg, 0.0, 180.0)
         check_number(own, "gate_half_width_m", self.gate_half_width_m, 1.0, 100.0)
         check_number(own, "buoy_radius_m", self.buoy_radius_m, 0.0, 10.0)
+        if not isinstance(self.buoy_bodies, (bool, np.bool_)):
+            raise ValueError(f"{own}: buoy_bodies must be True or False, got {self.buoy_bodies!r}")
         check_number(own, "course_half_width_m", self.course_half_width_m, 5.0, 1e4)
         check_number(own, "capsize_heel_deg", self.capsize_heel_deg, 10.0, 180.0)
         check_number(own, "porpoise_deg", self.porpoise_deg, 1e-3, 90.0)
@@ -149,9 +155,16 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         E = self.num_envs
         self.craft = Craft.load("speedboat")
         self.world = World(water=True, swell=p.swell)
+        crafts = [self.craft]
+        if p.buoy_bodies:
+            self.marker = MarkerBuoy.scaled(p.buoy_radius_m)
+            crafts += [Craft.from_dict(self.marker.samples())] * (2 * GATES)
         self.sim = Simulator(
-            self.craft, self.world, num_envs=E, dt=p.dt, integrator=p.integrator, dtype=p.dtype
+            crafts, self.world, num_envs=E, dt=p.dt, integrator=p.integrator, dtype=p.dtype
         )
+        # with buoy bodies: each one's mooring force [E, 1 + 2 GATES, 3] (the boat's row 0)
+        self._mooring = np.zeros((E, len(crafts), 3))
+        self._hits = np.zeros(E, dtype=bool)  # the hull touched a buoy body this step
         self.rest_height_m, self.rest_trim_rad = static_float(
             self.craft, self.world.water_density_kgm3, self.world.gravity_mps2
         )
@@ -224,7 +237,16 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         self.sim.set_clock(clock, env_ids=ids)
         surface = self.world.surface_height(0.0, 0.0, clock)
         pos = np.stack([0 * clock, 0 * clock, self.rest_height_m + surface], axis=1)
-        self.sim.reset(pos=pos[:, None], quat=quat[:, None], env_ids=ids)
+        if p.buoy_bodies:  # each buoy afloat at its mark, upright, at rest
+            marks = self.buoys[ids]
+            z = self.world.surface_height(marks[..., 0], marks[..., 1], clock[:, None])
+            buoys = np.concatenate([marks, (z - self.marker.waterline_m)[..., None]], axis=2)
+            pos = np.concatenate([pos[:, None], buoys], axis=1)
+            upright = np.tile((1.0, 0.0, 0.0, 0.0), (len(ids), 2 * GATES, 1))
+            quat = np.concatenate([quat[:, None], upright], axis=1)
+            self.sim.reset(pos=pos, quat=quat, env_ids=ids)
+        else:
+            self.sim.reset(pos=pos[:, None], quat=quat[:, None], env_ids=ids)
         st, _, _ = self.sim.kernel_arrays()
         TK.start(st, self.course, self.task, np.asarray(ids, dtype=np.int64))
 
@@ -234,15 +256,23 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         p = self.params
         st, _, _ = self.sim.kernel_arrays()
         TK.controls(st, actions, self._cfg, self._ctrl)
+        if p.buoy_bodies:  # the chains pull each buoy back toward its mark
+            self._mooring[:, 1:, :2] = -self.marker.mooring_stiffness_npm * (
+                self.sim.pos[:, 1:, :2] - self.buoys
+            )
+            self.sim.set_external_force(self._mooring)
         self.sim.step(self._ctrl, steps=p.substeps)
         diverged = self.sim.diverged.copy()
         swell, clock = self.sim.surface_arrays()
+        if p.buoy_bodies:  # pairs (0, 1) ... (0, 2 GATES) come first: the hull and each buoy
+            np.greater(self.sim.pair_impulse[:, : 2 * GATES].max(axis=1), 0.0, out=self._hits)
         TK.score(
             st,
             diverged,
             actions,
             self.course,
-            self.buoys,
+            self.buoys[:, :0] if p.buoy_bodies else self.buoys,
+            self._hits,
             self.task,
             swell,
             clock,
@@ -270,6 +300,14 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
             "success": f[TK.F_FINISHED] & (self.task[TK.K_MISSED] == 0) & ~crashed & ~diverged,
         }
         return crashed | f[TK.F_FINISHED], diverged, self._terms.copy(), info
+
+    def buoy_xy(self, env_index: int) -> np.ndarray:
+        """Where sub-env ``env_index``'s buoys are, [2 GATES, 2] (m, world): the bodies'
+        positions with ``buoy_bodies``, else their marks (``self.buoys``, which also define
+        the gates either way)."""
+        if self.params.buoy_bodies:
+            return np.asarray(self.sim.pos[env_index, 1:, :2], dtype=np.float64)
+        return self.buoys[env_index]
 
     # ---- observation ----------------------------------------------------------------------
 
@@ -357,8 +395,12 @@ class BoatOnStepEnv(FluidEnv):
     one). Truncated: ``max_episode_steps`` actions. ``info["porpoising"]`` flags the steps
     with a trim oscillation above ``porpoise_deg`` at speed (``porpoising_fraction``: the
     episode's share of them); ``time_to_plane_s`` is the time it took to reach planing speed
-    (``porpoise_min_speed_mps``). The buoys are markers: touching one is penalized, they do
-    not push back (contact comes with the tetrahedron bodies).
+    (``porpoise_min_speed_mps``). ``info["hit_buoy"]`` flags the steps the hull touches a
+    buoy. By default the buoys are markers the hull passes through; with
+    ``buoy_bodies=True`` each is a floating body (the shipped craft ``buoy``: a 0.8 m,
+    40 kg ballasted sphere, scaled to ``buoy_radius_m``) moored at its mark by a chain
+    (a horizontal spring, 6 s sway period), and a hit pushes it aside and slows the boat
+    (contact with restitution 0.3). The gates stay where the marks are.
 
     ## Arguments
 

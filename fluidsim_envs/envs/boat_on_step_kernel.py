@@ -178,9 +178,11 @@ def start(st, course, task, ids):
 
 
 @njit(**_JIT)
-def score(st, diverged, actions, course, buoys, task, swell, clock, cfg, terms, flags):
+def score(st, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms, flags):
     """Gates, buoys, porpoising, capsize, bow stuffing and leaving the course, and the reward
-    terms, of every env after a step; writes ``terms`` [7, E] and ``flags`` [8, E].
+    terms, of every env after a step; writes ``terms`` [7, E] and ``flags`` [8, E]. A buoy
+    is touched where ``hits`` [E] says so (buoy bodies: the contact's impulse) or where the
+    hull passes within reach of a marker in ``buoys`` [E, n, 2] (n = 0 with buoy bodies).
 
     Porpoising is measured on the trim, high-passed twice (``HIGHPASS_S``): the running mean
     square of what passes, over ``porpoise_window_s``, is A^2 / 8 for a sustained sinusoid
@@ -253,7 +255,8 @@ def score(st, diverged, actions, course, buoys, task, swell, clock, cfg, terms, 
             task[K_SIDE, e] = along
             task[K_DIST, e] = dist
 
-        # buoys: the hull (a circle of its half beam) against each buoy, no contact physics
+        # buoys: the hull (a circle of its half beam) against each marker, no contact physics
+        flags[F_BUOY, e] = hits[e]
         reach = cfg[C_BUOY_R] + cfg[C_HALF_BEAM]
         for b in range(buoys.shape[1]):
             bx, by = buoys[e, b, 0], buoys[e, b, 1]

@@ -251,7 +251,7 @@ def _plan(env, e: int, shape: HullShape, pos, rot, track: Track) -> np.ndarray:
     canvas.lines(cam, course[:-1], course[1:], np.where(behind[:, None], DIM, COURSE))
 
     buoys = np.zeros((2 * gates, 3))
-    buoys[:, :2] = env.buoys[e]
+    buoys[:, :2] = env.buoy_xy(e)
     colors = np.tile([PORT, STARBOARD], (gates, 1))
     colors[np.repeat(behind, 2)] = DIM
     radius = max(round(env.params.buoy_radius_m * PLAN_SCALE), 2)

@@ -721,10 +721,10 @@ def _patch(acc, inv, px, py, pz, nx, ny, nz):
 # a contact's row in the work array W[pair, NW]
 W_ON, W_A, W_B, W_P, W_N, W_E1, W_E2, W_L1, W_L2 = 0, 1, 2, 3, 6, 9, 12, 15, 16
 W_GOAL, W_J, W_T1, W_T2, W_F1, W_F2, W_TW, W_MU, W_KE0, W_IMPACT = range(17, 27)
-# and, in row b for body b: its velocity and spin before the contacts, and whether it rests
-# on something this step
-W_V0, W_W0, W_REST = 27, 30, 33
-NW = 34
+# and, in row b for body b: its velocity and spin before the contacts (recorded when its
+# first contact opens), whether they are recorded, and whether it rests on something
+W_V0, W_W0, W_REST, W_SEEN = 27, 30, 33, 34
+NW = 35
 # warm start, per environment and pair [E, num_pairs, NWARM]: the last step's accumulated
 # impulses as world vectors (normal j, patch torque T (3), friction F (3), twist)
 NWARM = 8
@@ -761,6 +761,20 @@ def _pair_wrench(S, a, b, i, n, body, p, jx, jy, jz, tx, ty, tz):
         _wrench(S, b, i, n, body, p, -jx, -jy, -jz, -tx, -ty, -tz)
 
 
+@njit(**_INLINE)
+def _remember(S, W, b, i, n, body):
+    """Record body b's velocity and spin before any contact changes them (once per step):
+    what a resting body is put back by (collide)."""
+    if W[b, W_SEEN] != ZERO:
+        return
+    rot = _pose(S, b, i, n)[1]
+    w = _omega(S, b, i, n, rot, body)
+    for c in range(3):
+        W[b, W_V0 + c] = S[b, i + (OV + c) * n]
+        W[b, W_W0 + c] = w[c]
+    W[b, W_SEEN] = ONE
+
+
 @njit(**_JIT)
 def _open(S, W, k, a, b, i, n, body, cbody, cprm, acc):
     """Open contact k from a pair's overlap sums: record it, push the bodies apart (stage 1)
@@ -774,6 +788,9 @@ def _open(S, W, k, a, b, i, n, body, cbody, cprm, acc):
     if norm <= TINY:
         return  # opposed normals cancel: nothing to push along
     nx, ny, nz = nx / norm, ny / norm, nz / norm
+    _remember(S, W, a, i, n, body)
+    if b >= 0:
+        _remember(S, W, b, i, n, body)
     inv = ONE / w
     px, py, pz = acc[1] * inv, acc[2] * inv, acc[3] * inv
     e1, e2, l1, l2 = _patch(acc, inv, px, py, pz, nx, ny, nz)
@@ -1041,19 +1058,16 @@ def _close(S, W, k, i, n, body, cprm):
 def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm, touch):
     """All contacts of environment i (its bodies' state in the scratch S: element k of body
     b at ``S[b, i + k * n]``; W a work array [num_pairs(nb), NW]; ``warm`` the environment's
-    warm-start impulses [num_pairs(nb), NWARM], updated; ``touch`` [nb] its bodies' normal
-    impulses from the ground, added to). Each body against the ground, then
-    every pair of bodies whose shapes' reaches overlap: each touching pair is one contact,
-    opened (pushed apart, warm-started) as found; then ``C_PASSES`` velocity passes over
-    them all; then the energy check of the impacts; then the resting bodies' positions are
-    put back where the velocity the contacts took away had carried them this step."""
-    for b in range(nb):
-        rot = _pose(S, b, i, n)[1]
-        w = _omega(S, b, i, n, rot, body)
-        for c in range(3):
-            W[b, W_V0 + c] = S[b, i + (OV + c) * n]
-            W[b, W_W0 + c] = w[c]
+    warm-start impulses [num_pairs(nb), NWARM], updated; ``touch`` [num_pairs(nb)] each
+    pair's normal impulse, added to: the ground's on each body, then each pair of bodies).
+    Each body against the ground, then every pair of bodies whose shapes' reaches overlap:
+    each touching pair is one contact, opened (pushed apart, warm-started) as found; then
+    ``C_PASSES`` velocity passes over them all; then the energy check of the impacts; then
+    the resting bodies' positions are put back where the velocity the contacts took away
+    had carried them this step."""
+    for b in range(nb):  # nothing recorded yet: most bodies touch nothing most steps
         W[b, W_REST] = ZERO
+        W[b, W_SEEN] = ZERO
     k = 0
     for b in range(nb):
         W[k, W_ON] = ZERO
@@ -1065,25 +1079,27 @@ def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm, touch):
     for a in range(nb):
         for b in range(a + 1, nb):
             W[k, W_ON] = ZERO
-            xa = _pose(S, a, i, n)[0]
-            xb = _pose(S, b, i, n)[0]
-            dx, dy, dz = xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]
+            dx = S[a, i + OX * n] - S[b, i + OX * n]
+            dy = S[a, i + (OX + 1) * n] - S[b, i + (OX + 1) * n]
+            dz = S[a, i + (OX + 2) * n] - S[b, i + (OX + 2) * n]
             reach = cbody[a, 2] + cbody[b, 2] + margin
             if dx * dx + dy * dy + dz * dz <= reach * reach:
                 acc = _pair_overlap(S, a, b, i, n, shp, srange, margin)
                 _open(S, W, k, a, b, i, n, body, cbody, cprm, acc)
             k += 1
+    opened = 0  # (the calls below are not inlined: skip them for the pairs apart)
     for c in range(k):
-        _warm_start(S, W, c, i, n, body, warm)
-    for _ in range(int(cprm[C_PASSES])):
+        if W[c, W_ON] != ZERO:
+            opened += 1
+            _warm_start(S, W, c, i, n, body, warm)
+    for _ in range(int(cprm[C_PASSES]) if opened else 0):
         for c in range(k):
             if W[c, W_ON] != ZERO:
                 _pass(S, W, c, i, n, body)
     for c in range(k):
         if W[c, W_ON] != ZERO:
             _close(S, W, c, i, n, body, cprm)
-            if c < nb:  # a ground contact
-                touch[c] += W[c, W_J]
+            touch[c] += W[c, W_J]
         _keep(W, c, warm)
     # A body at rest was carried into its support by the step's drift (x += dt v, after
     # gravity's kick) before its contacts took that velocity away: undo that part of the
@@ -1110,10 +1126,10 @@ def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm, touch):
 def _keep(W, k, warm):
     """Store contact k's accumulated impulses as world vectors for the next step's start
     (zeros when it is not touching, or bounced)."""
-    on = W[k, W_ON] != ZERO and W[k, W_IMPACT] == ZERO
-    for f in range(NWARM):
-        warm[k, f] = ZERO * W[k, 0]
-    if not on:
+    if W[k, W_ON] == ZERO or W[k, W_IMPACT] != ZERO:
+        if warm[k, 0] != ZERO:  # (held last step: forget it; a pair apart stays zeros)
+            for f in range(NWARM):
+                warm[k, f] = ZERO
         return
     e1, e2 = _vec(W, k, W_E1), _vec(W, k, W_E2)
     warm[k, 0] = W[k, W_J]
@@ -1130,8 +1146,8 @@ def _keep(W, k, warm):
 def pack(crafts, ground, dt: float, gravity: float, passes: int, num_envs: int, dtype):
     """The contact tables for the step kernel: ``(shapes [NSHAPE, n], shape ranges [B + 1],
     ground grid, per-body materials [B, NCBODY], parameters [NCPRM], warm-start impulses
-    [E, num_pairs(B), NWARM] (zeros; the kernel updates them), the ground's normal impulse
-    on each body over the last step call [E, B])``."""
+    [E, num_pairs(B), NWARM] (zeros; the kernel updates them), each pair's normal impulse
+    over the last step call [E, num_pairs(B)]: the ground's on each body, then body pairs)``."""
     rows, ranges, mats = [], [0], []
     for c in crafts:
         for s in c.shapes:
@@ -1161,5 +1177,5 @@ def pack(crafts, ground, dt: float, gravity: float, passes: int, num_envs: int, 
         np.asarray(mats, dtype=dtype).reshape(len(crafts), NCBODY),
         prm.astype(dtype),
         np.zeros((num_envs if touching else 0, num_pairs(len(crafts)), NWARM), dtype=dtype),
-        np.zeros((num_envs if touching else 0, len(crafts)), dtype=dtype),
+        np.zeros((num_envs if touching else 0, num_pairs(len(crafts))), dtype=dtype),
     )

@@ -45,6 +45,9 @@ Contact. When any body has collision shapes and there is a ground or a second bo
 environment of the block in turn: scalar, branchy code that reads and writes the bodies'
 state rows in place (it does not vectorize and need not: a body costs it one distance test
 per pair until something touches). Its tables are ``tables[12:19]`` (``contact.pack``).
+
+External force. ``tables[19]`` [E, B, 6] holds a world force and torque per body that
+``_evaluate`` adds to the samples' (``Simulator.set_external_force``: a scene's mooring line).
 """
 
 from __future__ import annotations
@@ -208,6 +211,19 @@ def _add_force(S, i, rx, ry, rz, fx, fy, fz):
 
 
 @njit(**_INLINE)
+def _first_sample(tables, b):
+    """The number of samples (plates, cylinders, buoyancy, thrusters) of bodies before b."""
+    return tables[2][b] + tables[4][b] + tables[6][b] + tables[8][b] + tables[11][b]
+
+
+@njit(**_INLINE)
+def _record(rec, j, i, rx, ry, rz, fx, fy, fz):
+    """Sample j's world offset r and force F for body i of the block (``sample_forces``)."""
+    rec[j, 0, i], rec[j, 1, i], rec[j, 2, i] = rx, ry, rz
+    rec[j, 3, i], rec[j, 4, i], rec[j, 5, i] = fx, fy, fz
+
+
+@njit(**_INLINE)
 def _rotate(S, i, x, y, z):
     """World vector of the body vector (x, y, z)."""
     return (
@@ -324,10 +340,18 @@ def _swell_rows(S, n, ox, oy, oz, prm, tau):
 
 
 @njit(**_JIT)
-def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau):
+def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau, rec):
     """Derivative rows D of the state rows Y: dx = v, dq, dv = F/m + g, dL = torque; the
-    surface ``tau`` seconds after the time phases of rows PH (the step's start)."""
+    surface ``tau`` seconds after the time phases of rows PH (the step's start).
+
+    ``rec``: None in the step path, or ``rec[N, 6, BLOCK]`` (``sample_forces``) that gets each
+    sample's world offset from the center of mass and force, ``rec[j, :, i]``, j counting the
+    samples of all bodies in order (fixed plates, control plates, cylinders, buoyancy,
+    thrusters); the external force is not a sample. ``rec is None`` is resolved when numba
+    compiles (a branch on a None argument is pruned), so the step kernels' machine code has
+    no recording in it at all, and the forces have one source: these loops."""
     body, fpl, fpl_at, cpl, cpl_at, cyl, cyl_at, buo, buo_at, thr, thr_ch, thr_at = tables[:12]
+    j = _first_sample(tables, b)  # rec row of this body's first sample
     vmax, fmax = prm[P_VMAX], prm[P_FMAX]
     wake = wprm[W_ON] != 0.0
     sea = prm[P_NWAVES] > ZERO
@@ -365,6 +389,9 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau):
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
             fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, area, eff, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
+            if rec is not None:
+                _record(rec, j, i, rx, ry, rz, fx, fy, fz)
+        j += 1
 
     for p in range(cpl_at[b], cpl_at[b + 1]):  # control surfaces: normals deflected per env
         ox, oy, oz, area, eff = cpl[0, p], cpl[1, p], cpl[2, p], cpl[9, p], cpl[10, p]
@@ -380,6 +407,9 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau):
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
             fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, area, eff, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
+            if rec is not None:
+                _record(rec, j, i, rx, ry, rz, fx, fy, fz)
+        j += 1
 
     for p in range(cyl_at[b], cyl_at[b + 1]):
         ox, oy, oz, bx, by, bz = cyl[0, p], cyl[1, p], cyl[2, p], cyl[3, p], cyl[4, p], cyl[5, p]
@@ -394,6 +424,9 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau):
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
             fx, fy, fz = cylinder_force(vx, vy, vz, ax, ay, az, rho, area, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
+            if rec is not None:
+                _record(rec, j, i, rx, ry, rz, fx, fy, fz)
+        j += 1
 
     g = prm[P_G]
     for p in range(buo_at[b], buo_at[b + 1]):
@@ -406,6 +439,9 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau):
             frac = water_fraction(z, water, inv_blend)
             fz = buoyancy_force(z, frac, water, rho_w, g, vol, area)
             _add_force(S, i, rx, ry, rz, ZERO, ZERO, fz)
+            if rec is not None:
+                _record(rec, j, i, rx, ry, rz, ZERO, ZERO, fz)
+        j += 1
 
     for p in range(thr_at[b], thr_at[b + 1]):
         ox, oy, oz, bx, by, bz = thr[0, p], thr[1, p], thr[2, p], thr[3, p], thr[4, p], thr[5, p]
@@ -415,7 +451,16 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau):
             thrust = lo + HALF * (a + ONE) * (hi - lo)
             rx, ry, rz = _rotate(S, i, ox, oy, oz)
             dx, dy, dz = _rotate(S, i, bx, by, bz)
-            _add_force(S, i, rx, ry, rz, thrust * dx, thrust * dy, thrust * dz)
+            fx, fy, fz = thrust * dx, thrust * dy, thrust * dz
+            _add_force(S, i, rx, ry, rz, fx, fy, fz)
+            if rec is not None:
+                _record(rec, j, i, rx, ry, rz, fx, fy, fz)
+        j += 1
+
+    ext = tables[19]  # Simulator.set_external_force: world force and torque, held per call
+    for k in range(6):
+        for i in range(n):
+            S[(D + OV + k) * BLOCK + i] += ext[e0 + i, b, k]  # rows OV..OV+2, then OL..OL+2
 
     inv_m = ONE / body[b, 0]
     for i in range(n):
@@ -610,13 +655,13 @@ def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, wprm, method):
     th = 0.5 * tdt
     if method == 0:  # explicit Euler: everything from the old state
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0, None)
         for b in range(nb):
             _axpy(scr_blk[b], Y, Y, dt, n)
             _normalize_quat(scr_blk[b], Y + OQ, n)
     elif method == 1:  # symplectic Euler: velocities first, then positions with new velocities
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0, None)
         for b in range(nb):
             S = scr_blk[b]
             _kick(S, n, dt)
@@ -624,30 +669,30 @@ def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, wprm, method):
             _rotate_by_omega(S, body, b, n, dt)
     elif method == 2:  # velocity Verlet: half kick, drift, new forces, half kick
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0, None)
         for b in range(nb):
             S = scr_blk[b]
             _kick(S, n, h2)
             _drift(S, n, dt)
             _rotate_by_omega(S, body, b, n, dt)
         for b in range(nb):  # at the step's end
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, tdt)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, tdt, None)
         for b in range(nb):
             _kick(scr_blk[b], n, h2)
     elif method == 3:  # RK2, explicit midpoint: Y0 keeps the step's start
         for b in range(nb):
             _copy(scr_blk[b], Y0, Y, n)
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0, None)
         for b in range(nb):
             _axpy(scr_blk[b], Y, Y0, h2, n)
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, th)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, th, None)
         for b in range(nb):
             _axpy(scr_blk[b], Y, Y0, dt, n)
             _normalize_quat(scr_blk[b], Y + OQ, n)
     elif method == 5:  # verlet_tetra: symplectic kick and drift, the turn as a tetrahedron
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0)
+            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0, None)
         for b in range(nb):
             S = scr_blk[b]
             _kick(S, n, dt)
@@ -659,7 +704,7 @@ def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, wprm, method):
         for stage in range(4):
             tau = T0 if stage == 0 else (th if stage < 3 else tdt)
             for b in range(nb):
-                _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, tau)
+                _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, tau, None)
             for b in range(nb):
                 S = scr_blk[b]
                 weight = ONE if stage == 0 or stage == 3 else TWO
@@ -748,10 +793,10 @@ def _advance_block(
     sea = swell.shape[0] > 0
     touching = tables[16][C_ON] != 0.0
     work = np.empty((num_pairs(nb) if touching else 0, NW), dtype=scr.dtype)  # contact.py
-    if touching:  # the ground's impulses over this call
+    if touching:  # the contacts' impulses over this call
         for i in range(n):
-            for b in range(nb):
-                tables[18][e0 + i, b] = 0.0
+            for c in range(tables[18].shape[1]):
+                tables[18][e0 + i, c] = 0.0
     for _ in range(steps):
         if sea:  # the waves' time phases at the step's start
             for b in range(nb):
@@ -829,7 +874,7 @@ def wrench(st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, sc
             S = scr[blk, b]
             if swell.shape[0] > 0:
                 _phase_rows(S, n, e0, swell, clock)
-            _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, T0)
+            _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, T0, None)
             m = body[b, 0]
             for i in range(n):
                 out[0, b, e0 + i] = m * S[(D + OV) * BLOCK + i]
@@ -837,6 +882,28 @@ def wrench(st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, sc
                 out[2, b, e0 + i] = m * (S[(D + OV + 2) * BLOCK + i] + g)
                 for k in range(3):
                     out[3 + k, b, e0 + i] = S[(D + OL + k) * BLOCK + i]
+
+
+@njit(**_JIT)
+def sample_forces(
+    st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, scr, env, out
+):
+    """Each sample's world application point and force in environment ``env`` at its clock,
+    ``out[N, 6]`` (point x, y, z, then force), N the samples of every body in ``_evaluate``'s
+    order: ``_evaluate`` records them as it adds them up, so they sum to :func:`wrench`."""
+    blk = env // BLOCK
+    e0, n = _load_block(blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, scr)
+    i = env - e0
+    rec = np.zeros((out.shape[0], 6, BLOCK), dtype=scr.dtype)
+    for b in range(st.shape[1]):
+        S = scr[blk, b]
+        if swell.shape[0] > 0:
+            _phase_rows(S, n, e0, swell, clock)
+        _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, T0, rec)
+        for j in range(_first_sample(tables, b), _first_sample(tables, b + 1)):
+            for k in range(3):
+                out[j, k] = st[OX + k, b, env] + rec[j, k, i]
+                out[j, 3 + k] = rec[j, 3 + k, i]
 
 
 @njit(**_JIT)

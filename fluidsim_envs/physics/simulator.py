@@ -82,6 +82,8 @@ def _pack(
         *CT.pack(  # tables[12:19]: contact.py
             crafts, world.ground, dt, world.gravity_mps2, world.contact_passes, num_envs, dtype
         ),
+        # tables[19]: the external force and torque on each body [E, B, 6], world frame
+        np.zeros((num_envs, len(crafts), 6), dtype=dtype),
     )
     cmix = np.asarray(mix, dtype=dtype).reshape(len(mix), n_ch)
     return tables, cmix, names
@@ -306,9 +308,26 @@ class Simulator:
         can touch and bounce clear within one call: this is how a scene sees that it did."""
         if self._tables[18].shape[0] == 0:
             return np.zeros((self.num_envs, self.num_bodies), dtype=self.dtype)
-        v = self._tables[18].view()
+        v = self._tables[18][:, : self.num_bodies]  # rows: contact.num_pairs
         v.flags.writeable = False
         return v
+
+    @property
+    def pair_impulse(self) -> np.ndarray:
+        """``[E, P]`` (N s, read-only view): the normal impulse between each pair of bodies over
+        the last :meth:`step` call, pairs in :attr:`pairs` order (all zeros without contact).
+        The pairs of body 0 come first: ``pair_impulse[:, : B - 1]`` is body 0 against the
+        others."""
+        if self._tables[18].shape[0] == 0:
+            return np.zeros((self.num_envs, len(self.pairs)), dtype=self.dtype)
+        v = self._tables[18][:, self.num_bodies :]
+        v.flags.writeable = False
+        return v
+
+    @property
+    def pairs(self) -> np.ndarray:
+        """``[P, 2]``: the bodies (a, b), a < b, of each column of :attr:`pair_impulse`."""
+        return np.stack(np.triu_indices(self.num_bodies, 1), axis=1)  # contact.collide's order
 
     @property
     def diverged(self) -> np.ndarray:
@@ -341,6 +360,27 @@ class Simulator:
     def set_current(self, current_mps, env_ids=None) -> None:
         """Set the uniform water velocity of every environment, or of ``env_ids`` only."""
         self._set_flow("current_mps", slice(3, 6), current_mps, env_ids)
+
+    @property
+    def external_force(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(force [E, B, 3] (N), torque [E, B, 3] (N m))``, read-only views: what
+        :meth:`set_external_force` holds on each body."""
+        ext = self._tables[19]
+        f, t = ext[..., :3], ext[..., 3:]
+        f.flags.writeable = t.flags.writeable = False
+        return f, t
+
+    def set_external_force(self, force_n, torque_nm=(0.0, 0.0, 0.0), env_ids=None) -> None:
+        """Hold a force at each body's center of mass and a torque on it (world frame), in
+        every step until changed (a reset keeps it): a mooring line, a tow, a push from the
+        scene. Each broadcasts to ``[n, B, 3]``, n the number of environments in
+        ``env_ids`` (None: all). Being constant over a :meth:`step` call, a spring written
+        this way is explicit in time: keep its period well above the call's duration."""
+        ids = self._env_ids("set_external_force", env_ids)
+        f = self._broadcast("force_n", force_n, 3, ids.size, "set_external_force")
+        t = self._broadcast("torque_nm", torque_nm, 3, ids.size, "set_external_force")
+        self._tables[19][ids, :, :3] = f
+        self._tables[19][ids, :, 3:] = t
 
     def _set_flow(self, name: str, rows: slice, value, env_ids) -> None:
         ids = self._env_ids(name, env_ids)
@@ -455,6 +495,44 @@ class Simulator:
         out = self._wrench.transpose(2, 1, 0)
         return out[..., :3].copy(), out[..., 3:].copy()
 
+    def sample_forces(
+        self, controls=None, env_index: int = 0
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Each sample's world application point and force in environment ``env_index`` at
+        the current state: the terms that :meth:`wrench` sums (from the same kernel code).
+
+        Samples are the plates, cylinders, buoyancy samples and thrusters of every body;
+        the force held by :meth:`set_external_force` acts at the center of mass and is not
+        one. So a body's net force is ``forces[body == b].sum(0)`` (plus the external
+        force) and its torque ``sum((points - pos) x forces)`` (plus the external torque).
+
+        Args:
+            controls: ``[E, n_controls]`` as in :meth:`step`, or ``[n_controls]``: this
+                environment's channels; None: every channel at 0.
+            env_index: the environment.
+
+        Returns:
+            ``(points [N, 3] (m), forces [N, 3] (N), body [N])``, world frame, float64; N
+            the samples of all bodies, body by body (within one: plates without a control,
+            control surfaces, cylinders, buoyancy, thrusters); ``body`` each one's body slot.
+        """
+        (e,) = self._env_ids("sample_forces", np.asarray([env_index]))
+        if controls is not None and np.ndim(controls) == 1:
+            full = np.zeros((self.num_envs, len(self.control_names)))
+            c = np.asarray(controls, dtype=np.float64)
+            if c.shape != full.shape[1:]:
+                raise ValueError(
+                    f"sample_forces: controls must have shape {full.shape[1:]} (channels "
+                    f"{self.control_names}) or {full.shape}, got {c.shape}"
+                )
+            full[e] = c
+            controls = full
+        self._set_controls(controls)
+        counts = [c.num_samples for c in self.crafts]
+        out = np.zeros((sum(counts), 6))
+        K.sample_forces(*self._args, self._scr, int(e), out)
+        return out[:, :3], out[:, 3:], np.repeat(np.arange(self.num_bodies), counts)
+
     def _env_ids(self, what: str, env_ids) -> np.ndarray:
         ids = np.arange(self.num_envs) if env_ids is None else np.asarray(env_ids)
         if (
@@ -469,17 +547,17 @@ class Simulator:
 
     # ---- reset and step -------------------------------------------------------------------
 
-    def _broadcast(self, name: str, value, width: int, n: int) -> np.ndarray:
+    def _broadcast(self, name: str, value, width: int, n: int, what="reset") -> np.ndarray:
         arr = np.asarray(value, dtype=np.float64)
         try:
             arr = np.broadcast_to(arr, (n, self.num_bodies, width))
         except ValueError:
             raise ValueError(
-                f"reset: {name} of shape {arr.shape} does not broadcast to "
+                f"{what}: {name} of shape {arr.shape} does not broadcast to "
                 f"[{n}, {self.num_bodies}, {width}]"
             ) from None
         if not np.all(np.isfinite(arr)):
-            raise ValueError(f"reset: {name} has non-finite values: {value!r}")
+            raise ValueError(f"{what}: {name} has non-finite values: {value!r}")
         return arr
 
     def reset(

@@ -168,6 +168,10 @@ def test_head_on_collision_keeps_momentum_and_bounds_energy(restitution, shape):
         sim.lin_vel[0, :, 0], [-2.0 * restitution, 2.0 * restitution], atol=1e-9
     )
     np.testing.assert_allclose(sim.ang_vel[0], 0.0, atol=1e-9)
+    # the reported impulse between the pair is each body's change of momentum, m (1 + e) u
+    assert sim.pairs.tolist() == [[0, 1]]
+    np.testing.assert_allclose(sim.pair_impulse[0], [mass * (1 + restitution) * 2.0], rtol=1e-9)
+    assert not sim.ground_impulse.any()
 
 
 def test_glancing_sphere_collision_keeps_momentum_and_angular_momentum():
