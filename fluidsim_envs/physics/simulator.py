@@ -362,6 +362,14 @@ class Simulator:
         self._set_flow("current_mps", slice(3, 6), current_mps, env_ids)
 
     @property
+    def controls(self) -> np.ndarray:
+        """``[E, n_controls]`` (read-only view): the controls of the last :meth:`step` or
+        :meth:`wrench` call, channels in ``control_names`` order."""
+        v = self._ctrl.T
+        v.flags.writeable = False
+        return v
+
+    @property
     def external_force(self) -> tuple[np.ndarray, np.ndarray]:
         """``(force [E, B, 3] (N), torque [E, B, 3] (N m))``, read-only views: what
         :meth:`set_external_force` holds on each body."""
