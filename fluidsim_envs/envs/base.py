@@ -209,13 +209,16 @@ class FluidVectorEnv(VectorEnv):
         done = terminated | truncated
         if done.any():
             ended = np.flatnonzero(done)
+            # the ended episodes' totals, masked like Gymnasium's other per-sub-env keys
             info["episode_terms"] = dict(zip(self.reward_terms, self._sums.copy(), strict=True))
+            info["_episode_terms"] = done
             info["episode_steps"] = self._elapsed.copy()
+            info["_episode_steps"] = done
             if self.autoreset:
-                info["final_obs"] = self._obs.copy()
-                info["_final_obs"] = done
                 info["final_info"] = dict(info)
                 info["_final_info"] = done
+                info["final_obs"] = self._obs.copy()
+                info["_final_obs"] = done
                 self._start(ended)
                 self._observe(self._obs)
             else:

@@ -885,9 +885,7 @@ def wrench(st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, sc
 
 
 @njit(**_JIT)
-def sample_forces(
-    st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, scr, env, out
-):
+def sample_forces(st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, scr, env, out):
     """Each sample's world application point and force in environment ``env`` at its clock,
     ``out[N, 6]`` (point x, y, z, then force), N the samples of every body in ``_evaluate``'s
     order: ``_evaluate`` records them as it adds them up, so they sum to :func:`wrench`."""

@@ -1,0 +1,498 @@
+"""Train a pilot with Stable-Baselines3 from a YAML config, into a self-describing run folder.
+
+    python training/train.py configs/paper_airplane_ppo.yaml [--set key=value ...]
+        [--run-dir DIR] [--resume RUN]
+
+The run folder holds everything needed to replay or continue the run:
+
+========================  =====================================================================
+``config.yaml``           the resolved config (defaults filled in, overrides applied)
+``run.yaml``              the command line, git revision (and whether the tree was dirty),
+                          seeds, package versions, timesteps done, resumes
+``model.zip``             the final model; ``vecnormalize.pkl`` its normalization statistics
+``checkpoints/``          periodic (and on Ctrl-C) model + statistics, for ``--resume``
+``eval/``                 ``history.csv`` (one row per evaluation), SB3's ``evaluations.npz``
+``best/``                 the best evaluated model (SB3's ``EvalCallback``)
+``monitor.csv``           every training episode (return, length, success)
+``learning_curve.png``    training and evaluation returns against timesteps
+``tb/``                   TensorBoard logs
+========================  =====================================================================
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import datetime
+import platform
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from .config import (
+    ACTIVATIONS,
+    ConfigError,
+    TrainConfig,
+    config_from_dict,
+    dump_config,
+    load_config,
+)
+
+CHECKPOINT_PREFIX = "model"
+EVAL_HISTORY_COLUMNS = ("timesteps", "mean_return", "std_return", "mean_length", "success_rate")
+
+
+class RunError(RuntimeError):
+    """A run folder that cannot be used as asked (missing, or nothing to resume)."""
+
+
+# --------------------------------------------------------------------------------------------
+# building blocks
+
+
+def algorithm_class(name: str) -> type:
+    from stable_baselines3 import PPO, SAC
+
+    return {"ppo": PPO, "sac": SAC}[name]
+
+
+def policy_kwargs(cfg: TrainConfig) -> dict[str, Any]:
+    """SB3 ``policy_kwargs`` from the structured policy section."""
+    import torch.nn
+
+    p = cfg.policy
+    arch = p.net_arch
+    kwargs: dict[str, Any] = {
+        "net_arch": {k: list(v) for k, v in arch.items()} if isinstance(arch, dict) else list(arch),
+        "activation_fn": getattr(torch.nn, ACTIVATIONS[p.activation_fn]),
+    }
+    if p.log_std_init is not None:
+        kwargs["log_std_init"] = p.log_std_init
+    if p.ortho_init is not None:
+        kwargs["ortho_init"] = p.ortho_init
+    return kwargs
+
+
+def algorithm_kwargs(cfg: TrainConfig) -> dict[str, Any]:
+    """The algorithm's keyword arguments (hyperparameters, learning-rate schedule)."""
+    import dataclasses
+
+    from stable_baselines3.common.utils import LinearSchedule
+
+    a = cfg.algorithm
+    kwargs = {f.name: getattr(a, f.name) for f in dataclasses.fields(a)}
+    del kwargs["name"], kwargs["lr_schedule"]
+    if a.lr_schedule == "linear":  # progress runs 1 -> 0 over the run, resumes included
+        kwargs["learning_rate"] = LinearSchedule(a.learning_rate, 0.0, 1.0)
+    return kwargs
+
+
+def make_env(
+    cfg: TrainConfig,
+    n_envs: int,
+    seed: int,
+    *,
+    evaluation: bool = False,
+    stats: Path | None = None,
+    monitor_file: Path | None = None,
+    append: bool = False,
+):
+    """The SB3 vector env of a run: our native vector env through the adapter, its episodes
+    recorded by ``VecMonitor`` (raw returns; into ``monitor_file``, appended to when
+    ``append``), then ``VecNormalize`` when enabled (``stats``: a saved ``.pkl`` to load).
+
+    ``evaluation``: frozen statistics, raw rewards, and success reported as ``is_success``
+    (which SB3's ``EvalCallback`` reads).
+    """
+    from stable_baselines3.common.monitor import ResultsWriter
+    from stable_baselines3.common.vec_env import VecMonitor, VecNormalize
+
+    from fluidsim_envs.wrappers.sb3 import make_sb3_vec_env
+
+    venv = make_sb3_vec_env(
+        cfg.env_id,
+        n_envs,
+        seed=seed,
+        success_key="success" if evaluation else None,
+        **cfg.env_kwargs,
+    )
+    venv = VecMonitor(venv, info_keywords=("success",))
+    if monitor_file is not None:
+        # VecMonitor opens its file for writing; a resumed run appends to the old rows
+        venv.results_writer = ResultsWriter(
+            str(monitor_file),
+            header={"t_start": venv.t_start, "env_id": cfg.env_id},
+            extra_keys=("success",),
+            override_existing=not append,
+        )
+    n = cfg.normalize
+    if not n.enabled:
+        return venv
+    if stats is not None:
+        venv = VecNormalize.load(str(stats), venv)
+    else:
+        venv = VecNormalize(
+            venv,
+            norm_obs=n.norm_obs,
+            norm_reward=n.norm_reward,
+            clip_obs=n.clip_obs,
+            clip_reward=n.clip_reward,
+            gamma=cfg.algorithm.gamma,
+            epsilon=n.epsilon,
+        )
+    if evaluation:
+        venv.training = False
+        venv.norm_reward = False
+    return venv
+
+
+def git_revision() -> dict[str, Any]:
+    """The package's git revision and whether its tree has uncommitted changes (None
+    outside a git checkout or without git)."""
+    root = Path(__file__).resolve().parent
+    try:
+        rev = subprocess.run(
+            ["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True, timeout=10
+        )
+        status = subprocess.run(
+            ["git", "status", "--porcelain"], cwd=root, capture_output=True, text=True, timeout=10
+        )
+    except (OSError, subprocess.SubprocessError):
+        return {"revision": None, "dirty": None}
+    if rev.returncode != 0:
+        return {"revision": None, "dirty": None}
+    return {"revision": rev.stdout.strip(), "dirty": bool(status.stdout.strip())}
+
+
+def versions() -> dict[str, str]:
+    import gymnasium
+    import numpy
+    import stable_baselines3
+    import torch
+
+    return {
+        "python": platform.python_version(),
+        "numpy": numpy.__version__,
+        "gymnasium": gymnasium.__version__,
+        "stable_baselines3": stable_baselines3.__version__,
+        "torch": str(torch.__version__),
+    }
+
+
+def latest_checkpoint(run_dir: Path) -> tuple[int, Path] | None:
+    """(timesteps, model path) of the newest checkpoint in ``run_dir/checkpoints``."""
+    found = []
+    for path in (run_dir / "checkpoints").glob(f"{CHECKPOINT_PREFIX}_*_steps.zip"):
+        m = re.fullmatch(rf"{CHECKPOINT_PREFIX}_(\d+)_steps\.zip", path.name)
+        if m:
+            found.append((int(m.group(1)), path))
+    return max(found) if found else None
+
+
+def checkpoint_stats(model_path: Path) -> Path:
+    """The normalization statistics saved with a checkpoint (SB3's naming)."""
+    steps = model_path.name[len(CHECKPOINT_PREFIX) + 1 :]
+    return model_path.with_name(f"{CHECKPOINT_PREFIX}_vecnormalize_{steps}").with_suffix(".pkl")
+
+
+def _callbacks(cfg: TrainConfig, run_dir: Path, eval_env) -> list:
+    from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback, EvalCallback
+
+    class EvalHistory(BaseCallback):
+        """After each evaluation: append its row to ``eval/history.csv`` (kept across
+        resumes) and reseed the eval env so the next evaluation flies the same episodes."""
+
+        def _on_step(self) -> bool:
+            import numpy as np
+
+            parent = self.parent
+            returns = parent.evaluations_results[-1]
+            success = parent._is_success_buffer
+            row = [
+                parent.num_timesteps,
+                float(np.mean(returns)),
+                float(np.std(returns)),
+                float(np.mean(parent.evaluations_length[-1])),
+                float(np.mean(success)) if success else float("nan"),
+            ]
+            path = run_dir / "eval" / "history.csv"
+            new = not path.exists()
+            with path.open("a", newline="") as f:
+                writer = csv.writer(f)
+                if new:
+                    writer.writerow(EVAL_HISTORY_COLUMNS)
+                writer.writerow(row)
+            eval_env.seed(cfg.eval.seed)
+            return True
+
+    callbacks = []
+    if cfg.checkpoint.freq > 0:
+        callbacks.append(
+            CheckpointCallback(
+                save_freq=max(cfg.checkpoint.freq // cfg.n_envs, 1),
+                save_path=str(run_dir / "checkpoints"),
+                name_prefix=CHECKPOINT_PREFIX,
+                save_replay_buffer=cfg.checkpoint.save_replay_buffer,
+                save_vecnormalize=True,
+            )
+        )
+    if cfg.eval.freq > 0:
+        callbacks.append(
+            EvalCallback(
+                eval_env,
+                callback_after_eval=EvalHistory(),
+                n_eval_episodes=cfg.eval.n_episodes,
+                eval_freq=max(cfg.eval.freq // cfg.n_envs, 1),
+                log_path=str(run_dir / "eval"),
+                best_model_save_path=str(run_dir / "best"),
+                deterministic=True,
+                verbose=1,
+            )
+        )
+    return callbacks
+
+
+def _save(model, run_dir: Path, name: str, stats_name: str) -> None:
+    run_dir.mkdir(parents=True, exist_ok=True)
+    model.save(run_dir / name)
+    vec_normalize = model.get_vec_normalize_env()
+    if vec_normalize is not None:
+        vec_normalize.save(str(run_dir / stats_name))
+
+
+def plot_learning_curve(run_dir: Path) -> Path | None:
+    """``learning_curve.png``: training episode returns (and their running mean) and the
+    evaluations (mean +- std) against timesteps. None when there is nothing to plot yet."""
+    try:
+        import matplotlib
+    except ImportError:  # an optional extra: the run itself is complete without the figure
+        print("matplotlib is not installed: no learning_curve.png", file=sys.stderr)
+        return None
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    fig, ax = plt.subplots(figsize=(7, 4), dpi=100)
+    drew = False
+    monitor = run_dir / "monitor.csv"
+    if monitor.exists():
+        rows = list(csv.DictReader(line for line in monitor.open() if not line.startswith("#")))
+        if rows:
+            r = np.array([float(row["r"]) for row in rows])
+            steps = np.cumsum([int(row["l"]) for row in rows])
+            ax.plot(steps, r, ".", ms=2, alpha=0.3, color="tab:blue", label="training episode")
+            k = max(1, min(100, len(r) // 10))
+            ax.plot(steps[k - 1 :], np.convolve(r, np.ones(k) / k, "valid"), color="tab:blue")
+            drew = True
+    history = run_dir / "eval" / "history.csv"
+    if history.exists():
+        rows = list(csv.DictReader(history.open()))
+        if rows:
+            t = np.array([float(row["timesteps"]) for row in rows])
+            m = np.array([float(row["mean_return"]) for row in rows])
+            s = np.array([float(row["std_return"]) for row in rows])
+            ax.errorbar(t, m, yerr=s, fmt="o-", color="tab:red", capsize=3, label="evaluation")
+            drew = True
+    if not drew:
+        plt.close(fig)
+        return None
+    ax.set_xlabel("timesteps")
+    ax.set_ylabel("episode return")
+    ax.set_title(run_dir.name)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="best")
+    fig.tight_layout()
+    out = run_dir / "learning_curve.png"
+    fig.savefig(out)
+    plt.close(fig)
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# the run
+
+
+def train(
+    cfg: TrainConfig,
+    run_dir: Path,
+    command: list[str],
+    *,
+    resume: bool = False,
+    progress_bar: bool = True,
+) -> Path:
+    """Train ``cfg`` into ``run_dir`` (or, with ``resume``, continue the run there from its
+    newest checkpoint) and return the final model's path."""
+    run_dir.mkdir(parents=True, exist_ok=True)
+    meta_path = run_dir / "run.yaml"
+    now = datetime.datetime.now().isoformat(timespec="seconds")
+    algo_cls = algorithm_class(cfg.algorithm.name)
+    checkpoint = None
+    if resume:
+        checkpoint = latest_checkpoint(run_dir)
+        if checkpoint is None:
+            raise RunError(f"{run_dir}: no checkpoint in {run_dir / 'checkpoints'} to resume from")
+        meta = yaml.safe_load(meta_path.read_text()) if meta_path.exists() else {}
+    else:
+        meta = {
+            "env_id": cfg.env_id,
+            "algorithm": cfg.algorithm.name,
+            "command": command,
+            "command_line": shlex.join(command),
+            "cwd": str(Path.cwd()),
+            "git": git_revision(),
+            "started": now,
+            "versions": versions(),
+        }
+    dump_config(cfg, run_dir / "config.yaml")
+
+    # seeding, in one place: training env i gets seed + i at its first reset (SB3's
+    # VecEnv.seed); a resumed run reseeds with seed + timesteps done, so it does not replay
+    # the episodes it began with; the eval env is reseeded before every evaluation
+    done_steps = checkpoint[0] if checkpoint else 0
+    env_seed = cfg.seed + done_steps
+    seeds = {
+        "model": cfg.seed,
+        "train_envs": f"{env_seed} + i for env i < {cfg.n_envs}",
+        "eval_envs": f"{cfg.eval.seed} + i for env i < {cfg.eval.n_episodes}",
+    }
+    stats = None
+    if checkpoint is not None and cfg.normalize.enabled:
+        stats = checkpoint_stats(checkpoint[1])
+        if not stats.exists():
+            raise RunError(f"{run_dir}: checkpoint {checkpoint[1].name} has no {stats.name}")
+    venv = make_env(
+        cfg, cfg.n_envs, env_seed, stats=stats, monitor_file=run_dir / "monitor.csv", append=resume
+    )
+    eval_env = None
+    if cfg.eval.freq > 0:
+        eval_env = make_env(cfg, cfg.eval.n_episodes, cfg.eval.seed, evaluation=True)
+
+    if checkpoint is None:
+        model = algo_cls(
+            "MlpPolicy",
+            venv,
+            policy_kwargs=policy_kwargs(cfg),
+            tensorboard_log=str(run_dir / "tb"),
+            seed=cfg.seed,
+            device=cfg.device,
+            verbose=0,
+            **algorithm_kwargs(cfg),
+        )
+        meta["seeds"] = seeds
+    else:
+        model = algo_cls.load(checkpoint[1], env=venv, device=cfg.device)
+        model.tensorboard_log = str(run_dir / "tb")
+        model.set_random_seed(env_seed)  # torch, the action space and env i: env_seed + i
+        replay = checkpoint[1].with_name(
+            f"{CHECKPOINT_PREFIX}_replay_buffer_{done_steps}_steps.pkl"
+        )
+        if replay.exists():
+            model.load_replay_buffer(replay)
+        meta.setdefault("resumes", []).append(
+            {"at": now, "from": checkpoint[1].name, "timesteps": done_steps, "seeds": seeds}
+        )
+    meta["total_timesteps"] = cfg.total_timesteps
+    meta_path.write_text(yaml.safe_dump(meta, sort_keys=False))
+
+    remaining = cfg.total_timesteps - model.num_timesteps
+    try:
+        if remaining > 0:
+            model.learn(
+                total_timesteps=remaining,
+                callback=_callbacks(cfg, run_dir, eval_env),
+                tb_log_name=cfg.algorithm.name.upper(),
+                reset_num_timesteps=checkpoint is None,
+                progress_bar=progress_bar,
+            )
+    except KeyboardInterrupt:
+        n = model.num_timesteps
+        _save(
+            model,
+            run_dir / "checkpoints",
+            f"{CHECKPOINT_PREFIX}_{n}_steps.zip",
+            f"{CHECKPOINT_PREFIX}_vecnormalize_{n}_steps.pkl",
+        )
+        print(f"\ninterrupted at {n} timesteps; continue with --resume {run_dir}", file=sys.stderr)
+        raise
+    finally:
+        venv.close()
+        if eval_env is not None:
+            eval_env.close()
+
+    _save(model, run_dir, "model.zip", "vecnormalize.pkl")
+    meta["num_timesteps"] = int(model.num_timesteps)
+    meta["finished"] = datetime.datetime.now().isoformat(timespec="seconds")
+    meta_path.write_text(yaml.safe_dump(meta, sort_keys=False))
+    plot_learning_curve(run_dir)
+    return run_dir / "model.zip"
+
+
+# --------------------------------------------------------------------------------------------
+# the command line
+
+
+def parse_args(argv: list[str] | None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(
+        prog="train.py", description="Train a pilot with Stable-Baselines3 from a YAML config."
+    )
+    parser.add_argument("config", nargs="?", help="the config YAML (omit with --resume)")
+    parser.add_argument(
+        "--set",
+        dest="overrides",
+        metavar="KEY=VALUE",
+        nargs="+",
+        action="extend",
+        default=[],
+        help="override config keys (nested through dots, values read as YAML)",
+    )
+    parser.add_argument(
+        "--run-dir", type=Path, help="run folder (default runs/<env>-<algo>-<time>)"
+    )
+    parser.add_argument("--resume", type=Path, metavar="RUN", help="continue this run folder")
+    parser.add_argument("--no-progress-bar", action="store_true", help="hide the progress bar")
+    return parser.parse_args(argv)
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parse_args(argv)
+    command = [Path(sys.executable).name, "training/train.py", *(argv or sys.argv[1:])]
+    try:
+        if args.resume is not None:
+            if args.config is not None or args.run_dir is not None:
+                raise RunError("--resume RUN takes its config and folder from RUN")
+            if not (args.resume / "config.yaml").is_file():
+                raise RunError(f"{args.resume}: not a run folder (no config.yaml)")
+            cfg = load_config(args.resume / "config.yaml", args.overrides)
+            run_dir = args.resume
+        else:
+            if args.config is None:
+                raise RunError("a config file is required (or --resume RUN)")
+            cfg = load_config(args.config, args.overrides)
+            stamp = datetime.datetime.now().strftime("%Y%m%d-%H%M%S")
+            run_dir = args.run_dir or Path("runs") / (
+                f"{cfg.env_name}-{cfg.algorithm.name}-{stamp}"
+            )
+            if (run_dir / "config.yaml").exists():
+                raise RunError(f"{run_dir} already holds a run (use --resume to continue it)")
+        model = train(
+            cfg,
+            run_dir,
+            command,
+            resume=args.resume is not None,
+            progress_bar=not args.no_progress_bar,
+        )
+    except (ConfigError, RunError) as e:
+        print(f"train.py: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return 130
+    print(f"model: {model}")
+    return 0
+
+
+__all__ = ["config_from_dict", "main", "train"]

@@ -1,0 +1,239 @@
+"""A native vector env as a Stable-Baselines3 ``VecEnv``, in-process and without copies of
+the env per sub-env.
+
+Our vector envs reset an ended episode in the same step (Gymnasium's ``SAME_STEP`` autoreset
+mode), which is SB3's convention too, so :class:`SB3VecEnv` only reshapes what they return:
+the batched info dict becomes SB3's list of per-env dicts, and an ended episode's last
+observation and info (``info["final_obs"]``, ``info["final_info"]``) become that env's info
+with ``"terminal_observation"`` and ``"TimeLimit.truncated"``, exactly as SB3's
+``DummyVecEnv`` over the single envs reports them (``tests/wrappers/test_sb3.py`` checks it
+step by step). Seeding follows ``VecEnv.seed``: ``seed(s)`` gives env i the seed ``s + i`` at
+the next ``reset()``, so env i replays the single env seeded ``s + i``.
+
+    >>> from fluidsim_envs.wrappers.sb3 import make_sb3_vec_env
+    >>> venv = make_sb3_vec_env("fluidsim/PaperAirplane-v0", n_envs=4, seed=0)
+    >>> obs = venv.reset()
+    >>> obs, rewards, dones, infos = venv.step(np.zeros((4, 3), dtype=np.float32))
+    >>> obs.shape, rewards.dtype, len(infos)
+    ((4, 15), dtype('float32'), 4)
+    >>> venv.close()
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Sequence
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium.vector import AutoresetMode, VectorEnv, VectorWrapper
+from stable_baselines3.common.vec_env.base_vec_env import (
+    VecEnv,
+    VecEnvIndices,
+    VecEnvObs,
+    VecEnvStepReturn,
+)
+
+# The autoreset bookkeeping of a same-step vector env; not part of any one env's info.
+_AUTORESET_KEYS = ("final_obs", "final_info")
+
+
+def _row(value: Any, i: int) -> Any:
+    """Sub-env ``i``'s entry of a batched info value, as the single env reports it (NumPy
+    scalars become Python numbers; nested dicts are taken row by row, masks dropped)."""
+    if isinstance(value, dict):
+        return {k: _row(v, i) for k, v in value.items() if not k.startswith("_")}
+    if isinstance(value, np.ndarray) and value.ndim >= 1:
+        v = value[i]
+        return v.item() if isinstance(v, np.generic) else v.copy()
+    return value
+
+
+def _env_info(info: dict[str, Any], i: int) -> dict[str, Any]:
+    """Sub-env ``i``'s dict from a batched info dict, honoring Gymnasium's ``_key`` masks."""
+    out = {}
+    for key, value in info.items():
+        if key.startswith("_") or key in _AUTORESET_KEYS:
+            continue
+        mask = info.get(f"_{key}")
+        if mask is not None and not mask[i]:
+            continue
+        out[key] = _row(value, i)
+    return out
+
+
+class SB3VecEnv(VecEnv):
+    """Present a Gymnasium vector env with same-step autoreset (any :class:`FluidVectorEnv`,
+    or a ``VectorWrapper`` around one) as an SB3 ``VecEnv``.
+
+    Attributes and methods reached through ``get_attr``, ``set_attr`` and ``env_method`` are
+    the vector env's, shared by all its sub-envs: a query for some indices answers for each,
+    and a change or call must name all of them.
+
+    Parameters
+    ----------
+    venv
+        The vector env; it is closed with this adapter.
+    success_key
+        An info key to copy into ``"is_success"`` at an episode's end, the key SB3 reads for
+        success rates (``EvalCallback``); None (the default) adds nothing, as DummyVecEnv.
+    """
+
+    def __init__(self, venv: VectorEnv, *, success_key: str | None = None) -> None:
+        mode = venv.metadata.get("autoreset_mode")
+        if mode != AutoresetMode.SAME_STEP:
+            raise ValueError(
+                f"SB3VecEnv needs a vector env with same-step autoreset "
+                f"(metadata['autoreset_mode'] == AutoresetMode.SAME_STEP), got {mode!r}"
+            )
+        self.venv = venv
+        self.success_key = success_key
+        self._actions: np.ndarray | None = None
+        super().__init__(venv.num_envs, venv.single_observation_space, venv.single_action_space)
+        self.metadata = venv.metadata  # as DummyVecEnv: the env's own metadata
+
+    # ---- stepping -------------------------------------------------------------------------
+
+    def reset(self) -> VecEnvObs:
+        """Reset every env with the seeds from :meth:`seed` and the options from
+        :meth:`set_options` (both used once), as ``DummyVecEnv.reset`` does."""
+        seeds = self._seeds
+        if all(s is None for s in seeds):
+            seed: list[int | None] | None = None  # every env continues its own generator
+        else:
+            # a None among given seeds draws fresh entropy for that env (DummyVecEnv would let
+            # it continue its generator; VecEnv.seed never produces such a mix)
+            seed = list(seeds)
+        options = self._options
+        if any(o != options[0] for o in options):
+            raise ValueError(
+                "SB3VecEnv.reset: the vector env takes one options dict for all its sub-envs, "
+                f"got different ones per env: {options}"
+            )
+        obs, info = self.venv.reset(seed=seed, options=options[0] or None)
+        self.reset_infos = [_env_info(info, i) for i in range(self.num_envs)]
+        self._reset_seeds()
+        self._reset_options()
+        return np.array(obs, copy=True)
+
+    def step_async(self, actions: np.ndarray) -> None:
+        self._actions = np.asarray(actions)
+
+    def step_wait(self) -> VecEnvStepReturn:
+        if self._actions is None:
+            raise RuntimeError("SB3VecEnv.step_wait called without step_async")
+        obs, rewards, terminated, truncated, info = self.venv.step(self._actions)
+        self._actions = None
+        terminated = np.asarray(terminated, dtype=bool)
+        truncated = np.asarray(truncated, dtype=bool)
+        dones = terminated | truncated
+        infos: list[dict[str, Any]] = []
+        for i in range(self.num_envs):
+            if dones[i]:
+                env_info = _env_info(info["final_info"], i)
+                terminal_obs = np.array(info["final_obs"][i], copy=True)
+                self.reset_infos[i] = {}  # the autoreset's info: our envs report none
+            else:
+                env_info = _env_info(info, i)
+            # SB3's reading of Gymnasium's flags (DummyVecEnv.step_wait)
+            env_info["TimeLimit.truncated"] = bool(truncated[i] and not terminated[i])
+            if dones[i]:
+                env_info["terminal_observation"] = terminal_obs
+                if self.success_key is not None:
+                    env_info["is_success"] = env_info[self.success_key]
+            infos.append(env_info)
+        # DummyVecEnv keeps rewards in a float32 buffer
+        return np.array(obs, copy=True), np.asarray(rewards, dtype=np.float32), dones, infos
+
+    def close(self) -> None:
+        self.venv.close()
+
+    # ---- rendering ------------------------------------------------------------------------
+
+    def get_images(self) -> Sequence[np.ndarray | None]:
+        if self.render_mode != "rgb_array":
+            warnings.warn(
+                f"The render mode is {self.render_mode}, but get_images needs 'rgb_array'",
+                stacklevel=2,
+            )
+            return [None] * self.num_envs
+        return list(self.venv.render())
+
+    # ---- attributes -----------------------------------------------------------------------
+
+    def _chain(self) -> list[VectorEnv]:
+        """The vector env's wrappers, outermost first, then the env itself."""
+        chain, env = [], self.venv
+        while isinstance(env, VectorWrapper):
+            chain.append(env)
+            env = env.env
+        return [*chain, env]
+
+    def _all(self, indices: VecEnvIndices, what: str) -> None:
+        if sorted(self._get_indices(indices)) != list(range(self.num_envs)):
+            raise ValueError(
+                f"SB3VecEnv.{what}: the vector env's attributes and methods are shared by all "
+                f"{self.num_envs} sub-envs; pass indices=None, got {indices!r}"
+            )
+
+    def _lookup(self, name: str) -> Any:
+        for env in self._chain():
+            try:
+                return getattr(env, name)
+            except AttributeError:
+                continue
+        raise AttributeError(f"{type(self.venv).__name__} has no attribute {name!r}")
+
+    def get_attr(self, attr_name: str, indices: VecEnvIndices = None) -> list[Any]:
+        value = self._lookup(attr_name)
+        return [value for _ in self._get_indices(indices)]
+
+    def set_attr(self, attr_name: str, value: Any, indices: VecEnvIndices = None) -> None:
+        self._all(indices, "set_attr")
+        for env in self._chain():  # the innermost holder of the name, else the outermost env
+            if attr_name in vars(env):
+                setattr(env, attr_name, value)
+                return
+        setattr(self.venv, attr_name, value)
+
+    def env_method(
+        self, method_name: str, *method_args, indices: VecEnvIndices = None, **method_kwargs
+    ) -> list[Any]:
+        """Call the vector env's method once; every listed index gets its result."""
+        self._all(indices, "env_method")
+        result = self._lookup(method_name)(*method_args, **method_kwargs)
+        return [result for _ in self._get_indices(indices)]
+
+    def env_is_wrapped(
+        self, wrapper_class: type[gym.Wrapper], indices: VecEnvIndices = None
+    ) -> list[bool]:
+        """Whether the vector env is wrapped in ``wrapper_class`` (a vector wrapper); a
+        single-env wrapper such as SB3's ``Monitor`` never is."""
+        wrapped = any(isinstance(env, wrapper_class) for env in self._chain()[:-1])
+        return [wrapped for _ in self._get_indices(indices)]
+
+
+def make_sb3_vec_env(
+    env_id: str,
+    n_envs: int,
+    seed: int | None = None,
+    *,
+    success_key: str | None = None,
+    **env_kwargs: Any,
+) -> SB3VecEnv:
+    """``n_envs`` sub-envs of ``env_id`` in one native vector env, as an SB3 ``VecEnv``.
+
+    ``env_kwargs`` set the env's parameters (an unknown one is an error listing the valid
+    ones). With ``seed``, env i is seeded ``seed + i`` at the first ``reset()``.
+    ``success_key``: see :class:`SB3VecEnv`.
+    """
+    import fluidsim_envs  # noqa: F401  (registers the ids)
+
+    venv = gym.make_vec(
+        env_id, num_envs=n_envs, vectorization_mode="vector_entry_point", **env_kwargs
+    )
+    sb3_venv = SB3VecEnv(venv, success_key=success_key)
+    if seed is not None:
+        sb3_venv.seed(seed)
+    return sb3_venv

@@ -1,0 +1,124 @@
+"""Training configs: every shipped config loads; unknown keys, wrong types and bad values are
+errors that name them; --set overrides reach nested keys."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import yaml
+
+from fluidsim_envs.rl.config import (
+    ConfigError,
+    PPOConfig,
+    SACConfig,
+    apply_overrides,
+    config_from_dict,
+    config_to_dict,
+    load_config,
+)
+
+CONFIGS = Path(__file__).resolve().parents[2] / "configs"
+MINIMAL = {"env_id": "fluidsim/PaperAirplane-v0", "algorithm": {"name": "ppo"}}
+
+
+def test_shipped_configs_cover_every_env_with_ppo_and_the_airplane_with_sac():
+    loaded = {p.name: load_config(p) for p in sorted(CONFIGS.glob("*.yaml"))}
+    pairs = {(c.env_id, c.algorithm.name) for c in loaded.values()}
+    assert pairs >= {
+        ("fluidsim/PaperAirplane-v0", "ppo"),
+        ("fluidsim/SubmarineWake-v0", "ppo"),
+        ("fluidsim/BoatOnStep-v0", "ppo"),
+        ("fluidsim/PaperAirplane-v0", "sac"),
+    }
+    for name, cfg in loaded.items():
+        # every key of the file is spelled out and survives the round trip
+        raw = yaml.safe_load((CONFIGS / name).read_text())
+        assert config_from_dict(config_to_dict(cfg)) == cfg
+        assert set(raw) <= set(config_to_dict(cfg))
+
+
+def test_overrides_reach_nested_keys_and_read_values_as_yaml():
+    raw = apply_overrides(
+        MINIMAL,
+        [
+            "n_envs=8",
+            "algorithm.learning_rate=1.0e-4",
+            "env_kwargs.launch_height_m=[2, 3]",
+            "policy.net_arch={pi: [32], vf: [16, 16]}",
+            "eval.freq=0",
+        ],
+    )
+    cfg = config_from_dict(raw)
+    assert cfg.n_envs == 8 and cfg.algorithm.learning_rate == 1e-4 and cfg.eval.freq == 0
+    assert cfg.env_kwargs == {"launch_height_m": [2, 3]}
+    assert cfg.policy.net_arch == {"pi": (32,), "vf": (16, 16)}
+    assert MINIMAL == {"env_id": "fluidsim/PaperAirplane-v0", "algorithm": {"name": "ppo"}}
+    with pytest.raises(ConfigError, match="key=value"):
+        apply_overrides(MINIMAL, ["n_envs"])
+    with pytest.raises(ConfigError, match="env_id is 'fluidsim/PaperAirplane-v0', not a mapping"):
+        apply_overrides(MINIMAL, ["env_id.x=1"])
+
+
+@pytest.mark.parametrize(
+    ("overrides", "message"),
+    [
+        (["n_env=8"], r"unknown key 'n_env' in the config; valid keys: env_id, algorithm"),
+        (["algorithm.gama=0.9"], r"unknown key 'algorithm.gama' in algorithm; valid keys: name,"),
+        (["eval.episodes=3"], r"unknown key 'eval.episodes' in eval; valid keys: freq, n_epi"),
+        (["algorithm.buffer_size=10"], r"unknown key 'algorithm.buffer_size'"),  # a SAC key
+        (["n_envs=eight"], r"n_envs must be an integer, got 'eight'"),
+        (["n_envs=2.5"], r"n_envs must be an integer, got 2.5"),
+        (["algorithm.learning_rate=3e-4"], r"must be a number, got '3e-4' \(YAML reads"),
+        (["normalize.enabled=yes please"], r"normalize.enabled must be true or false"),
+        (
+            ["policy.net_arch=[64, many]"],
+            r"net_arch must be a list of integers or a mapping of a list of integers, "
+            r"got \[64, 'many'\]",
+        ),
+        (["policy.activation_fn=swish"], r"activation_fn must be one of \['tanh', 'relu'"),
+        (["policy.net_arch={pi: [8], qf: [8]}"], r"must name the heads \['pi', 'vf'\]"),
+        (["algorithm.name=dqn"], r"algorithm.name must be one of \['ppo', 'sac'\], got 'dqn'"),
+        (["algorithm.gamma=1.5"], r"algorithm.gamma must be in \(0, 1\], got 1.5"),
+        (["algorithm.batch_size=4096", "n_envs=2"], r"batch_size \(4096\) must be at most"),
+        (["env_id=fluidsim/Nope-v0"], r"env_id must be one of \['fluidsim/BoatOnStep-v0'"),
+        (["env_kwargs.wingspan_m=1"], r"env_kwargs: .*unknown parameter\(s\) \['wingspan_m'\]"),
+        (["env_kwargs.max_episode_steps=0"], r"env_kwargs: .*max_episode_steps must be"),
+    ],
+)
+def test_bad_values_are_errors_that_name_them(overrides, message):
+    with pytest.raises(ConfigError, match=message):
+        config_from_dict(apply_overrides(MINIMAL, overrides))
+
+
+def test_missing_required_keys_and_files(tmp_path):
+    with pytest.raises(ConfigError, match="missing required key 'env_id'"):
+        config_from_dict({"algorithm": {"name": "ppo"}})
+    with pytest.raises(ConfigError, match="algorithm must be a mapping with a name"):
+        config_from_dict({"env_id": "fluidsim/PaperAirplane-v0", "algorithm": "ppo"})
+    with pytest.raises(ConfigError, match="config file not found: .*nowhere.yaml"):
+        load_config(tmp_path / "nowhere.yaml")
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("env_id: [unclosed\n")
+    with pytest.raises(ConfigError, match="bad.yaml: not valid YAML"):
+        load_config(bad)
+    bad.write_text("- a list\n")
+    with pytest.raises(ConfigError, match="expected a mapping"):
+        load_config(bad)
+
+
+def test_algorithm_sections_are_typed_per_algorithm():
+    sac = config_from_dict(
+        apply_overrides(
+            MINIMAL,
+            ["algorithm={name: SAC, ent_coef: 0.1}", "policy.net_arch={pi: [8], qf: [8]}"],
+        )
+    )
+    assert isinstance(sac.algorithm, SACConfig) and sac.algorithm.ent_coef == 0.1
+    assert isinstance(config_from_dict(MINIMAL).algorithm, PPOConfig)
+    with pytest.raises(ConfigError, match="ent_coef must be a number, 'auto'"):
+        config_from_dict(apply_overrides(MINIMAL, ["algorithm={name: sac, ent_coef: big}"]))
+    with pytest.raises(ConfigError, match="ortho_init applies to ppo only"):
+        config_from_dict(
+            apply_overrides(MINIMAL, ["algorithm={name: sac}", "policy.ortho_init=false"])
+        )
