@@ -4,7 +4,7 @@ VENV ?= .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: setup test lint demo bench clean
+.PHONY: setup test lint demo pilots bench clean
 
 $(STAMP): pyproject.toml
 	$(PY) -m venv $(VENV)
@@ -22,7 +22,16 @@ lint: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 
+# the main job: a PPO pilot for PaperAirplane-v0 trained briefly, evaluated against the
+# scripted pilot and random, its episodes written to a Rerun recording
+DEMO_RUN ?= runs/demo
 demo: $(STAMP)
+	$(BIN)/python training/train.py configs/paper_airplane_ppo.yaml \
+		--set total_timesteps=1000000 --run-dir $(DEMO_RUN) --no-progress-bar
+	$(BIN)/python training/evaluate.py $(DEMO_RUN) --episodes 256 --rerun $(DEMO_RUN)/episodes.rrd
+
+# the physics demo and the scripted pilots of the three envs, side by side
+pilots: $(STAMP)
 	$(BIN)/python -m fluidsim_envs.demo
 
 bench: $(STAMP)

@@ -29,6 +29,7 @@ import re
 import shlex
 import subprocess
 import sys
+import time
 from pathlib import Path
 from typing import Any
 
@@ -265,6 +266,22 @@ def _save(model, run_dir: Path, name: str, stats_name: str) -> None:
         vec_normalize.save(str(run_dir / stats_name))
 
 
+def _timing(venv, eval_env, wall: float) -> dict[str, float]:
+    """Where this session's training time went: the vector envs' reset and step (training and
+    evaluation) against everything else (the policy's forward passes, the updates, SB3's
+    bookkeeping); and the training env-steps per second of wall time."""
+    train_env = venv.unwrapped
+    eval_s = eval_env.unwrapped.env_seconds if eval_env is not None else 0.0
+    return {
+        "wall_s": round(wall, 1),
+        "env_steps": int(train_env.env_steps),
+        "env_steps_per_s": round(train_env.env_steps / max(wall, 1e-9), 1),
+        "train_env_s": round(train_env.env_seconds, 1),
+        "eval_env_s": round(eval_s, 1),
+        "env_share": round((train_env.env_seconds + eval_s) / max(wall, 1e-9), 4),
+    }
+
+
 def plot_learning_curve(run_dir: Path) -> Path | None:
     """``learning_curve.png``: training episode returns (and their running mean) and the
     evaluations (mean +- std) against timesteps. None when there is nothing to plot yet."""
@@ -400,6 +417,7 @@ def train(
     meta_path.write_text(yaml.safe_dump(meta, sort_keys=False))
 
     remaining = cfg.total_timesteps - model.num_timesteps
+    start = time.perf_counter()
     try:
         if remaining > 0:
             model.learn(
@@ -424,7 +442,9 @@ def train(
         if eval_env is not None:
             eval_env.close()
 
+    wall = time.perf_counter() - start
     _save(model, run_dir, "model.zip", "vecnormalize.pkl")
+    meta.setdefault("timing", []).append(_timing(venv, eval_env, wall))
     meta["num_timesteps"] = int(model.num_timesteps)
     meta["finished"] = datetime.datetime.now().isoformat(timespec="seconds")
     meta_path.write_text(yaml.safe_dump(meta, sort_keys=False))

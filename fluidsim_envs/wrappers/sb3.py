@@ -21,6 +21,7 @@ the next ``reset()``, so env i replays the single env seeded ``s + i``.
 
 from __future__ import annotations
 
+import time
 import warnings
 from collections.abc import Sequence
 from typing import Any
@@ -90,6 +91,8 @@ class SB3VecEnv(VecEnv):
         self.venv = venv
         self.success_key = success_key
         self._actions: np.ndarray | None = None
+        self.env_seconds = 0.0  # wall time inside the vector env's reset and step
+        self.env_steps = 0  # transitions stepped (num_envs per step)
         super().__init__(venv.num_envs, venv.single_observation_space, venv.single_action_space)
         self.metadata = venv.metadata  # as DummyVecEnv: the env's own metadata
 
@@ -111,7 +114,9 @@ class SB3VecEnv(VecEnv):
                 "SB3VecEnv.reset: the vector env takes one options dict for all its sub-envs, "
                 f"got different ones per env: {options}"
             )
+        t = time.perf_counter()
         obs, info = self.venv.reset(seed=seed, options=options[0] or None)
+        self.env_seconds += time.perf_counter() - t
         self.reset_infos = [_env_info(info, i) for i in range(self.num_envs)]
         self._reset_seeds()
         self._reset_options()
@@ -123,7 +128,10 @@ class SB3VecEnv(VecEnv):
     def step_wait(self) -> VecEnvStepReturn:
         if self._actions is None:
             raise RuntimeError("SB3VecEnv.step_wait called without step_async")
+        t = time.perf_counter()
         obs, rewards, terminated, truncated, info = self.venv.step(self._actions)
+        self.env_seconds += time.perf_counter() - t
+        self.env_steps += self.num_envs
         self._actions = None
         terminated = np.asarray(terminated, dtype=bool)
         truncated = np.asarray(truncated, dtype=bool)

@@ -91,6 +91,9 @@ def test_train_writes_a_self_describing_run_folder(run):
     assert meta["git"]["revision"] is None or len(meta["git"]["revision"]) == 40
     assert meta["seeds"]["model"] == 0 and meta["num_timesteps"] == 2048
     assert meta["versions"]["stable_baselines3"]
+    (timing,) = meta["timing"]  # where the time went: the envs against the learner
+    assert timing["env_steps"] == 2048 and 0.0 < timing["env_share"] < 1.0
+    assert timing["train_env_s"] + timing["eval_env_s"] < timing["wall_s"]
     with (run / "eval" / "history.csv").open() as f:
         rows = list(csv.DictReader(f))
     assert [int(r["timesteps"]) for r in rows] == [1024, 2048]
