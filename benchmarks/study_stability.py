@@ -167,15 +167,16 @@ def mode_euler_spring(probs, rows, plt, out):
         rows.append(("euler_spring", m, dt, "energy_ratio_max", float(e[keep].max())))
         print(f"euler_spring {m} dt {dt:.5f}: E/E0 = {ratio:.3g} at t = {h[keep, 0][-1]:.2f} s")
     ax.axhline(leave, color="gray", lw=0.8)
-    ax.text(0.5, leave * 1.3, "the body leaves the water (the spring ends)", fontsize=8)
+    ax.text(12.0, leave / 1.35, "the body leaves the water (the spring ends)", fontsize=8)
     ax.set_xlabel("t (s)")
     ax.set_ylabel("energy / initial energy")
     ax.set_title(
         f"Explicit Euler gains energy on the buoyancy spring (omega = {SA.OMEGA:.2f} rad/s);\n"
-        "dashed: (1 + (omega dt)^2)^n"
+        "dashed: (1 + (omega dt)^2)^n",
+        fontsize=10,
     )
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="center right")
     fig.savefig(out / "study_stability_euler_spring.png", dpi=100)
     plt.close(fig)
 
