@@ -828,6 +828,15 @@ def _advance_block(
                 x = scr_blk[b, (Y + k) * BLOCK + i]
                 st[k, b, e0 + i] = x
                 diverged[e0 + i] |= not math.isfinite(x)
+    # faster than the fluid samples' speed clamp is outside the model (every sample saturated):
+    # a runaway that the clamps keep finite is flagged as diverged too (docs/study.md)
+    vmax2 = prm[P_VMAX] * prm[P_VMAX]
+    for b in range(nb):
+        for i in range(n):
+            vx = scr_blk[b, (Y + OV) * BLOCK + i]
+            vy = scr_blk[b, (Y + OV + 1) * BLOCK + i]
+            vz = scr_blk[b, (Y + OV + 2) * BLOCK + i]
+            diverged[e0 + i] |= vx * vx + vy * vy + vz * vz > vmax2
 
 
 # The kernels' leading arguments (``Simulator._args``): st[13, B, E] state, flow[6, E] air and

@@ -333,7 +333,9 @@ class Simulator:
 
     @property
     def diverged(self) -> np.ndarray:
-        """[E] True where the last step left a non-finite state (that env needs a reset)."""
+        """[E] True where the last step left a non-finite state, or a body faster than
+        ``World.max_fluid_speed_mps`` (beyond the fluid model: the clamps would keep such a
+        runaway finite, not sane). That env needs a reset."""
         v = self._diverged.view()
         v.flags.writeable = False
         return v

@@ -149,6 +149,34 @@ def test_divergence_is_flagged_not_hidden():
     assert not sim.diverged.any()
 
 
+def test_runaway_beyond_the_speed_clamp_is_flagged():
+    """The paper airplane at three times its stability limit (docs/study.md: 57 ms under
+    symplectic Euler) runs away; the clamps keep it finite, so the flag is its speed passing
+    max_fluid_speed_mps (outside the fluid model). The same dart at its default dt, and a
+    body just under the clamp, are not flagged."""
+    dart = Craft.load("paper_airplane")
+    world = World()
+    sim = Simulator(dart, world, num_envs=2, dt=0.171)
+    sim.reset(pos=(0.0, 0.0, 100.0), lin_vel=(6.0, 0.0, 0.0))
+    flagged = False
+    for _ in range(40):
+        sim.step()
+        flagged |= bool(sim.diverged[0])
+        if flagged:
+            break
+    assert flagged and np.all(np.isfinite(sim.pos))
+    assert np.linalg.norm(sim.lin_vel[0, 0]) > world.max_fluid_speed_mps
+    calm = Simulator(dart, world, num_envs=1, dt=1 / 240)
+    calm.reset(pos=(0.0, 0.0, 100.0), lin_vel=(6.0, 0.0, 0.0))
+    calm.step(steps=480)
+    assert not calm.diverged.any()
+    box = Craft(name="box", mass_kg=1.0, inertia_kgm2=(1.0, 1.0, 1.0))
+    fast = Simulator(box, World(gravity_mps2=0.0), num_envs=1, dt=0.01)
+    fast.reset(lin_vel=(0.99 * world.max_fluid_speed_mps, 0.0, 0.0))
+    fast.step()
+    assert not fast.diverged.any()
+
+
 def test_cylinder_in_simulator_and_several_bodies():
     rod = Craft(
         name="rod",
