@@ -70,7 +70,8 @@ NCBODY = 3
 # contact parameters [NCPRM]
 C_ON, C_GROUND, C_GZ, C_GX0, C_GY0, C_GINV = 0, 1, 2, 3, 4, 5
 C_GE, C_GMU, C_REST_SPEED, C_DT, C_PAIR_BOUND, C_PASSES, C_MARGIN = 6, 7, 8, 9, 10, 11, 12
-NCPRM = 13
+C_GTOP = 13  # the ground's highest point: a body whose reach is clear above it touches nothing
+NCPRM = 14
 GROUND_NONE, GROUND_PLANE, GROUND_FIELD = 0, 1, 2
 
 _JIT = dict(cache=True, error_model="numpy", fastmath={"contract"})
@@ -181,6 +182,7 @@ class Ground:
         p[C_GINV] = 1.0 / self.spacing_m
         p[C_GE] = self.restitution
         p[C_GMU] = self.friction
+        p[C_GTOP] = self.height_m + (self._field.max() if self.heights_m is not None else 0.0)
         return p.astype(dtype)
 
     def field_table(self, dtype=np.float64) -> np.ndarray:
@@ -446,8 +448,8 @@ def _corner(shp, s, c):
 
 @njit(**_JIT)
 def _ground_overlap(S, b, i, n, shp, srange, grid, cprm):
-    margin = cprm[C_MARGIN]
     """Body b's shapes below the ground: spheres by their lowest point, boxes by corners."""
+    margin = cprm[C_MARGIN]
     x, rot = _pose(S, b, i, n)
     acc = _empty(ZERO * x[0])
     for s in range(srange[b], srange[b + 1]):
@@ -1054,6 +1056,29 @@ def _close(S, W, k, i, n, body, cprm):
     _scale_velocities(S, a, b, i, n, body, math.sqrt(max(ke0 - bulk, ZERO) / inner))
 
 
+@njit(**_INLINE)
+def may_touch(S, nb, i, n, cbody, cprm, warm):
+    """Whether environment i needs ``collide`` this step: a body within reach of the ground's
+    highest point or of another body, or a contact held last step (whose warm start must be
+    forgotten if it let go). Most steps of a flying or sailing scene need nothing."""
+    margin = cprm[C_MARGIN]
+    for c in range(warm.shape[0]):
+        if warm[c, 0] != ZERO:
+            return True
+    for b in range(nb):
+        z = S[b, i + (OX + 2) * n]
+        if cprm[C_GROUND] != GROUND_NONE and z - cbody[b, 2] <= cprm[C_GTOP] + margin:
+            return True
+        for a in range(b):
+            dx = S[a, i + OX * n] - S[b, i + OX * n]
+            dy = S[a, i + (OX + 1) * n] - S[b, i + (OX + 1) * n]
+            dz = S[a, i + (OX + 2) * n] - z
+            reach = cbody[a, 2] + cbody[b, 2] + margin
+            if dx * dx + dy * dy + dz * dz <= reach * reach:
+                return True
+    return False
+
+
 @njit(**_JIT)
 def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm, touch):
     """All contacts of environment i (its bodies' state in the scratch S: element k of body
@@ -1069,13 +1094,15 @@ def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm, touch):
         W[b, W_REST] = ZERO
         W[b, W_SEEN] = ZERO
     k = 0
+    margin = cprm[C_MARGIN]
     for b in range(nb):
         W[k, W_ON] = ZERO
-        if cprm[C_GROUND] != GROUND_NONE:
+        # (a body whose reach is clear above the ground's highest point is not visited)
+        clear = S[b, i + (OX + 2) * n] - cbody[b, 2] > cprm[C_GTOP] + margin
+        if cprm[C_GROUND] != GROUND_NONE and not clear:
             acc = _ground_overlap(S, b, i, n, shp, srange, grid, cprm)
             _open(S, W, k, b, -1, i, n, body, cbody, cprm, acc)
         k += 1
-    margin = cprm[C_MARGIN]
     for a in range(nb):
         for b in range(a + 1, nb):
             W[k, W_ON] = ZERO

@@ -57,7 +57,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .contact import C_ON, NW, collide, num_pairs
+from .contact import C_ON, NW, collide, may_touch, num_pairs
 from .forces import (
     HALF,
     ONE,
@@ -804,9 +804,10 @@ def _advance_block(
         _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, wprm, method)
         if touching:  # contact.py: scalar per environment, after the step's integration
             for i in range(n):
-                collide(scr_blk, nb, i, BLOCK, tables[0], tables[12], tables[13], tables[14],
-                        tables[15], tables[16], work, tables[17][e0 + i],
-                        tables[18][e0 + i])  # fmt: skip
+                if may_touch(scr_blk, nb, i, BLOCK, tables[15], tables[16], tables[17][e0 + i]):
+                    collide(scr_blk, nb, i, BLOCK, tables[0], tables[12], tables[13],
+                            tables[14], tables[15], tables[16], work, tables[17][e0 + i],
+                            tables[18][e0 + i])  # fmt: skip
         for i in range(n):  # each environment's clock: its own slots only
             clock[e0 + i] += tdt
         if wake:  # the source moves on at its velocity (rows: pos 0-2, velocity 12-14)
