@@ -223,6 +223,21 @@ TF_W0 = (1.0, 1.5, 1.2)
 V0 = (3.0, 0.0, 4.0)
 
 
+KEPLER_E = 0.6  # eccentricity; GM = 1, semi-major axis 1, period 2 pi (GNI, chapter I)
+KEPLER_ORBITS = 10
+
+
+def kepler_exact(t: float) -> np.ndarray:
+    """Position at time t on the orbit that starts at the pericentre (1 - e, 0): Kepler's
+    equation E - e sin E = t (mean motion 1) solved by Newton's method."""
+    e = KEPLER_E
+    m = math.fmod(t, 2 * math.pi)
+    ecc = m if e < 0.8 else math.pi
+    for _ in range(50):
+        ecc -= (ecc - e * math.sin(ecc) - m) / (1 - e * math.cos(ecc))
+    return np.array([math.cos(ecc) - e, math.sqrt(1 - e * e) * math.sin(ecc), 0.0])
+
+
 def spring_energy(z, v) -> np.ndarray:
     """Energy (J) of the buoyancy spring about its equilibrium (linear spring)."""
     return 0.5 * FLOAT.mass_kg * np.asarray(v) ** 2 + 0.5 * K_SPRING * (np.asarray(z) - Z_EQ) ** 2
@@ -303,6 +318,20 @@ def problems(quick: bool = False) -> list[Problem]:
             metrics=("pos_err_m", "att_err_rad"),
         ),
     ]
+    e = KEPLER_E
+    out.insert(
+        3,
+        Problem(
+            "kepler",
+            Craft(name="planet", mass_kg=1.0, inertia_kgm2=(1.0, 1.0, 1.0)),
+            World(gravity_mps2=0.0, central_gravity_m3s2=1.0),
+            KEPLER_ORBITS * 2 * math.pi,
+            1 / 100,
+            dict(pos=(1 - e, 0.0, 0.0), lin_vel=(0.0, math.sqrt((1 + e) / (1 - e)), 0.0)),
+            dts=pow2(4, 13),
+            metrics=("pos_err_m", "energy_err", "angmom_err"),
+        ),
+    )
     if quick:
         for p in out:
             p.dts = p.dts[::3]
@@ -369,6 +398,14 @@ def errors(p: Problem, r: dict) -> dict:
         phase = math.atan2(-v / OMEGA, z)  # z = a cos(omega t), v = -a omega sin(omega t)
         err = (phase - OMEGA * t + math.pi) % (2 * math.pi) - math.pi
         return {"phase_err_rad": abs(err), "energy_err": float(np.max(np.abs(energy / e0 - 1)))}
+    if p.name == "kepler":  # at the end: energy -1/2, angular momentum sqrt(1 - e^2)
+        x, v = r["pos"], r["vel"]
+        energy = 0.5 * v @ v - 1.0 / np.linalg.norm(x)
+        return {
+            "pos_err_m": float(np.linalg.norm(x - kepler_exact(t))),
+            "energy_err": abs(energy / -0.5 - 1.0),
+            "angmom_err": abs(np.cross(x, v)[2] / math.sqrt(1 - KEPLER_E**2) - 1.0),
+        }
     if p.name == "torque_free":
         w_ref = torque_free_exact(TF_INERTIA, TF_W0, [t])[0]
         e0 = float(np.sum(np.asarray(TF_INERTIA) * np.asarray(TF_W0) ** 2)) / 2
@@ -453,6 +490,7 @@ def plot(rows: list[dict], probs: list[Problem], path: Path) -> None:
         "phase_err_rad": "phase error after 50 periods (rad)",
         "energy_err": "relative energy error",
         "omega_err": "body angular velocity error (relative)",
+        "angmom_err": "relative angular momentum error",
     }
     ncol = 3
     nrow = -(-len(panels) // ncol)
@@ -570,6 +608,7 @@ def main() -> None:
                                 "phase_err_rad",
                                 "energy_err",
                                 "omega_err",
+                                "angmom_err",
                             )
                         },
                         **errs,

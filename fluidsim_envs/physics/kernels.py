@@ -121,7 +121,8 @@ P_INV_BLEND, P_VMAX, P_FMAX, P_DT = 10, 11, 12, 13
 P_NWAVES = 14  # swell: the number of waves (0: calm water), then per wave (a, kx, ky, omega)
 P_SWELL = 15
 P_TETRA_SWITCH = P_SWELL + 4 * MAX_WAVES  # verlet_tetra: rigid above this |w| dt (rad)
-NPRM = P_TETRA_SWITCH + 1
+P_GM = P_TETRA_SWITCH + 1  # World.central_gravity_m3s2 (0: none)
+NPRM = P_GM + 1
 # body[B, 13] columns: mass, inverse inertia (xx, yy, zz, xy, xz, yz), then the second moment
 # S = tr(I)/2 1 - I (xx, yy, zz, xy, xz, yz): a matched tetrahedron's sum m_i r_i r_i^T
 NBODY = 13
@@ -467,6 +468,17 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau, rec):
         for k in range(3):
             S[(D + OV + k) * BLOCK + i] *= inv_m
         S[(D + OV + 2) * BLOCK + i] -= g
+    gm = prm[P_GM]
+    if gm != ZERO:  # a point mass at the origin: -GM x / |x|^3
+        for i in range(n):
+            x = S[(Y + OX) * BLOCK + i]
+            y = S[(Y + OX + 1) * BLOCK + i]
+            z = S[(Y + OX + 2) * BLOCK + i]
+            r2 = x * x + y * y + z * z
+            k = gm / (r2 * math.sqrt(r2))
+            S[(D + OV) * BLOCK + i] -= k * x
+            S[(D + OV + 1) * BLOCK + i] -= k * y
+            S[(D + OV + 2) * BLOCK + i] -= k * z
 
 
 @njit(**_INLINE)

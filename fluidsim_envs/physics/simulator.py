@@ -210,6 +210,7 @@ class Simulator:
 
         prm = np.zeros(K.NPRM)
         prm[K.P_G] = world.gravity_mps2
+        prm[K.P_GM] = world.central_gravity_m3s2
         prm[K.P_RHO_AIR] = world.air_density_kgm3
         prm[K.P_RHO_WATER] = world.water_density_kgm3
         prm[K.P_WATER] = 1.0 if world.water else 0.0

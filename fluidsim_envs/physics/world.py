@@ -24,6 +24,9 @@ class World:
 
     Args:
         gravity_mps2: magnitude of gravity (>= 0), acting along -z.
+        central_gravity_m3s2: GM (>= 0) of a point mass at the world origin pulling every
+            body with ``-GM x / |x|^3`` besides the uniform gravity (0, the default: none): an
+            orbit, the test problem of geometric integration, for the study's Kepler problem.
         air_density_kgm3, water_density_kgm3: fluid densities (> 0).
         water: whether there is water below z = 0 (otherwise air everywhere, no buoyancy).
         wind_mps: uniform air velocity (world frame).
@@ -60,6 +63,7 @@ class World:
     """
 
     gravity_mps2: float = 9.81
+    central_gravity_m3s2: float = 0.0
     air_density_kgm3: float = 1.225
     water_density_kgm3: float = 1025.0
     water: bool = False
@@ -83,6 +87,7 @@ class World:
                 raise ValueError(f"World: {key} must be a finite number {rel} {lo}, got {value!r}")
 
         check("gravity_mps2", 0.0, strict=False)
+        check("central_gravity_m3s2", 0.0, strict=False)
         check("air_density_kgm3", 0.0, strict=True)
         check("water_density_kgm3", 0.0, strict=True)
         check("surface_blend_m", 0.0, strict=False)
