@@ -1057,6 +1057,24 @@ def _close(S, W, k, i, n, body, cprm):
 
 
 @njit(**_INLINE)
+def _near_ground(S, b, i, n, cbody, cprm):
+    """Whether body b's reach comes within the margin of the ground's highest point."""
+    if cprm[C_GROUND] == GROUND_NONE:
+        return False
+    return S[b, i + (OX + 2) * n] - cbody[b, 2] <= cprm[C_GTOP] + cprm[C_MARGIN]
+
+
+@njit(**_INLINE)
+def _near_each_other(S, a, b, i, n, cbody, margin):
+    """Whether bodies a and b are within their reaches (plus the margin) of each other."""
+    dx = S[a, i + OX * n] - S[b, i + OX * n]
+    dy = S[a, i + (OX + 1) * n] - S[b, i + (OX + 1) * n]
+    dz = S[a, i + (OX + 2) * n] - S[b, i + (OX + 2) * n]
+    reach = cbody[a, 2] + cbody[b, 2] + margin
+    return dx * dx + dy * dy + dz * dz <= reach * reach
+
+
+@njit(**_INLINE)
 def may_touch(S, nb, i, n, cbody, cprm, warm):
     """Whether environment i needs ``collide`` this step: a body within reach of the ground's
     highest point or of another body, or a contact held last step (whose warm start must be
@@ -1066,15 +1084,10 @@ def may_touch(S, nb, i, n, cbody, cprm, warm):
         if warm[c, 0] != ZERO:
             return True
     for b in range(nb):
-        z = S[b, i + (OX + 2) * n]
-        if cprm[C_GROUND] != GROUND_NONE and z - cbody[b, 2] <= cprm[C_GTOP] + margin:
+        if _near_ground(S, b, i, n, cbody, cprm):
             return True
         for a in range(b):
-            dx = S[a, i + OX * n] - S[b, i + OX * n]
-            dy = S[a, i + (OX + 1) * n] - S[b, i + (OX + 1) * n]
-            dz = S[a, i + (OX + 2) * n] - z
-            reach = cbody[a, 2] + cbody[b, 2] + margin
-            if dx * dx + dy * dy + dz * dz <= reach * reach:
+            if _near_each_other(S, a, b, i, n, cbody, margin):
                 return True
     return False
 
@@ -1097,20 +1110,14 @@ def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm, touch):
     margin = cprm[C_MARGIN]
     for b in range(nb):
         W[k, W_ON] = ZERO
-        # (a body whose reach is clear above the ground's highest point is not visited)
-        clear = S[b, i + (OX + 2) * n] - cbody[b, 2] > cprm[C_GTOP] + margin
-        if cprm[C_GROUND] != GROUND_NONE and not clear:
+        if _near_ground(S, b, i, n, cbody, cprm):  # (a body clear above it is not visited)
             acc = _ground_overlap(S, b, i, n, shp, srange, grid, cprm)
             _open(S, W, k, b, -1, i, n, body, cbody, cprm, acc)
         k += 1
     for a in range(nb):
         for b in range(a + 1, nb):
             W[k, W_ON] = ZERO
-            dx = S[a, i + OX * n] - S[b, i + OX * n]
-            dy = S[a, i + (OX + 1) * n] - S[b, i + (OX + 1) * n]
-            dz = S[a, i + (OX + 2) * n] - S[b, i + (OX + 2) * n]
-            reach = cbody[a, 2] + cbody[b, 2] + margin
-            if dx * dx + dy * dy + dz * dz <= reach * reach:
+            if _near_each_other(S, a, b, i, n, cbody, margin):
                 acc = _pair_overlap(S, a, b, i, n, shp, srange, margin)
                 _open(S, W, k, a, b, i, n, body, cbody, cprm, acc)
             k += 1
