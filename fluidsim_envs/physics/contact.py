@@ -45,6 +45,14 @@ Materials: a contact's restitution and friction are the geometric means of the t
 materials' (the craft's ``restitution`` and ``friction``, and the :class:`Ground`'s), so a
 pair of like materials keeps its own values. Not modelled: edge-across-edge box contacts,
 continuous collision (a body faster than its size per step can pass through a thin one).
+
+The method is tuned for symplectic Euler, the envs' integrator. Under the others, a resting
+body's drift is undone by the integrator's own share of it (``kernels.DRIFT_SHARE``), so
+boxes rest and stack under all of them; but an impact pushed out by its depth d keeps the
+speed it had at that depth, which an integrator exact in free fall (rk2, rk4, velocity
+Verlet) turns into a gain of up to g d of height: a ball of restitution 1 at 120 Hz rises
+up to 4% on a bounce (symplectic Euler keeps it), and a heavy box on a light one needs more
+passes (``docs/study_contact.md``).
 """
 
 from __future__ import annotations
@@ -69,7 +77,7 @@ NSHAPE = 8
 NCBODY = 3
 # contact parameters [NCPRM]
 C_ON, C_GROUND, C_GZ, C_GX0, C_GY0, C_GINV = 0, 1, 2, 3, 4, 5
-C_GE, C_GMU, C_REST_SPEED, C_DT, C_PAIR_BOUND, C_PASSES, C_MARGIN = 6, 7, 8, 9, 10, 11, 12
+C_GE, C_GMU, C_REST_SPEED, C_UNDRIFT, C_PAIR_BOUND, C_PASSES, C_MARGIN = 6, 7, 8, 9, 10, 11, 12
 C_GTOP = 13  # the ground's highest point: a body whose reach is clear above it touches nothing
 NCPRM = 14
 GROUND_NONE, GROUND_PLANE, GROUND_FIELD = 0, 1, 2
@@ -1135,12 +1143,15 @@ def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm, touch):
             _close(S, W, c, i, n, body, cprm)
             touch[c] += W[c, W_J]
         _keep(W, c, warm)
-    # A body at rest was carried into its support by the step's drift (x += dt v, after
-    # gravity's kick) before its contacts took that velocity away: undo that part of the
-    # drift, x += dt dv and the same for the turn. Unlike a push along the normal this
-    # moves it exactly back along the way it came, so friction that holds it also holds
-    # its position (a push along a sloped normal would walk it downhill).
-    dt = cprm[C_DT]
+    # A body at rest was carried into its support by the step's drift (symplectic Euler:
+    # x += dt v, after gravity's kick) before its contacts took that velocity away: undo
+    # that part of the drift, x += dt dv and the same for the turn, times the share of the
+    # velocity change the integrator's drift carried (C_UNDRIFT = share dt: half for the
+    # Runge-Kutta methods; undoing all of it lifts a resting body g dt^2 / 2 a step and a
+    # stack walks apart). Unlike a push along the normal this moves it exactly back along
+    # the way it came, so friction that holds it also holds its position (a push along a
+    # sloped normal would walk it downhill).
+    dt = cprm[C_UNDRIFT]
     for b in range(nb):
         if W[b, W_REST] == ZERO:
             continue
@@ -1177,8 +1188,12 @@ def _keep(W, k, warm):
 # packing
 
 
-def pack(crafts, ground, dt: float, gravity: float, passes: int, num_envs: int, dtype):
-    """The contact tables for the step kernel: ``(shapes [NSHAPE, n], shape ranges [B + 1],
+def pack(
+    crafts, ground, dt: float, gravity: float, passes: int, num_envs: int, dtype,
+    drift_share: float = 1.0,
+):  # fmt: skip
+    """The contact tables for the step kernel (``drift_share``: the integrator's
+    ``kernels.DRIFT_SHARE``): ``(shapes [NSHAPE, n], shape ranges [B + 1],
     ground grid, per-body materials [B, NCBODY], parameters [NCPRM], warm-start impulses
     [E, num_pairs(B), NWARM] (zeros; the kernel updates them), each pair's normal impulse
     over the last step call [E, num_pairs(B)]: the ground's on each body, then body pairs)``."""
@@ -1197,7 +1212,7 @@ def pack(crafts, ground, dt: float, gravity: float, passes: int, num_envs: int, 
     prm[C_ON] = 1.0 if touching else 0.0
     # below this approach speed a contact is resting: no bounce (gravity's gain in 2 steps)
     prm[C_REST_SPEED] = 2.0 * gravity * dt
-    prm[C_DT] = dt
+    prm[C_UNDRIFT] = drift_share * dt  # what a resting body's drift is undone by (collide)
     # points this close above a surface join a touching pair's contact (gravity's fall in 2
     # steps): the margin that keeps resting faces from rocking
     prm[C_MARGIN] = 2.0 * gravity * dt * dt

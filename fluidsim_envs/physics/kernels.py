@@ -113,6 +113,18 @@ EVALS_PER_STEP = {
     "rk4": 4,
     "verlet_tetra": 1,
 }
+# The share of a step's velocity change that its position update carried (x1 = x0 + dt v0 +
+# share dt^2 a for a constant a): what a resting contact undoes of the drift (contact.py).
+# Symplectic Euler and the tetrahedron drift with the new velocity; explicit Euler with the
+# old; velocity Verlet and the Runge-Kutta methods integrate a constant force exactly.
+DRIFT_SHARE = {
+    "explicit_euler": 0.0,
+    "symplectic_euler": 1.0,
+    "velocity_verlet": 0.5,
+    "rk2": 0.5,
+    "rk4": 0.5,
+    "verlet_tetra": 1.0,
+}
 
 # prm[] slots: world and step parameters, in the simulation dtype
 P_G, P_RHO_AIR, P_RHO_WATER, P_WATER = 0, 1, 2, 3

@@ -17,7 +17,7 @@ _BATCH_PARALLEL_MIN = 1024  # below this many bodies the serial kernel wins (thr
 
 
 def _pack(
-    crafts: Sequence[Craft], world: World, dt: float, num_envs: int, dtype
+    crafts: Sequence[Craft], world: World, dt: float, num_envs: int, dtype, integrator: str
 ) -> tuple[tuple, np.ndarray, list[str]]:
     """Flatten the crafts' samples into the kernel's tables (field-major, slot ranges)."""
     names: list[str] = []
@@ -80,7 +80,8 @@ def _pack(
         np.asarray(thr_ch, dtype=np.int64),
         ranges("thr"),
         *CT.pack(  # tables[12:19]: contact.py
-            crafts, world.ground, dt, world.gravity_mps2, world.contact_passes, num_envs, dtype
+            crafts, world.ground, dt, world.gravity_mps2, world.contact_passes, num_envs, dtype,
+            K.DRIFT_SHARE[integrator],
         ),
         # tables[19]: the external force and torque on each body [E, B, 6], world frame
         np.zeros((num_envs, len(crafts), 6), dtype=dtype),
@@ -204,7 +205,7 @@ class Simulator:
         self._method = K.INTEGRATORS[integrator]
         self._kernel = K.step_parallel if self.parallel else K.step_serial
 
-        self._tables, self._cmix, names = _pack(crafts, world, dt, E, dtype)
+        self._tables, self._cmix, names = _pack(crafts, world, dt, E, dtype, integrator)
         self.control_names: tuple[str, ...] = tuple(names)
         self._mass = np.array([c.mass_kg for c in crafts])
 
