@@ -343,14 +343,25 @@ def body_omega(sim) -> np.ndarray:
     return rot.T @ sim.ang_vel[0, 0]
 
 
-def run(p: Problem, integrator: str, dt: float, dtype=np.float64, world=None, samples: int = 0):
+def run(
+    p: Problem,
+    integrator: str,
+    dt: float,
+    dtype=np.float64,
+    world=None,
+    samples: int = 0,
+    stop: bool = True,
+):
     """Run one environment over the problem's interval: final (pos, quat, lin_vel, body omega,
     kinetic energy), the time reached, and, with ``samples``, the state's history
-    ``[samples, 2 + 3 + 3]`` (t, z, v_z, |v|, |w|, ...) sampled at chunk ends."""
+    ``[samples, 7]`` (t, z, v_z, |v|, |w|, kinetic energy, |x|) sampled at chunk ends, up to
+    the first sample flagged diverged (``stop=False``: on to the end; ``flagged_s`` is the
+    first flagged sample's time, NaN if none)."""
     sim = p.make(integrator, dt, dtype, 1, world)
     n = p.steps(dt)
     ctrl = p.control_array(1)
     hist = []
+    flagged = math.nan
     if samples:
         chunks = np.diff(np.linspace(0, n, min(samples, n) + 1).round().astype(int))
         done = 0
@@ -366,9 +377,12 @@ def run(p: Problem, integrator: str, dt: float, dtype=np.float64, world=None, sa
                     float(np.linalg.norm(v)),
                     float(np.linalg.norm(w)),
                     float(sim.kinetic_energy()[0, 0]),
+                    float(np.linalg.norm(sim.pos[0, 0].astype(np.float64))),
                 )
             )
-            if sim.diverged[0]:
+            if sim.diverged[0] and math.isnan(flagged):
+                flagged = done * dt
+            if sim.diverged[0] and stop:
                 break
     else:
         sim.step(ctrl, steps=n)
@@ -380,6 +394,7 @@ def run(p: Problem, integrator: str, dt: float, dtype=np.float64, world=None, sa
         "ke": float(sim.kinetic_energy()[0, 0]),
         "t": n * dt,
         "diverged": bool(sim.diverged[0]),
+        "flagged_s": flagged,
         "hist": np.array(hist),
     }
 
