@@ -80,7 +80,13 @@ def _pack(
         np.asarray(thr_ch, dtype=np.int64),
         ranges("thr"),
         *CT.pack(  # tables[12:19]: contact.py
-            crafts, world.ground, dt, world.gravity_mps2, world.contact_passes, num_envs, dtype,
+            crafts,
+            world.ground,
+            dt,
+            world.gravity_mps2,
+            world.contact_passes,
+            num_envs,
+            dtype,
             K.DRIFT_SHARE[integrator],
         ),
         # tables[19]: the external force and torque on each body [E, B, 6], world frame
