@@ -46,13 +46,11 @@ materials' (the craft's ``restitution`` and ``friction``, and the :class:`Ground
 pair of like materials keeps its own values. Not modelled: edge-across-edge box contacts,
 continuous collision (a body faster than its size per step can pass through a thin one).
 
-The method is tuned for symplectic Euler, the envs' integrator. Under the others, a resting
-body's drift is undone by the integrator's own share of it (``kernels.DRIFT_SHARE``), so
-boxes rest and stack under all of them; but an impact pushed out by its depth d keeps the
-speed it had at that depth, which an integrator exact in free fall (rk2, rk4, velocity
-Verlet) turns into a gain of up to g d of height: a ball of restitution 1 at 120 Hz rises
-up to 4% on a bounce (symplectic Euler keeps it), and a heavy box on a light one needs more
-passes (``docs/study_contact.md``).
+Under every integrator: a resting body's drift is undone by the integrator's own share of
+it (``kernels.DRIFT_SHARE``), and an impact against the ground leaves with the speed the
+body met the surface with, found from the integrator's own free-flight energy (``_open``),
+so that boxes rest and stack, and a ball of restitution 1 keeps its bounce height, whatever
+the integrator and dt (``docs/study.md``, Contact).
 """
 
 from __future__ import annotations
@@ -79,7 +77,8 @@ NCBODY = 3
 C_ON, C_GROUND, C_GZ, C_GX0, C_GY0, C_GINV = 0, 1, 2, 3, 4, 5
 C_GE, C_GMU, C_REST_SPEED, C_UNDRIFT, C_PAIR_BOUND, C_PASSES, C_MARGIN = 6, 7, 8, 9, 10, 11, 12
 C_GTOP = 13  # the ground's highest point: a body whose reach is clear above it touches nothing
-NCPRM = 14
+C_G, C_DT = 14, 15  # gravity (m/s^2) and the time step: an impact's speed at the surface
+NCPRM = 16
 GROUND_NONE, GROUND_PLANE, GROUND_FIELD = 0, 1, 2
 
 _JIT = dict(cache=True, error_model="numpy", fastmath={"contract"})
@@ -836,6 +835,22 @@ def _open(S, W, k, a, b, i, n, body, cbody, cprm, acc):
         _displace(S, b, i, n, body, qb[0], qb[1], qb[2], -nx, -ny, -nz, d * (ONE - share))
     # the normal velocity to leave with: an impact bounces, a resting contact stays
     goal = -e * un if impact else ZERO * un
+    if impact and ground:
+        # Bounce with the speed it met the surface with, not the speed it reached d below
+        # it: the push out by d works against gravity (g_n along the normal). The speed
+        # that keeps the integrator's own free-flight energy, 1/2 v^2 + g z + c v_n with
+        # c = (1/2 - share) g_n dt (exact for symplectic Euler, c = -g_n dt / 2; the true
+        # energy for the Runge-Kutta methods, c = 0), across the push solves
+        # u_s^2 + 2 c u_s = u^2 - 2 g_n d - 2 c u. Without it symplectic Euler lost up to
+        # g u dt of energy per unit mass on a bounce and rk2 gained up to g d
+        # (docs/study.md, Contact).
+        g_n = cprm[C_G] * nz
+        c = g_n * (HALF * cprm[C_DT] - cprm[C_UNDRIFT])
+        u = -un
+        u_s = -c + math.sqrt(max(c * c + u * u - TWO * g_n * d - TWO * c * u, ZERO))
+        goal = e * u_s
+        # the energy bound (_close) counts what the push took or gave
+        W[k, W_KE0] = max(W[k, W_KE0] + HALF * ma * (u_s * u_s - u * u), ZERO)
     W[k, W_ON] = ONE
     W[k, W_A], W[k, W_B] = a, b
     for c in range(3):
@@ -1213,6 +1228,8 @@ def pack(
     # below this approach speed a contact is resting: no bounce (gravity's gain in 2 steps)
     prm[C_REST_SPEED] = 2.0 * gravity * dt
     prm[C_UNDRIFT] = drift_share * dt  # what a resting body's drift is undone by (collide)
+    prm[C_G] = gravity
+    prm[C_DT] = dt
     # points this close above a surface join a touching pair's contact (gravity's fall in 2
     # steps): the margin that keeps resting faces from rocking
     prm[C_MARGIN] = 2.0 * gravity * dt * dt

@@ -14,6 +14,7 @@ from fluidsim_envs.physics.kernels import INTEGRATORS
 from fluidsim_envs.physics.tetra import match_inertia
 
 G = 9.81
+ALL_INTEGRATORS = sorted(INTEGRATORS)
 
 
 def ball(restitution=1.0, friction=0.5, radius=0.1, mass=1.0, name="ball"):
@@ -60,18 +61,18 @@ def drop(craft, ground, dt, seconds, integrator="symplectic_euler", **reset):
 # bounces: the seed's single-body rule, restitution 1 keeps the energy
 
 
-@pytest.mark.parametrize("integrator", ["symplectic_euler", "verlet_tetra"])
-def test_ball_with_restitution_one_keeps_its_bounce_height(integrator):
-    """Restitution 1 on a rigid floor: 20 bounces back to the same height (the issue asks
-    for 2%; they agree to 1e-9), which is the drop height to within the step's sampling of
-    the top (2.5% at 120 Hz: the top falls between steps). This drop meets the floor at the
-    same phase of the step every bounce; at other phases an impact pushed out by its depth
-    loses or gains energy (docs/study_contact.md: at 1/128 s each bounce loses 3.4%)."""
-    _, z = drop(ball(1.0), Ground(restitution=1.0), 1 / 120, 20.0, integrator, pos=(0, 0, 1.1))
+@pytest.mark.parametrize("integrator", ALL_INTEGRATORS)
+@pytest.mark.parametrize("dt", [1 / 120, 1 / 128, 1 / 37])
+def test_ball_with_restitution_one_keeps_its_bounce_height(integrator, dt):
+    """Restitution 1 on a rigid floor: 20 bounces, each back to the drop height (the issue
+    asks for 2%) within the step's sampling of the top and the integrator's own flight
+    error, g dt^2. The impact leaves with the speed the ball met the surface with, not the
+    speed it reached at its depth below: with the latter, symplectic Euler lost 3.4% per
+    bounce at 1/128 s, and rk2 gained 17% over 10 s at 1/256 s (docs/study.md, Contact)."""
+    _, z = drop(ball(1.0), Ground(restitution=1.0), dt, 20.0, integrator, pos=(0, 0, 1.1))
     tops = apexes(z)[:20] - 0.1  # the ball's bottom
     assert tops.size == 20
-    assert np.all(np.abs(tops / tops[0] - 1.0) < 1e-6), tops
-    assert abs(tops[0] - 1.0) < 0.03
+    assert np.abs(tops - 1.0).max() < G * dt**2, tops
 
 
 def test_ball_with_restitution_half_loses_three_quarters_of_its_energy():
@@ -95,16 +96,12 @@ def test_restitution_combines_as_the_geometric_mean():
 # rest and stacks
 
 
-ALL_INTEGRATORS = sorted(INTEGRATORS)
-
-
-@pytest.mark.parametrize("integrator", [m for m in ALL_INTEGRATORS if m != "explicit_euler"])
+@pytest.mark.parametrize("integrator", ALL_INTEGRATORS)
 def test_dropped_box_comes_to_rest_without_jitter_or_sinking(integrator):
     """A box dropped tilted and moving settles on a face within 2 s, and then stays: no
     motion grows, and it neither sinks into the floor nor floats (within gravity's fall in
     one step, g dt^2 = 0.7 mm at 120 Hz), under every integrator (the drift a resting
-    contact undoes is the integrator's own: kernels.DRIFT_SHARE) but explicit Euler, whose
-    box keeps hopping 0.8 mm at 1 cm/s (it holds in the stack test below; no env uses it)."""
+    contact undoes is the integrator's own: kernels.DRIFT_SHARE)."""
     dt = 1 / 120
     sim = Simulator(
         box((0.2, 0.2, 0.2)), World(ground=Ground()), num_envs=1, dt=dt, integrator=integrator
