@@ -849,8 +849,10 @@ def _open(S, W, k, a, b, i, n, body, cbody, cprm, acc):
         u = -un
         u_s = -c + math.sqrt(max(c * c + u * u - TWO * g_n * d - TWO * c * u, ZERO))
         goal = e * u_s
-        # the energy bound (_close) counts what the push took or gave
-        W[k, W_KE0] = max(W[k, W_KE0] + HALF * ma * (u_s * u_s - u * u), ZERO)
+        # the energy bound (_close) allows what the push gave (symplectic Euler's u_s can
+        # pass u); lowering it by what a push took would freeze a body that a load above
+        # pressed in (a heavy box on a light one fell apart)
+        W[k, W_KE0] += HALF * ma * max(u_s * u_s - u * u, ZERO)
     W[k, W_ON] = ONE
     W[k, W_A], W[k, W_B] = a, b
     for c in range(3):
