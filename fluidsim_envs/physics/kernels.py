@@ -38,7 +38,8 @@ Each force evaluation sees the surface at its own stage time, ``tau`` after the 
 t for (symplectic, explicit) Euler and Verlet's first evaluation, t + dt for Verlet's second
 (its positions are the step's end), t and t + dt/2 for RK2, t, t + dt/2, t + dt/2, t + dt for
 RK4, so that every integrator keeps its order of accuracy when the surface moves (a surface
-frozen at the step's start would make RK2 and RK4 first order in time).
+frozen at the step's start would make RK2 and RK4 first order in time). The wake, likewise,
+is evaluated where its source is at the stage time (``_wake_rows``).
 
 Contact. When any body has collision shapes and there is a ground or a second body
 (``tables[16][C_ON]``), each step's integration is followed by ``contact.collide`` for each
@@ -304,16 +305,20 @@ def _source(S, i):
 
 
 @njit(**_JIT)
-def _wake_rows(S, n, ox, oy, oz, wprm):
+def _wake_rows(S, n, ox, oy, oz, wprm, tau):
     """Water-minus-air rows FL + 3.. at one sample's point: the environment's own (rows FB)
-    plus the wake there. Not inlined: the field branches, so this loop stays scalar, and the
-    force loop that follows keeps its vectorized form whether or not there is a wake."""
+    plus the wake there, ``tau`` after the step's start. Not inlined: the field branches,
+    so this loop stays scalar, and the force loop that follows keeps its vectorized form
+    whether or not there is a wake."""
     for i in range(n):
         rx, ry, rz = _rotate(S, i, ox, oy, oz)
+        # the source has moved on by tau u since the step's start (rows SRC hold it there;
+        # the wake moves rigidly with it): the field at p then is the field at p - tau u now.
+        # A source frozen over the step made rk2 and rk4 first order behind a moving wake.
         w = wake_at(
-            S[(Y + OX) * BLOCK + i] + rx,
-            S[(Y + OX + 1) * BLOCK + i] + ry,
-            S[(Y + OX + 2) * BLOCK + i] + rz,
+            S[(Y + OX) * BLOCK + i] + rx - tau * S[(SRC + 12) * BLOCK + i],
+            S[(Y + OX + 1) * BLOCK + i] + ry - tau * S[(SRC + 13) * BLOCK + i],
+            S[(Y + OX + 2) * BLOCK + i] + rz - tau * S[(SRC + 14) * BLOCK + i],
             _source(S, i),
             wprm,
         )
@@ -393,7 +398,7 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau, rec):
         ox, oy, oz, bx, by, bz = fpl[0, p], fpl[1, p], fpl[2, p], fpl[3, p], fpl[4, p], fpl[5, p]
         area, eff = fpl[6, p], fpl[7, p]
         if wake:
-            _wake_rows(S, n, ox, oy, oz, wprm)
+            _wake_rows(S, n, ox, oy, oz, wprm, tau)
         if sea:
             _swell_rows(S, n, ox, oy, oz, prm, tau)
         for i in range(n):
@@ -409,7 +414,7 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau, rec):
     for p in range(cpl_at[b], cpl_at[b + 1]):  # control surfaces: normals deflected per env
         ox, oy, oz, area, eff = cpl[0, p], cpl[1, p], cpl[2, p], cpl[9, p], cpl[10, p]
         if wake:
-            _wake_rows(S, n, ox, oy, oz, wprm)
+            _wake_rows(S, n, ox, oy, oz, wprm, tau)
         if sea:
             _swell_rows(S, n, ox, oy, oz, prm, tau)
         for i in range(n):
@@ -428,7 +433,7 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau, rec):
         ox, oy, oz, bx, by, bz = cyl[0, p], cyl[1, p], cyl[2, p], cyl[3, p], cyl[4, p], cyl[5, p]
         area = cyl[6, p]
         if wake:
-            _wake_rows(S, n, ox, oy, oz, wprm)
+            _wake_rows(S, n, ox, oy, oz, wprm, tau)
         if sea:
             _swell_rows(S, n, ox, oy, oz, prm, tau)
         for i in range(n):
