@@ -38,9 +38,10 @@ def make_params(cls: type, kwargs: dict[str, Any]):
 
 
 def check_number(owner: str, key: str, value, lo=None, hi=None, integer=False) -> None:
-    """Raise ValueError naming ``key`` unless ``value`` is a finite number in [lo, hi]."""
+    """Raise ValueError naming ``key`` unless ``value`` is a finite number in [lo, hi]
+    (``integer``: an int; 4.0 would fail later, where the error could not name ``key``)."""
     ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
-    ok = ok and math.isfinite(value) and (not integer or float(value).is_integer())
+    ok = ok and math.isfinite(value) and (not integer or isinstance(value, (int, np.integer)))
     ok = ok and (lo is None or value >= lo) and (hi is None or value <= hi)
     if not ok:
         kind = "an integer" if integer else "a finite number"

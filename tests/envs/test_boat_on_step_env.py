@@ -307,6 +307,7 @@ def test_bad_inputs_name_the_bad_value():
     cases = [
         ({"dt": 0.0}, r"dt must be a finite number in \[1e-05, 0.05\], got 0.0"),
         ({"substeps": 2.5}, "substeps must be an integer"),
+        ({"substeps": 4.0}, r"substeps must be an integer in \[1, 1000\], got 4.0"),
         ({"target_speed_mps": (20.0, 10.0)}, r"target_speed_mps must have low <= high"),
         ({"target_speed_mps": (10.0,)}, "target_speed_mps must be a \\(low, high\\) pair"),
         ({"turn_deg": (-200.0, 0.0)}, "turn_deg must be a finite number"),

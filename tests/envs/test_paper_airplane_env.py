@@ -160,6 +160,8 @@ def test_bad_inputs_name_the_bad_value():
         PaperAirplaneEnv(dt=-0.01)
     with pytest.raises(ValueError, match="integrator must be one of"):
         PaperAirplaneEnv(integrator="leapfrog")
+    with pytest.raises(ValueError, match="substeps must be an integer .*got 4.0"):
+        PaperAirplaneEnv(substeps=4.0)
     with pytest.raises(ValueError, match="launch_height_m must have low <= high"):
         PaperAirplaneEnv(launch_height_m=(8.0, 4.0))
     with pytest.raises(ValueError, match="ceiling_m"):
