@@ -3,26 +3,26 @@
 Two levels, each measured side by side in one run (costs of the variants of one subject are
 timed in interleaved repeats, so that other work on the machine hits them alike):
 
-**Craft level** (``Simulator`` only; the env's default dt, symplectic Euler, float64). For each
+**Craft level** (``Simulator`` only; the env's default integrator and dt, rk2, float64). For each
 shipped craft and a fixed open-loop maneuver, the craft is rebuilt with one group of fluid
 samples left out at a time (``dataclasses.replace`` on the loaded ``Craft``, plates by name
 prefix as in ``benchmarks/bench_boat.py``; a control surface that is left out is also dropped
 from its control channel, which stays, so the control array keeps its shape):
 
 - ``paper_airplane`` in ``World()``: thrown level at 6 m/s, 10 m up, rolled 10 deg, elevator
-  +0.1, for 6 s at dt = 1/240 s. Groups: wings, stabilizers, fin, nose plate, fuselage
+  +0.1, for 6 s at dt = 1/120 s. Groups: wings, stabilizers, fin, nose plate, fuselage
   cylinders, control surfaces (ailerons, elevators, rudder). Scene quantities: glide ratio
   (horizontal distance over height lost) and airspeed at the end.
 - ``speedboat`` in ``World(water=True)``: full throttle, rudder 0.1, from rest at its floating
-  height and trim (``hydrostatics.static_float``) for 10 s at dt = 1/200 s. Groups: bottom
+  height and trim (``hydrostatics.static_float``) for 10 s at dt = 1/100 s. Groups: bottom
   plates, skin-friction plates, topsides, skeg/stem/windscreen, control surfaces (rudder, trim
   tabs), buoyancy columns. Scene quantities: top speed (horizontal) and trim at the end.
 - ``uuv`` in ``World(water=True)``: thrust 0.6, rudder 0.3, dive planes -0.2 from rest 10 m
-  down, for 10 s at dt = 1/50 s. Groups: hull cylinders, nose plate, rudder fins, dive planes,
+  down, for 10 s at dt = 1/20 s. Groups: hull cylinders, nose plate, rudder fins, dive planes,
   buoyancy volumes. Scene quantities: depth change and heading change.
 - ``buoy`` (BoatOnStep-v0's buoy body) in ``World(water=True)``: released 0.1 m below its
   floating height and moving sideways at 0.5 m/s (as a hull's knock leaves it), for 4 s at
-  dt = 1/200 s. Groups: damping plates, drag cylinder, waterplane (buoyancy) samples. Scene
+  dt = 1/100 s. Groups: damping plates, drag cylinder, waterplane (buoyancy) samples. Scene
   quantities: heave left in the last second (largest distance from the floating height) and
   the drift (horizontal distance covered).
 
@@ -122,6 +122,9 @@ def quat_about(axis: int, angle: float) -> tuple:
     return tuple(q)
 
 
+INTEGRATOR = "rk2"  # the envs' (docs/study.md, Reading)
+
+
 @dataclass
 class Case:
     """A craft, its world and maneuver, its groups and the scene quantities."""
@@ -201,7 +204,7 @@ def cases() -> list[Case]:
             "paper_airplane",
             Craft.load("paper_airplane"),
             World(),
-            1 / 240,
+            1 / 120,
             6.0,
             dict(pos=(0.0, 0.0, 10.0), lin_vel=(6.0, 0.0, 0.0), quat=quat_about(0, 0.1745)),
             (0.0, 0.1, 0.0),
@@ -220,7 +223,7 @@ def cases() -> list[Case]:
             "speedboat",
             boat,
             water,
-            1 / 200,
+            1 / 100,
             10.0,
             dict(pos=(0.0, 0.0, boat_z), quat=quat_about(1, -boat_trim)),
             (1.0, 0.1, 0.0),
@@ -238,7 +241,7 @@ def cases() -> list[Case]:
             "uuv",
             Craft.load("uuv"),
             water,
-            1 / 50,
+            1 / 20,
             10.0,
             dict(pos=(0.0, 0.0, -10.0)),
             (0.6, 0.3, -0.2),
@@ -255,7 +258,7 @@ def cases() -> list[Case]:
             "buoy",
             buoy,
             water,
-            1 / 200,
+            1 / 100,
             4.0,
             dict(pos=(0.0, 0.0, buoy_z - 0.1), lin_vel=(0.5, 0.0, 0.0)),
             (),
@@ -271,7 +274,9 @@ def cases() -> list[Case]:
 
 def trajectory(craft: Craft, case: Case, world: World | None = None, seconds=None) -> dict:
     """One environment through the maneuver: history of t, pos, quat, lin_vel every 0.05 s."""
-    sim = Simulator(craft, world or case.world, num_envs=1, dt=case.dt, parallel=False)
+    sim = Simulator(
+        craft, world or case.world, num_envs=1, dt=case.dt, integrator=INTEGRATOR, parallel=False
+    )
     sim.reset(**case.start)
     ctrl = case.control_array(1)
     chunk = max(1, round(0.05 / case.dt))
@@ -317,7 +322,7 @@ def craft_level(repeats: int, rows: list) -> None:
     for case in cases():
         variants = case.variants()
         sims = {
-            label: Simulator(c, case.world, COST_ENVS, case.dt, parallel=False)
+            label: Simulator(c, case.world, COST_ENVS, case.dt, INTEGRATOR, parallel=False)
             for label, c in variants.items()
         }
         ns = interleaved_costs(sims, case.start, case.control_array(COST_ENVS), repeats, COST_STEPS)
@@ -349,11 +354,14 @@ def floor_level(repeats: int, rows: list) -> None:
     """The paper airplane with and without the env's floor, at the Simulator level."""
     dart = Craft.load("paper_airplane")
     worlds = {"floor": World(ground=Ground(restitution=0.5, friction=0.5)), "no floor": World()}
-    case = Case("paper_airplane", dart, World(), 1 / 240, 6.0, {}, (0.0, 0.1, 0.0), {}, None)
+    case = Case("paper_airplane", dart, World(), 1 / 120, 6.0, {}, (0.0, 0.1, 0.0), {}, None)
     case.start = dict(pos=(0.0, 0.0, 4.0), lin_vel=(6.0, 0.0, 0.0))
     ctrl = case.control_array(COST_ENVS)
-    sims = {k: Simulator(dart, w, COST_ENVS, case.dt, parallel=False) for k, w in worlds.items()}
-    windows = {"airborne 1 s": 240, "glide and landing 6 s": 1440}
+    sims = {
+        k: Simulator(dart, w, COST_ENVS, case.dt, INTEGRATOR, parallel=False)
+        for k, w in worlds.items()
+    }
+    windows = {"airborne 1 s": round(1 / case.dt), "glide and landing 6 s": round(6 / case.dt)}
     ns = {
         name: interleaved_costs(sims, case.start, ctrl, repeats, steps)
         for name, steps in windows.items()
