@@ -58,7 +58,9 @@ from machine import describe
 from numba import njit, prange
 
 import fluidsim_envs  # noqa: F401  (registers the envs)
+from fluidsim_envs.envs.paper_airplane import PaperAirplaneParams
 from fluidsim_envs.physics import Craft, Ground, World
+from fluidsim_envs.physics.kernels import EVALS_PER_STEP
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -314,6 +316,14 @@ def peak_and_kernel(target_s: float, repeats: int) -> list[dict]:
             )
         )
     return rows
+
+
+_PA = PaperAirplaneParams()
+# the env's physics per action, in words: "4 rk2 steps of 1/120 s (8 force evaluations)"
+PA_STEPS = (
+    f"{_PA.substeps} {_PA.integrator} steps of 1/{round(1 / _PA.dt)} s "
+    f"({_PA.substeps * EVALS_PER_STEP[_PA.integrator]} force evaluations of a 13-sample body)"
+)
 
 
 def flops_per_body_step(craft_name: str = "paper_airplane") -> tuple[int, dict]:
@@ -626,7 +636,7 @@ def write_md(machine: list[str], rows: list[dict], path: Path, csv_name: str) ->
         f"[n] arrays) grows to {fmt(cpb['per_core'])} per core at n = {cpb['num_envs']}; the "
         f"paper airplane to {fmt(pab['per_core'])} per core (n = {pab['num_envs']}, "
         f"{pab['numba_threads']} numba thread(s)), x{pab['per_core'] / cpb['per_core']:.2g} "
-        "of CartPole's best, for eight physics substeps of a 13-sample rigid body in each "
+        f"of CartPole's best, for {PA_STEPS} in each "
         "env-step (CartPole: one Euler step of four numbers), and PaperAirplane-v0's step "
         "also runs contact with its floor (below). Per simulated "
         "second the "
@@ -673,8 +683,9 @@ def write_md(machine: list[str], rows: list[dict], path: Path, csv_name: str) ->
         L.append(
             f"- **PyFlyt** steps its fixed-wing at {fmt(pf['per_core'])} env-steps/s per "
             f"core with its resets ({fmt(pfs['per_core'])} without them), with the same "
-            f"action period as our paper airplane ({pf['step_s']:.4g} s, 8 physics steps of "
-            f"1/240 s each in both). Our paper airplane is x{ps['per_core'] / pf['per_core']:.0f} "
+            f"action period as our paper airplane ({pf['step_s']:.4g} s: 8 physics steps of "
+            f"1/240 s in PyFlyt, {PA_STEPS} in ours). Our paper airplane is "
+            f"x{ps['per_core'] / pf['per_core']:.0f} "
             f"faster as one `gym.make` env (the same way of running) and "
             f"x{pab['per_core'] / pf['per_core']:,.0f} faster per core as a vector env. "
             "PyFlyt steps pybullet (a general rigid-body engine with collision detection, "
