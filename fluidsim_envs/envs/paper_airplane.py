@@ -42,7 +42,7 @@ class PaperAirplaneParams:
     """
 
     # rk2 at 1/120 s: as cheap as symplectic Euler at 1/240 s (two force evaluations a step)
-    # and 80 times more accurate in flight (docs/study.md, Reading)
+    # and about 90 times more accurate in flight (docs/study.md, Reading)
     dt: float = 1.0 / 120.0  # physics step (s)
     substeps: int = 4  # physics steps per action: 30 actions per second
     integrator: str = "rk2"
