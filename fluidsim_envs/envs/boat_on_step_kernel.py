@@ -127,10 +127,9 @@ def _gate_frame(course, e, g, px, py):
 def observe(st, body, course, task, swell, clock, cfg, out):
     """Observation rows out[E, 18] (float32) from the boat's state st[13, 1, E]; heave is
     measured from the water surface under the boat (the swell at the env's clock)."""
-    inv_inertia = body_inv_inertia(body, 0)
     last = course.shape[1] - 1
     for e in range(st.shape[2]):
-        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, inv_inertia)
+        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, body_inv_inertia(body[e], 0))
         r0, r3 = rot[0], rot[3]
         out[e, 0], out[e, 1], out[e, 2] = to_body(rot, vx, vy, vz)
         out[e, 3], out[e, 4], out[e, 5] = to_body(rot, omega[0], omega[1], omega[2])

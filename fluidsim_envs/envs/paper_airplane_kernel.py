@@ -57,9 +57,8 @@ _JIT = dict(cache=True, error_model="numpy")
 @njit(**_JIT)
 def observe(st, body, flow, target, out):
     """Observation rows out[E, 15] (float32) from the state st[13, 1, E]: see OBSERVATION."""
-    inv_inertia = body_inv_inertia(body, 0)
     for e in range(st.shape[2]):
-        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, inv_inertia)
+        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, body_inv_inertia(body[e], 0))
         r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
         # airspeed: R^T (v - wind)
         out[e, 0], out[e, 1], out[e, 2] = to_body(

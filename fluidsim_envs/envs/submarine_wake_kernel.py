@@ -116,9 +116,8 @@ def _station(lead, station, e):
 @njit(**_JIT)
 def observe(st, body, lead, station, src, wprm, cfg, out):
     """Observation rows out[E, 22] (float32) from the vehicle's state st[13, 1, E]."""
-    inv_inertia = body_inv_inertia(body, 0)
     for e in range(st.shape[2]):
-        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, inv_inertia)
+        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, body_inv_inertia(body[e], 0))
         r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
         out[e, 0], out[e, 1], out[e, 2] = to_body(rot, vx, vy, vz)
         out[e, 3], out[e, 4], out[e, 5] = to_body(rot, omega[0], omega[1], omega[2])

@@ -63,15 +63,21 @@ import numpy as np
 from numba import njit
 
 from .forces import HALF, ONE, TINY, TWO, ZERO
-from .rotation import OL, OQ, OV, OX, body_inv_inertia, quat_rate, quat_to_matrix, world_omega
+from .rotation import body_inv_inertia, quat_rate, quat_to_matrix, world_omega
+from .state import B_MASS, OL, OQ, OV, OX, STATE
 
 TWO_THIRDS = np.float32(2.0 / 3.0)
 PAIR_ENERGY_BOUND = 1.1  # the seed's: two bodies' kinetic energy may rise 10% before scaling
 
-# shape table columns (field-major, [NSHAPE, n_shapes]): kind, center (3), size (3), reach
+# shape table rows (field-major, one environment's [NSHAPE, n_shapes] of the [E, NSHAPE,
+# n_shapes] table): kind, center (3, from the center of mass, body frame), size (3: a sphere's
+# radius then zeros, or a box's half extents), reach (the center's distance plus the extent)
 SPHERE, BOX = 0, 1
+SH_KIND, SH_CENTER, SH_SIZE, SH_REACH = 0, 1, 4, 7
 NSHAPE = 8
-# per-body contact table [B, NCBODY]: restitution, friction, reach (m) of all its shapes
+# per-body contact table (one environment's [B, NCBODY] of [E, B, NCBODY]): restitution,
+# friction, reach (m) of all its shapes
+CB_RESTITUTION, CB_FRICTION, CB_REACH = 0, 1, 2
 NCBODY = 3
 # contact parameters [NCPRM]
 C_ON, C_GROUND, C_GZ, C_GX0, C_GY0, C_GINV = 0, 1, 2, 3, 4, 5
@@ -233,14 +239,17 @@ def ground_points(x, y, cprm, grid, out):
 
 
 # --------------------------------------------------------------------------------------------
-# a body's state in the step kernel's scratch: element k of body b is S[b, i + k * n]
+# a body's state in the step kernel's scratch: element k of body b is S[b, i + (STATE + k) * n]
 
 
 @njit(**_INLINE)
 def _pose(S, b, i, n):
-    x = (S[b, i + OX * n], S[b, i + (OX + 1) * n], S[b, i + (OX + 2) * n])
+    x = (S[b, i + (STATE + OX) * n], S[b, i + (STATE + OX + 1) * n], S[b, i + (STATE + OX + 2) * n])
     rot = quat_to_matrix(
-        S[b, i + OQ * n], S[b, i + (OQ + 1) * n], S[b, i + (OQ + 2) * n], S[b, i + (OQ + 3) * n]
+        S[b, i + (STATE + OQ) * n],
+        S[b, i + (STATE + OQ + 1) * n],
+        S[b, i + (STATE + OQ + 2) * n],
+        S[b, i + (STATE + OQ + 3) * n],
     )
     return x, rot
 
@@ -259,9 +268,9 @@ def _point(x, rot, px, py, pz):
 def _omega(S, b, i, n, rot, body):
     return world_omega(
         rot,
-        S[b, i + OL * n],
-        S[b, i + (OL + 1) * n],
-        S[b, i + (OL + 2) * n],
+        S[b, i + (STATE + OL) * n],
+        S[b, i + (STATE + OL + 1) * n],
+        S[b, i + (STATE + OL + 2) * n],
         body_inv_inertia(body, b),
     )
 
@@ -271,9 +280,19 @@ def _energy(S, b, i, n, body):
     """Kinetic energy of body b: 1/2 m v.v + 1/2 L.w."""
     rot = _pose(S, b, i, n)[1]
     w = _omega(S, b, i, n, rot, body)
-    v0, v1, v2 = S[b, i + OV * n], S[b, i + (OV + 1) * n], S[b, i + (OV + 2) * n]
-    l0, l1, l2 = S[b, i + OL * n], S[b, i + (OL + 1) * n], S[b, i + (OL + 2) * n]
-    return HALF * (body[b, 0] * (v0 * v0 + v1 * v1 + v2 * v2) + l0 * w[0] + l1 * w[1] + l2 * w[2])
+    v0, v1, v2 = (
+        S[b, i + (STATE + OV) * n],
+        S[b, i + (STATE + OV + 1) * n],
+        S[b, i + (STATE + OV + 2) * n],
+    )
+    l0, l1, l2 = (
+        S[b, i + (STATE + OL) * n],
+        S[b, i + (STATE + OL + 1) * n],
+        S[b, i + (STATE + OL + 2) * n],
+    )
+    return HALF * (
+        body[b, B_MASS] * (v0 * v0 + v1 * v1 + v2 * v2) + l0 * w[0] + l1 * w[1] + l2 * w[2]
+    )
 
 
 @njit(**_INLINE)
@@ -283,19 +302,19 @@ def _inv_mass(S, b, i, n, body, rx, ry, rz, ux, uy, uz):
     rot = _pose(S, b, i, n)[1]
     cx, cy, cz = ry * uz - rz * uy, rz * ux - rx * uz, rx * uy - ry * ux
     w = world_omega(rot, cx, cy, cz, body_inv_inertia(body, b))
-    return ONE / body[b, 0] + cx * w[0] + cy * w[1] + cz * w[2]
+    return ONE / body[b, B_MASS] + cx * w[0] + cy * w[1] + cz * w[2]
 
 
 @njit(**_INLINE)
 def _impulse(S, b, i, n, body, rx, ry, rz, jx, jy, jz):
     """An impulse J at r (from the center): v += J / m, L += r x J."""
-    inv_m = ONE / body[b, 0]
-    S[b, i + OV * n] += jx * inv_m
-    S[b, i + (OV + 1) * n] += jy * inv_m
-    S[b, i + (OV + 2) * n] += jz * inv_m
-    S[b, i + OL * n] += ry * jz - rz * jy
-    S[b, i + (OL + 1) * n] += rz * jx - rx * jz
-    S[b, i + (OL + 2) * n] += rx * jy - ry * jx
+    inv_m = ONE / body[b, B_MASS]
+    S[b, i + (STATE + OV) * n] += jx * inv_m
+    S[b, i + (STATE + OV + 1) * n] += jy * inv_m
+    S[b, i + (STATE + OV + 2) * n] += jz * inv_m
+    S[b, i + (STATE + OL) * n] += ry * jz - rz * jy
+    S[b, i + (STATE + OL + 1) * n] += rz * jx - rx * jz
+    S[b, i + (STATE + OL + 2) * n] += rx * jy - ry * jx
 
 
 @njit(**_INLINE)
@@ -308,10 +327,10 @@ def _displace(S, b, i, n, body, rx, ry, rz, ux, uy, uz, dist):
         return
     p = dist / _inv_mass(S, b, i, n, body, rx, ry, rz, ux, uy, uz)
     rot = _pose(S, b, i, n)[1]
-    inv_m = ONE / body[b, 0]
-    S[b, i + OX * n] += p * ux * inv_m
-    S[b, i + (OX + 1) * n] += p * uy * inv_m
-    S[b, i + (OX + 2) * n] += p * uz * inv_m
+    inv_m = ONE / body[b, B_MASS]
+    S[b, i + (STATE + OX) * n] += p * ux * inv_m
+    S[b, i + (STATE + OX + 1) * n] += p * uy * inv_m
+    S[b, i + (STATE + OX + 2) * n] += p * uz * inv_m
     cx, cy, cz = ry * uz - rz * uy, rz * ux - rx * uz, rx * uy - ry * ux
     t = world_omega(rot, p * cx, p * cy, p * cz, body_inv_inertia(body, b))
     _turn(S, b, i, n, t[0], t[1], t[2])
@@ -320,32 +339,32 @@ def _displace(S, b, i, n, body, rx, ry, rz, ux, uy, uz, dist):
 @njit(**_INLINE)
 def _turn(S, b, i, n, tx, ty, tz):
     """Turn body b by the small world rotation vector t (first order; renormalized)."""
-    qw, qx = S[b, i + OQ * n], S[b, i + (OQ + 1) * n]
-    qy, qz = S[b, i + (OQ + 2) * n], S[b, i + (OQ + 3) * n]
+    qw, qx = S[b, i + (STATE + OQ) * n], S[b, i + (STATE + OQ + 1) * n]
+    qy, qz = S[b, i + (STATE + OQ + 2) * n], S[b, i + (STATE + OQ + 3) * n]
     dq = quat_rate(qw, qx, qy, qz, tx, ty, tz)
     qw, qx, qy, qz = qw + dq[0], qx + dq[1], qy + dq[2], qz + dq[3]
     s = ONE / math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
-    S[b, i + OQ * n] = qw * s
-    S[b, i + (OQ + 1) * n] = qx * s
-    S[b, i + (OQ + 2) * n] = qy * s
-    S[b, i + (OQ + 3) * n] = qz * s
+    S[b, i + (STATE + OQ) * n] = qw * s
+    S[b, i + (STATE + OQ + 1) * n] = qx * s
+    S[b, i + (STATE + OQ + 2) * n] = qy * s
+    S[b, i + (STATE + OQ + 3) * n] = qz * s
 
 
 @njit(**_INLINE)
 def _scale_velocities(S, a, b, i, n, body, s):
     """Scale the bodies' velocities (and spins) by s about their common center of mass
     (b < 0: body a alone, about rest)."""
-    ma = body[a, 0]
-    mb = body[b, 0] if b >= 0 else ZERO * ma
+    ma = body[a, B_MASS]
+    mb = body[b, B_MASS] if b >= 0 else ZERO * ma
     for k in range(3):
-        va = S[a, i + (OV + k) * n]
-        vb = S[b, i + (OV + k) * n] if b >= 0 else ZERO * va
+        va = S[a, i + (STATE + OV + k) * n]
+        vb = S[b, i + (STATE + OV + k) * n] if b >= 0 else ZERO * va
         vc = (ma * va + mb * vb) / (ma + mb) if b >= 0 else ZERO * va
-        S[a, i + (OV + k) * n] = vc + s * (va - vc)
-        S[a, i + (OL + k) * n] *= s
+        S[a, i + (STATE + OV + k) * n] = vc + s * (va - vc)
+        S[a, i + (STATE + OL + k) * n] *= s
         if b >= 0:
-            S[b, i + (OV + k) * n] = vc + s * (vb - vc)
-            S[b, i + (OL + k) * n] *= s
+            S[b, i + (STATE + OV + k) * n] = vc + s * (vb - vc)
+            S[b, i + (STATE + OL + k) * n] *= s
 
 
 @njit(**_INLINE)
@@ -365,7 +384,11 @@ def _motion(S, b, i, n, body, p):
     w = _omega(S, b, i, n, rot, body)
     r = (p[0] - x[0], p[1] - x[1], p[2] - x[2])
     wr = _cross(w, r)
-    v = (S[b, i + OV * n] + wr[0], S[b, i + (OV + 1) * n] + wr[1], S[b, i + (OV + 2) * n] + wr[2])
+    v = (
+        S[b, i + (STATE + OV) * n] + wr[0],
+        S[b, i + (STATE + OV + 1) * n] + wr[1],
+        S[b, i + (STATE + OV + 2) * n] + wr[2],
+    )
     return v, w
 
 
@@ -375,9 +398,9 @@ def _wrench(S, b, i, n, body, p, jx, jy, jz, tx, ty, tz):
     x = _pose(S, b, i, n)[0]
     rx, ry, rz = p[0] - x[0], p[1] - x[1], p[2] - x[2]
     _impulse(S, b, i, n, body, rx, ry, rz, jx, jy, jz)
-    S[b, i + OL * n] += tx
-    S[b, i + (OL + 1) * n] += ty
-    S[b, i + (OL + 2) * n] += tz
+    S[b, i + (STATE + OL) * n] += tx
+    S[b, i + (STATE + OL + 1) * n] += ty
+    S[b, i + (STATE + OL + 2) * n] += tz
 
 
 # --------------------------------------------------------------------------------------------
@@ -450,7 +473,11 @@ def _corner(shp, s, c):
     sx = ONE if c & 1 else -ONE
     sy = ONE if c & 2 else -ONE
     sz = ONE if c & 4 else -ONE
-    return shp[1, s] + sx * shp[4, s], shp[2, s] + sy * shp[5, s], shp[3, s] + sz * shp[6, s]
+    return (
+        shp[SH_CENTER, s] + sx * shp[SH_SIZE, s],
+        shp[SH_CENTER + 1, s] + sy * shp[SH_SIZE + 1, s],
+        shp[SH_CENTER + 2, s] + sz * shp[SH_SIZE + 2, s],
+    )
 
 
 @njit(**_JIT)
@@ -460,10 +487,10 @@ def _ground_overlap(S, b, i, n, shp, srange, grid, cprm):
     x, rot = _pose(S, b, i, n)
     acc = _empty(ZERO * x[0])
     for s in range(srange[b], srange[b + 1]):
-        if shp[0, s] == SPHERE:
-            c = _point(x, rot, shp[1, s], shp[2, s], shp[3, s])
+        if shp[SH_KIND, s] == SPHERE:
+            c = _point(x, rot, shp[SH_CENTER, s], shp[SH_CENTER + 1, s], shp[SH_CENTER + 2, s])
             h, gx, gy, gz = ground_at(c[0], c[1], cprm, grid)
-            r = shp[4, s]
+            r = shp[SH_SIZE, s]
             depth = r - (c[2] - h) * gz  # below the ground's tangent plane
             if depth > -margin:
                 acc = _add(
@@ -495,16 +522,16 @@ def _local(rot, x, cx, cy, cz, px, py, pz):
 def _sphere_sphere(S, a, sa, b, sb, i, n, shp, margin):
     xa, ra = _pose(S, a, i, n)
     xb, rb = _pose(S, b, i, n)
-    ca = _point(xa, ra, shp[1, sa], shp[2, sa], shp[3, sa])
-    cb = _point(xb, rb, shp[1, sb], shp[2, sb], shp[3, sb])
+    ca = _point(xa, ra, shp[SH_CENTER, sa], shp[SH_CENTER + 1, sa], shp[SH_CENTER + 2, sa])
+    cb = _point(xb, rb, shp[SH_CENTER, sb], shp[SH_CENTER + 1, sb], shp[SH_CENTER + 2, sb])
     dx, dy, dz = ca[0] - cb[0], ca[1] - cb[1], ca[2] - cb[2]
     dist = math.sqrt(dx * dx + dy * dy + dz * dz)
-    depth = shp[4, sa] + shp[4, sb] - dist
+    depth = shp[SH_SIZE, sa] + shp[SH_SIZE, sb] - dist
     acc = _empty(ZERO * dist)
     if depth <= -margin or dist <= TINY:
         return acc
     nx, ny, nz = dx / dist, dy / dist, dz / dist
-    reach = shp[4, sb] - HALF * depth  # the middle of the overlap
+    reach = shp[SH_SIZE, sb] - HALF * depth  # the middle of the overlap
     return _add(acc, depth, cb[0] + reach * nx, cb[1] + reach * ny, cb[2] + reach * nz,
                 nx, ny, nz, margin)  # fmt: skip
 
@@ -514,10 +541,12 @@ def _sphere_box(S, a, sa, b, sb, i, n, shp, margin):
     """Sphere sa of body a against box sb of body b (normal out of the box)."""
     xa, ra = _pose(S, a, i, n)
     xb, rb = _pose(S, b, i, n)
-    c = _point(xa, ra, shp[1, sa], shp[2, sa], shp[3, sa])
-    lx, ly, lz = _local(rb, xb, shp[1, sb], shp[2, sb], shp[3, sb], c[0], c[1], c[2])
-    hx, hy, hz = shp[4, sb], shp[5, sb], shp[6, sb]
-    r = shp[4, sa]
+    c = _point(xa, ra, shp[SH_CENTER, sa], shp[SH_CENTER + 1, sa], shp[SH_CENTER + 2, sa])
+    lx, ly, lz = _local(
+        rb, xb, shp[SH_CENTER, sb], shp[SH_CENTER + 1, sb], shp[SH_CENTER + 2, sb], c[0], c[1], c[2]
+    )
+    hx, hy, hz = shp[SH_SIZE, sb], shp[SH_SIZE + 1, sb], shp[SH_SIZE + 2, sb]
+    r = shp[SH_SIZE, sa]
     qx, qy, qz = min(max(lx, -hx), hx), min(max(ly, -hy), hy), min(max(lz, -hz), hz)
     dx, dy, dz = lx - qx, ly - qy, lz - qz
     dist = math.sqrt(dx * dx + dy * dy + dz * dz)
@@ -549,9 +578,9 @@ def _sphere_box(S, a, sa, b, sb, i, n, shp, margin):
 def _box_radius(rot, shp, s, ux, uy, uz):
     """Half the extent of box s (orientation rot) along the world unit u."""
     return (
-        shp[4, s] * abs(rot[0] * ux + rot[3] * uy + rot[6] * uz)
-        + shp[5, s] * abs(rot[1] * ux + rot[4] * uy + rot[7] * uz)
-        + shp[6, s] * abs(rot[2] * ux + rot[5] * uy + rot[8] * uz)
+        shp[SH_SIZE, s] * abs(rot[0] * ux + rot[3] * uy + rot[6] * uz)
+        + shp[SH_SIZE + 1, s] * abs(rot[1] * ux + rot[4] * uy + rot[7] * uz)
+        + shp[SH_SIZE + 2, s] * abs(rot[2] * ux + rot[5] * uy + rot[8] * uz)
     )
 
 
@@ -564,8 +593,8 @@ def _box_box(S, a, sa, b, sb, i, n, shp, margin):
     face (a face on a face, a face on an edge, corners on a face; not edge across edge)."""
     xa, ra = _pose(S, a, i, n)
     xb, rb = _pose(S, b, i, n)
-    ca = _point(xa, ra, shp[1, sa], shp[2, sa], shp[3, sa])
-    cb = _point(xb, rb, shp[1, sb], shp[2, sb], shp[3, sb])
+    ca = _point(xa, ra, shp[SH_CENTER, sa], shp[SH_CENTER + 1, sa], shp[SH_CENTER + 2, sa])
+    cb = _point(xb, rb, shp[SH_CENTER, sb], shp[SH_CENTER + 1, sb], shp[SH_CENTER + 2, sb])
     dx, dy, dz = ca[0] - cb[0], ca[1] - cb[1], ca[2] - cb[2]
     acc = _empty(ZERO * dx)
     best = np.inf
@@ -591,12 +620,12 @@ def _box_box(S, a, sa, b, sb, i, n, shp, margin):
     else:
         rr, rs, cr, ri, si, ci, flip = ra, sa, ca, rb, sb, cb, -ONE
     mx, my, mz = flip * ux, flip * uy, flip * uz
-    h = shp[4 + axis, rs]
+    h = shp[SH_SIZE + axis, rs]
     fx, fy, fz = cr[0] + h * mx, cr[1] + h * my, cr[2] + h * mz  # reference face center
     p1, p2 = (axis + 1) % 3, (axis + 2) % 3  # its in-plane axes and half sizes
     a1 = (rr[p1], rr[3 + p1], rr[6 + p1])
     a2 = (rr[p2], rr[3 + p2], rr[6 + p2])
-    h1, h2 = shp[4 + p1, rs], shp[4 + p2, rs]
+    h1, h2 = shp[SH_SIZE + p1, rs], shp[SH_SIZE + p2, rs]
     # the incident face: the incident box's face whose normal most opposes m
     kbest, dbest = 0, ZERO * mx
     for q in range(3):
@@ -605,15 +634,15 @@ def _box_box(S, a, sa, b, sb, i, n, shp, margin):
             kbest, dbest = q, d
     s0 = -ONE if dbest > ZERO else ONE  # the face on the side facing the reference box
     q1, q2 = (kbest + 1) % 3, (kbest + 2) % 3
-    gx = ci[0] + s0 * shp[4 + kbest, si] * ri[kbest]
-    gy = ci[1] + s0 * shp[4 + kbest, si] * ri[3 + kbest]
-    gz = ci[2] + s0 * shp[4 + kbest, si] * ri[6 + kbest]
+    gx = ci[0] + s0 * shp[SH_SIZE + kbest, si] * ri[kbest]
+    gy = ci[1] + s0 * shp[SH_SIZE + kbest, si] * ri[3 + kbest]
+    gz = ci[2] + s0 * shp[SH_SIZE + kbest, si] * ri[6 + kbest]
     # its 4 corners in the reference face's frame (x1, x2, depth below the face)
     poly = np.empty((8, 3), dtype=shp.dtype)
     tmp = np.empty((8, 3), dtype=shp.dtype)
     for c in range(4):
-        t1 = shp[4 + q1, si] * (ONE if c == 0 or c == 3 else -ONE)
-        t2 = shp[4 + q2, si] * (ONE if c < 2 else -ONE)
+        t1 = shp[SH_SIZE + q1, si] * (ONE if c == 0 or c == 3 else -ONE)
+        t2 = shp[SH_SIZE + q2, si] * (ONE if c < 2 else -ONE)
         px = gx + t1 * ri[q1] + t2 * ri[q2]
         py = gy + t1 * ri[3 + q1] + t2 * ri[3 + q2]
         pz = gz + t1 * ri[6 + q1] + t2 * ri[6 + q2]
@@ -662,7 +691,7 @@ def _pair_overlap(S, a, b, i, n, shp, srange, margin):
     acc = _empty(ZERO * margin)
     for sa in range(srange[a], srange[a + 1]):
         for sb in range(srange[b], srange[b + 1]):
-            ka, kb = shp[0, sa], shp[0, sb]
+            ka, kb = shp[SH_KIND, sa], shp[SH_KIND, sb]
             if ka == SPHERE and kb == SPHERE:
                 acc = _sum(acc, _sphere_sphere(S, a, sa, b, sb, i, n, shp, margin), ONE)
             elif ka == SPHERE:
@@ -779,7 +808,7 @@ def _remember(S, W, b, i, n, body):
     rot = _pose(S, b, i, n)[1]
     w = _omega(S, b, i, n, rot, body)
     for c in range(3):
-        W[b, W_V0 + c] = S[b, i + (OV + c) * n]
+        W[b, W_V0 + c] = S[b, i + (STATE + OV + c) * n]
         W[b, W_W0 + c] = w[c]
     W[b, W_SEEN] = ONE
 
@@ -808,9 +837,9 @@ def _open(S, W, k, a, b, i, n, body, cbody, cprm, acc):
     p = (px, py, pz)
     nrm = (nx, ny, nz)
     # materials: geometric means
-    eb = cprm[C_GE] if ground else cbody[b, 0]
-    mub = cprm[C_GMU] if ground else cbody[b, 1]
-    e = math.sqrt(cbody[a, 0] * eb)
+    eb = cprm[C_GE] if ground else cbody[b, B_MASS]
+    mub = cprm[C_GMU] if ground else cbody[b, CB_FRICTION]
+    e = math.sqrt(cbody[a, B_MASS] * eb)
     un = _dot(_relative(S, a, b, i, n, body, p)[0], nrm)
     impact = -un > cprm[C_REST_SPEED]
     # 1. projection: out by the depth, mass-weighted between two bodies. A resting contact
@@ -821,8 +850,8 @@ def _open(S, W, k, a, b, i, n, body, cbody, cprm, acc):
         W[a, W_REST] = ONE
         if not ground:
             W[b, W_REST] = ONE
-    ma = body[a, 0]
-    share = ONE if ground else body[b, 0] / (ma + body[b, 0])
+    ma = body[a, B_MASS]
+    share = ONE if ground else body[b, B_MASS] / (ma + body[b, B_MASS])
     W[k, W_KE0] = _energy(S, a, i, n, body) + (ZERO if ground else _energy(S, b, i, n, body))
     # (a resting contact's push is pure translation, at the centers: pushed at the patch's
     # mean, an offset load would tip each body a little every step, and a stack would rock)
@@ -862,7 +891,7 @@ def _open(S, W, k, a, b, i, n, body, cbody, cprm, acc):
         W[k, W_E2 + c] = e2[c]
     W[k, W_L1], W[k, W_L2] = l1, l2
     W[k, W_GOAL] = goal
-    W[k, W_MU] = math.sqrt(cbody[a, 1] * mub)
+    W[k, W_MU] = math.sqrt(cbody[a, CB_FRICTION] * mub)
     W[k, W_IMPACT] = ONE if impact else ZERO
     for f in range(W_J, W_TW + 1):
         W[k, f] = ZERO
@@ -909,7 +938,7 @@ def _add_response(K, S, b, i, n, body, p, dirs):
     x, rot = _pose(S, b, i, n)
     r = (p[0] - x[0], p[1] - x[1], p[2] - x[2])
     inv = body_inv_inertia(body, b)
-    inv_m = ONE / body[b, 0]
+    inv_m = ONE / body[b, B_MASS]
     # the angular effect of each impulse, c = r x a (linear) or b (angular), then I^-1 c
     c = np.empty((6, 3), dtype=K.dtype)
     ic = np.empty((6, 3), dtype=K.dtype)
@@ -1071,10 +1100,10 @@ def _close(S, W, k, i, n, body, cprm):
     if ground:
         _scale_velocities(S, a, -1, i, n, body, math.sqrt(ke0 / ke1))
         return
-    ma, mb = body[a, 0], body[b, 0]
+    ma, mb = body[a, B_MASS], body[b, B_MASS]
     vc2 = ZERO * ke1
     for c in range(3):
-        vc = (ma * S[a, i + (OV + c) * n] + mb * S[b, i + (OV + c) * n]) / (ma + mb)
+        vc = (ma * S[a, i + (STATE + OV + c) * n] + mb * S[b, i + (STATE + OV + c) * n]) / (ma + mb)
         vc2 += vc * vc
     bulk = HALF * (ma + mb) * vc2  # unchanged by the pair's internal impulses
     inner = max(ke1 - bulk, TINY)
@@ -1086,16 +1115,16 @@ def _near_ground(S, b, i, n, cbody, cprm):
     """Whether body b's reach comes within the margin of the ground's highest point."""
     if cprm[C_GROUND] == GROUND_NONE:
         return False
-    return S[b, i + (OX + 2) * n] - cbody[b, 2] <= cprm[C_GTOP] + cprm[C_MARGIN]
+    return S[b, i + (STATE + OX + 2) * n] - cbody[b, CB_REACH] <= cprm[C_GTOP] + cprm[C_MARGIN]
 
 
 @njit(**_INLINE)
 def _near_each_other(S, a, b, i, n, cbody, margin):
     """Whether bodies a and b are within their reaches (plus the margin) of each other."""
-    dx = S[a, i + OX * n] - S[b, i + OX * n]
-    dy = S[a, i + (OX + 1) * n] - S[b, i + (OX + 1) * n]
-    dz = S[a, i + (OX + 2) * n] - S[b, i + (OX + 2) * n]
-    reach = cbody[a, 2] + cbody[b, 2] + margin
+    dx = S[a, i + (STATE + OX) * n] - S[b, i + (STATE + OX) * n]
+    dy = S[a, i + (STATE + OX + 1) * n] - S[b, i + (STATE + OX + 1) * n]
+    dz = S[a, i + (STATE + OX + 2) * n] - S[b, i + (STATE + OX + 2) * n]
+    reach = cbody[a, CB_REACH] + cbody[b, CB_REACH] + margin
     return dx * dx + dy * dy + dz * dz <= reach * reach
 
 
@@ -1175,7 +1204,7 @@ def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm, touch):
         rot = _pose(S, b, i, n)[1]
         w = _omega(S, b, i, n, rot, body)
         for c in range(3):
-            S[b, i + (OX + c) * n] += dt * (S[b, i + (OV + c) * n] - W[b, W_V0 + c])
+            S[b, i + (STATE + OX + c) * n] += dt * (S[b, i + (STATE + OV + c) * n] - W[b, W_V0 + c])
         _turn(
             S, b, i, n,
             dt * (w[0] - W[b, W_W0]),
@@ -1205,28 +1234,27 @@ def _keep(W, k, warm):
 # packing
 
 
-def pack(
-    crafts, ground, dt: float, gravity: float, passes: int, num_envs: int, dtype,
-    drift_share: float = 1.0,
-):  # fmt: skip
-    """The contact tables for the step kernel (``drift_share``: the integrator's
-    ``kernels.DRIFT_SHARE``): ``(shapes [NSHAPE, n], shape ranges [B + 1],
-    ground grid, per-body materials [B, NCBODY], parameters [NCPRM], warm-start impulses
-    [E, num_pairs(B), NWARM] (zeros; the kernel updates them), each pair's normal impulse
-    over the last step call [E, num_pairs(B)]: the ground's on each body, then body pairs)``."""
-    rows, ranges, mats = [], [0], []
-    for c in crafts:
-        for s in c.shapes:
-            size = (s.radius_m, 0.0, 0.0) if s.kind == "sphere" else s.half_extents_m
-            kind = SPHERE if s.kind == "sphere" else BOX
-            rows.append((kind, *s.center_m, *size, s.reach_m))
-        ranges.append(len(rows))
-        reach = max((s.reach_m for s in c.shapes), default=0.0)
-        mats.append((c.restitution, c.friction, reach))
-    shapes = np.asarray(rows, dtype=dtype).reshape(-1, NSHAPE).T.copy()
+def shape_rows(craft) -> list[tuple]:
+    """The rows of a craft's collision shapes (``SH_*`` columns), in the craft's order."""
+    rows = []
+    for s in craft.shapes:
+        size = (s.radius_m, 0.0, 0.0) if s.kind == "sphere" else s.half_extents_m
+        rows.append((SPHERE if s.kind == "sphere" else BOX, *s.center_m, *size, s.reach_m))
+    return rows
+
+
+def material_row(craft) -> tuple:
+    """A craft's ``CB_*`` row: restitution, friction, the reach of all its shapes."""
+    reach = max((s.reach_m for s in craft.shapes), default=0.0)
+    return (craft.restitution, craft.friction, reach)
+
+
+def params(crafts, ground, dt: float, gravity: float, passes: int, drift_share: float):
+    """The contact parameters ``cprm[NCPRM]`` (float64; ``drift_share``: the integrator's
+    ``integrators.Integrator.drift_share``) and the ground's grid (float64)."""
     prm = ground.params() if ground is not None else np.zeros(NCPRM)
-    touching = bool(rows) and (ground is not None or len(crafts) > 1)
-    prm[C_ON] = 1.0 if touching else 0.0
+    has_shapes = any(c.shapes for c in crafts)
+    prm[C_ON] = 1.0 if has_shapes and (ground is not None or len(crafts) > 1) else 0.0
     # below this approach speed a contact is resting: no bounce (gravity's gain in 2 steps)
     prm[C_REST_SPEED] = 2.0 * gravity * dt
     prm[C_UNDRIFT] = drift_share * dt  # what a resting body's drift is undone by (collide)
@@ -1237,13 +1265,5 @@ def pack(
     prm[C_MARGIN] = 2.0 * gravity * dt * dt
     prm[C_PAIR_BOUND] = PAIR_ENERGY_BOUND
     prm[C_PASSES] = passes
-    grid = ground.field_table(dtype) if ground is not None else np.zeros((1, 1), dtype)
-    return (
-        np.ascontiguousarray(shapes),
-        np.asarray(ranges, dtype=np.int64),
-        grid,
-        np.asarray(mats, dtype=dtype).reshape(len(crafts), NCBODY),
-        prm.astype(dtype),
-        np.zeros((num_envs if touching else 0, num_pairs(len(crafts)), NWARM), dtype=dtype),
-        np.zeros((num_envs if touching else 0, num_pairs(len(crafts))), dtype=dtype),
-    )
+    grid = ground.field_table(np.float64) if ground is not None else np.zeros((1, 1))
+    return prm, grid

@@ -232,14 +232,16 @@ class Shape:
             raise CraftError(f"{where}: kind must be 'sphere' or 'box', got {self.kind!r}")
 
     @property
+    def extent_m(self) -> float:
+        """The distance from the shape's center to its farthest point."""
+        if self.kind == "sphere":
+            return self.radius_m
+        return math.sqrt(sum(h * h for h in self.half_extents_m))
+
+    @property
     def reach_m(self) -> float:
         """The distance from the center of mass to the shape's farthest point."""
-        extent = (
-            self.radius_m
-            if self.kind == "sphere"
-            else math.sqrt(sum(h * h for h in self.half_extents_m))
-        )
-        return math.sqrt(sum(c * c for c in self.center_m)) + extent
+        return float(shape_reach(np.asarray(self.center_m), self.extent_m))
 
 
 @dataclass(frozen=True)
@@ -280,6 +282,40 @@ class Control:
 # the craft
 
 
+def shape_reach(center_m: np.ndarray, extent_m):
+    """A shape's reach from the center of mass: its center's distance plus its extent
+    (``center_m [..., 3]``); the one formula for crafts and per-environment centers of mass."""
+    c = np.asarray(center_m, dtype=np.float64)
+    return np.sqrt(c[..., 0] * c[..., 0] + c[..., 1] * c[..., 1] + c[..., 2] * c[..., 2]) + extent_m
+
+
+def shift_offsets(offsets_m: np.ndarray, shift_m) -> np.ndarray:
+    """Offsets ``[..., 3]`` from a center of mass moved by ``shift_m`` (body frame): ``offset -
+    shift`` rounded to 1e-12 m (so that a shift and its undoing give back the file's numbers);
+    a component with no shift is left untouched. The one rule for
+    :meth:`Craft.with_center_of_mass` and ``Simulator.set_mass_properties``."""
+    offsets_m = np.asarray(offsets_m, dtype=np.float64)
+    shift_m = np.asarray(shift_m, dtype=np.float64)
+    return np.where(shift_m == 0.0, offsets_m, np.round(offsets_m - shift_m, 12))
+
+
+def check_inertia(where: str, tensors: np.ndarray, value: Any) -> None:
+    """Raise unless every tensor ``[..., 3, 3]`` is symmetric, positive definite and has
+    principal moments a mass distribution can have (I1 + I2 >= I3)."""
+    if not np.allclose(tensors, np.swapaxes(tensors, -1, -2), rtol=1e-9, atol=0.0):
+        raise CraftError(f"{where}: inertia_kgm2 tensor must be symmetric, got {value!r}")
+    moments = np.linalg.eigvalsh(tensors)
+    if np.any(moments[..., 0] <= 0.0):
+        raise CraftError(f"{where}: inertia_kgm2 must be positive definite, got {value!r}")
+    bad = moments[..., 0] + moments[..., 1] < moments[..., 2] * (1.0 - 1e-9)
+    if np.any(bad):
+        first = moments[np.nonzero(bad)][0] if moments.ndim > 1 else moments
+        raise CraftError(
+            f"{where}: inertia_kgm2 principal moments {first.tolist()} break the triangle "
+            "inequality I1 + I2 >= I3: no mass distribution has them"
+        )
+
+
 def _inertia_tensor(where: str, value: Any) -> np.ndarray:
     arr = np.asarray(value, dtype=float) if value is not None else None
     if arr is None or arr.shape not in ((3,), (3, 3)) or not np.all(np.isfinite(arr)):
@@ -287,17 +323,7 @@ def _inertia_tensor(where: str, value: Any) -> np.ndarray:
             f"{where}: inertia_kgm2 must be 3 principal moments or a 3x3 tensor, got {value!r}"
         )
     tensor = np.diag(arr) if arr.shape == (3,) else arr
-    if not np.allclose(tensor, tensor.T, rtol=1e-9, atol=0.0):
-        raise CraftError(f"{where}: inertia_kgm2 tensor must be symmetric, got {value!r}")
-    moments = np.linalg.eigvalsh(tensor)
-    if moments[0] <= 0.0:
-        raise CraftError(f"{where}: inertia_kgm2 must be positive definite, got {value!r}")
-    # A real mass distribution has I1 + I2 >= I3 for its principal moments.
-    if moments[0] + moments[1] < moments[2] * (1.0 - 1e-9):
-        raise CraftError(
-            f"{where}: inertia_kgm2 principal moments {moments.tolist()} break the triangle "
-            "inequality I1 + I2 >= I3: no mass distribution has them"
-        )
+    check_inertia(where, tensor, value)  # a real mass distribution has I1 + I2 >= I3
     return tensor
 
 
@@ -326,6 +352,8 @@ class Craft:
     restitution: float = 0.5
     friction: float = 0.5
     description: str = ""
+    # named sets of samples, {name: [sample names]} (``Simulator.set_sample_scale``)
+    groups: Any = ()
     _tensor: np.ndarray = field(default=None, repr=False, compare=False)  # type: ignore[assignment]
 
     def __post_init__(self) -> None:
@@ -364,6 +392,26 @@ class Craft:
                 items.append(item)
             object.__setattr__(self, key, tuple(items))
         self._check_references(where)
+        object.__setattr__(self, "groups", self._check_groups(where, self.groups))
+
+    def _check_groups(self, where: str, groups: Any) -> tuple[tuple[str, tuple[str, ...]], ...]:
+        """Groups as ``((name, (sample, ...)), ...)``: hashable, like the rest of a Craft."""
+        pairs = list(groups.items()) if isinstance(groups, dict) else list(groups)
+        samples = [s.name for s in (*self.plates, *self.cylinders, *self.buoyancy, *self.thrusters)]
+        out = []
+        for name, members in pairs:
+            if not isinstance(name, str) or name in samples:
+                raise CraftError(f"{where}: group name {name!r} must be a string, not a sample's")
+            if isinstance(members, str) or not members:
+                raise CraftError(f"{where}: group {name!r} must list sample names, got {members!r}")
+            unknown = [m for m in members if m not in samples]
+            if unknown:
+                raise CraftError(
+                    f"{where}: group {name!r} names unknown samples {unknown}; samples are "
+                    f"{samples}"
+                )
+            out.append((name, tuple(members)))
+        return tuple(out)
 
     def _check_references(self, where: str) -> None:
         names = [s.name for s in (*self.plates, *self.cylinders, *self.buoyancy, *self.thrusters)]
@@ -428,7 +476,7 @@ class Craft:
 
         def moved(items, key="offset_m"):
             def shift(v):
-                return tuple(round(a - b, 12) for a, b in zip(v, dx, strict=True))
+                return tuple(float(a) for a in shift_offsets(v, dx))
 
             return tuple(replace(s, **{key: shift(getattr(s, key))}) for s in items)
 

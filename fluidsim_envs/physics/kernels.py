@@ -24,14 +24,14 @@ velocity is derived, ``w = R I^-1 R^T L``, so torque-free motion conserves L exa
 The water surface and the clock. Each environment has its own time ``clock[E]`` (float64 in
 either simulation dtype, so that wave phases stay exact over long episodes); the kernel
 advances it by ``dt`` (the simulation dtype's) per step and writes it back. The force loops
-read a sample's height above the surface from the row ``H`` (the body's z minus the surface
+read a sample's height above the surface from the row ``HEIGHT`` (the body's z minus the surface
 height under the sample): in calm water (no waves: ``prm[P_NWAVES] = 0``, an empty ``swell``
-table) ``H`` is a copy of z, made once per force evaluation, and the force loops do exactly
+table) ``HEIGHT`` is a copy of z, made once per force evaluation, and the force loops do exactly
 what they did on a flat surface at z = 0. With swell, ``_phase_rows`` stores each wave's time
-phase ``phase - omega t`` per environment at the start of each step (rows ``PH``, from the
+phase ``phase - omega t`` per environment at the start of each step (rows ``PHASE``, from the
 float64 clock and ``swell`` table), and ``_swell_rows`` (not inlined, like ``_wake_rows``;
 vectorized across environments thanks to a branch-free cosine, ``surface.wave_cos``) fills
-``H`` for each sample's point before that sample's force loop, from the waves in ``prm``.
+``HEIGHT`` for each sample's point before that sample's force loop, from the waves in ``prm``.
 The integrators and ``_evaluate`` take no array beyond those they took on a flat surface (each
 array argument of a compiled call costs reference counting, measurable at small batches).
 Each force evaluation sees the surface at its own stage time, ``tau`` after the step's start:
@@ -42,13 +42,20 @@ frozen at the step's start would make RK2 and RK4 first order in time). The wake
 is evaluated where its source is at the stage time (``_wake_rows``).
 
 Contact. When any body has collision shapes and there is a ground or a second body
-(``tables[16][C_ON]``), each step's integration is followed by ``contact.collide`` for each
+(``model.cprm[C_ON]``), each step's integration is followed by ``contact.collide`` for each
 environment of the block in turn: scalar, branchy code that reads and writes the bodies'
 state rows in place (it does not vectorize and need not: a body costs it one distance test
-per pair until something touches). Its tables are ``tables[12:19]`` (``contact.pack``).
+per pair until something touches). It reads that environment's rows of ``model.shape``,
+``model.body`` and ``model.contact_body``, and ``data.warm``, ``data.touch``.
 
-External force. ``tables[19]`` [E, B, 6] holds a world force and torque per body that
+External force. ``data.external`` [E, B, 6] holds a world force and torque per body that
 ``_evaluate`` adds to the samples' (``Simulator.set_external_force``: a scene's mooring line).
+
+The data. Kernels take ``(model, data)``, the named tuples of ``model.py``; row layouts are
+named in ``state.py`` (state, body constants, this scratch) and ``model.py`` (samples).
+Per-environment craft values (mass, inertia, each sample's offset and size) are read per
+environment (``model.body`` is copied into the scratch's BODY rows with the state), so that
+environments of one batch can fly different crafts at the cost of a load per value.
 """
 
 from __future__ import annotations
@@ -58,6 +65,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from . import integrators as IT
 from .contact import C_ON, NW, collide, may_touch, num_pairs
 from .forces import (
     HALF,
@@ -71,61 +79,63 @@ from .forces import (
     rotate_about_axis,
     water_fraction,
 )
-from .rotation import (
+from .model import (
+    S_AREA,
+    S_BUOY_AREA,
+    S_CYL_AREA,
+    S_EFFICIENCY,
+    S_OFFSET,
+    S_THRUST_MAX,
+    S_THRUST_MIN,
+    S_VOLUME,
+)
+from .rotation import body_inv_inertia, quat_rate, quat_to_matrix, world_omega
+from .state import (
+    B_INV_INERTIA,
+    B_MASS,
+    B_SECOND_MOMENT,
+    BLOCK,
+    BODY,
+    DERIV,
+    FLUID,
+    HEIGHT,
+    NBODY,
     NSTATE,
     OL,
+    OMEGA,
     OQ,
     OV,
+    OWN_WATER,
     OX,
-    body_inv_inertia,
-    quat_rate,
-    quat_to_matrix,
-    world_omega,
+    PHASE,
+    RK_SUM,
+    ROT,
+    ROWS,
+    SAMPLE_X,
+    SAMPLE_Y,
+    SOURCE,
+    START,
+    STATE,
 )
 from .surface import MAX_WAVES, time_phase, wave_cos
 from .wake import NSRC, W_ON, wake_at
 
-BLOCK = 64  # environments per block: a multiple of the SIMD width, scratch fits in L1/L2
-# A slot's scratch is one flat row-major array S[row * BLOCK + i]: with the row length a
-# compile-time constant the compiler can prove that rows do not overlap, and vectorizes.
-Y, Y0, ACC, D, R, W = 0, 13, 26, 39, 52, 61  # state, step start, RK sum, derivative, R, w
-FL = 64  # per-environment fluid: air velocity (3), water minus air velocity (3)
-FB = 70  # with a wake: the environment's own water minus air velocity (FL + 3 then varies)
-SRC = 73  # with a wake: the wake source row (wake.NSRC values: pos, rotation, vel, offset)
-H = 91  # the body's z minus the surface height under the current sample (z in calm water)
-SX, SY = 92, 93  # with swell: the current sample's world x and y
-PH = 94  # with swell: each wave's time phase (surface.time_phase) at the step's start
-ROWS = PH + MAX_WAVES
+# A slot's scratch is one flat row-major array S[row * BLOCK + i] (rows: state.SCRATCH_FIELDS):
+# with the row length a compile-time constant the compiler can prove that rows do not
+# overlap, and vectorizes.
+assert ROWS == BODY + NBODY
 
-INTEGRATORS = {
-    "explicit_euler": 0,
-    "symplectic_euler": 1,
-    "velocity_verlet": 2,
-    "rk2": 3,
-    "rk4": 4,
-    "verlet_tetra": 5,
-}
-# Force evaluations per step, for cost accounting in benchmarks.
-EVALS_PER_STEP = {
-    "explicit_euler": 1,
-    "symplectic_euler": 1,
-    "velocity_verlet": 2,
-    "rk2": 2,
-    "rk4": 4,
-    "verlet_tetra": 1,
-}
-# The share of a step's velocity change that its position update carried (x1 = x0 + dt v0 +
-# share dt^2 a for a constant a): what a resting contact undoes of the drift (contact.py).
-# Symplectic Euler and the tetrahedron drift with the new velocity; explicit Euler with the
-# old; velocity Verlet and the Runge-Kutta methods integrate a constant force exactly.
-DRIFT_SHARE = {
-    "explicit_euler": 0.0,
-    "symplectic_euler": 1.0,
-    "velocity_verlet": 0.5,
-    "rk2": 0.5,
-    "rk4": 0.5,
-    "verlet_tetra": 1.0,
-}
+# name -> kernel id, evaluations per step and drift share: views of the one table
+INTEGRATORS = {m.name: m.id for m in IT.TABLE}
+EVALS_PER_STEP = {m.name: m.evals_per_step for m in IT.TABLE}
+DRIFT_SHARE = {m.name: m.drift_share for m in IT.TABLE}
+EXPLICIT_EULER, SYMPLECTIC_EULER, VELOCITY_VERLET = (
+    IT.EXPLICIT_EULER,
+    IT.SYMPLECTIC_EULER,
+    IT.VELOCITY_VERLET,
+)
+RK2, RK4, VERLET_TETRA = IT.RK2, IT.RK4, IT.VERLET_TETRA
+_IDS = np.array(sorted(IT.BY_ID), dtype=np.int64)
 
 # prm[] slots: world and step parameters, in the simulation dtype
 P_G, P_RHO_AIR, P_RHO_WATER, P_WATER = 0, 1, 2, 3
@@ -136,9 +146,6 @@ P_SWELL = 15
 P_TETRA_SWITCH = P_SWELL + 4 * MAX_WAVES  # verlet_tetra: rigid above this |w| dt (rad)
 P_GM = P_TETRA_SWITCH + 1  # World.central_gravity_m3s2 (0: none)
 NPRM = P_GM + 1
-# body[B, 13] columns: mass, inverse inertia (xx, yy, zz, xy, xz, yz), then the second moment
-# S = tr(I)/2 1 - I (xx, yy, zz, xy, xz, yz): a matched tetrahedron's sum m_i r_i r_i^T
-NBODY = 13
 POLAR_ITERATIONS = 8  # fit passes from the rigid turn: energy floor ~1e-11 (docs/tetra_spin.csv)
 
 SIX = np.float32(6.0)
@@ -172,62 +179,92 @@ def body_state(st, b, e, inv_inertia):
 
 @njit(**_INLINE)
 def _matrix(S, i):
-    """The rotation matrix rows R of body i as a row-major 9-tuple."""
+    """The rotation matrix rows ROT of body i as a row-major 9-tuple."""
     return (
-        S[R * BLOCK + i],
-        S[(R + 1) * BLOCK + i],
-        S[(R + 2) * BLOCK + i],
-        S[(R + 3) * BLOCK + i],
-        S[(R + 4) * BLOCK + i],
-        S[(R + 5) * BLOCK + i],
-        S[(R + 6) * BLOCK + i],
-        S[(R + 7) * BLOCK + i],
-        S[(R + 8) * BLOCK + i],
+        S[ROT * BLOCK + i],
+        S[(ROT + 1) * BLOCK + i],
+        S[(ROT + 2) * BLOCK + i],
+        S[(ROT + 3) * BLOCK + i],
+        S[(ROT + 4) * BLOCK + i],
+        S[(ROT + 5) * BLOCK + i],
+        S[(ROT + 6) * BLOCK + i],
+        S[(ROT + 7) * BLOCK + i],
+        S[(ROT + 8) * BLOCK + i],
     )
 
 
 @njit(**_INLINE)
-def _omega_row(S, body, b, n):
-    """Rotation matrix rows R and angular velocity rows W from the state rows Y."""
-    inv_inertia = body_inv_inertia(body, b)
+def _inv_inertia(S, i):
+    """Body i's inverse body inertia entries (xx, yy, zz, xy, xz, yz) from its BODY rows."""
+    k = BODY + B_INV_INERTIA
+    return (
+        S[k * BLOCK + i],
+        S[(k + 1) * BLOCK + i],
+        S[(k + 2) * BLOCK + i],
+        S[(k + 3) * BLOCK + i],
+        S[(k + 4) * BLOCK + i],
+        S[(k + 5) * BLOCK + i],
+    )
+
+
+@njit(**_INLINE)
+def _omega_row(S, n):
+    """Rotation matrix rows ROT and angular velocity rows OMEGA from the state rows STATE."""
     for i in range(n):
         m = quat_to_matrix(
-            S[(Y + OQ) * BLOCK + i],
-            S[(Y + OQ + 1) * BLOCK + i],
-            S[(Y + OQ + 2) * BLOCK + i],
-            S[(Y + OQ + 3) * BLOCK + i],
+            S[(STATE + OQ) * BLOCK + i],
+            S[(STATE + OQ + 1) * BLOCK + i],
+            S[(STATE + OQ + 2) * BLOCK + i],
+            S[(STATE + OQ + 3) * BLOCK + i],
         )
         # written out: indexing a tuple with a loop variable defeats vectorization
-        S[R * BLOCK + i], S[(R + 1) * BLOCK + i], S[(R + 2) * BLOCK + i] = m[0], m[1], m[2]
-        S[(R + 3) * BLOCK + i], S[(R + 4) * BLOCK + i], S[(R + 5) * BLOCK + i] = m[3], m[4], m[5]
-        S[(R + 6) * BLOCK + i], S[(R + 7) * BLOCK + i], S[(R + 8) * BLOCK + i] = m[6], m[7], m[8]
+        S[ROT * BLOCK + i], S[(ROT + 1) * BLOCK + i], S[(ROT + 2) * BLOCK + i] = m[0], m[1], m[2]
+        S[(ROT + 3) * BLOCK + i], S[(ROT + 4) * BLOCK + i], S[(ROT + 5) * BLOCK + i] = (
+            m[3],
+            m[4],
+            m[5],
+        )
+        S[(ROT + 6) * BLOCK + i], S[(ROT + 7) * BLOCK + i], S[(ROT + 8) * BLOCK + i] = (
+            m[6],
+            m[7],
+            m[8],
+        )
         w = world_omega(
             m,
-            S[(Y + OL) * BLOCK + i],
-            S[(Y + OL + 1) * BLOCK + i],
-            S[(Y + OL + 2) * BLOCK + i],
-            inv_inertia,
+            S[(STATE + OL) * BLOCK + i],
+            S[(STATE + OL + 1) * BLOCK + i],
+            S[(STATE + OL + 2) * BLOCK + i],
+            _inv_inertia(S, i),
         )
-        S[(W) * BLOCK + i] = w[0]
-        S[(W + 1) * BLOCK + i] = w[1]
-        S[(W + 2) * BLOCK + i] = w[2]
+        S[(OMEGA) * BLOCK + i] = w[0]
+        S[(OMEGA + 1) * BLOCK + i] = w[1]
+        S[(OMEGA + 2) * BLOCK + i] = w[2]
 
 
 @njit(**_INLINE)
 def _add_force(S, i, rx, ry, rz, fx, fy, fz):
     """Accumulate a force applied at world offset r from the center of mass (and its torque)."""
-    S[(D + OV) * BLOCK + i] += fx
-    S[(D + OV + 1) * BLOCK + i] += fy
-    S[(D + OV + 2) * BLOCK + i] += fz
-    S[(D + OL) * BLOCK + i] += ry * fz - rz * fy
-    S[(D + OL + 1) * BLOCK + i] += rz * fx - rx * fz
-    S[(D + OL + 2) * BLOCK + i] += rx * fy - ry * fx
+    S[(DERIV + OV) * BLOCK + i] += fx
+    S[(DERIV + OV + 1) * BLOCK + i] += fy
+    S[(DERIV + OV + 2) * BLOCK + i] += fz
+    S[(DERIV + OL) * BLOCK + i] += ry * fz - rz * fy
+    S[(DERIV + OL + 1) * BLOCK + i] += rz * fx - rx * fz
+    S[(DERIV + OL + 2) * BLOCK + i] += rx * fy - ry * fx
 
 
 @njit(**_INLINE)
-def _first_sample(tables, b):
+def _first_sample(model, b):
     """The number of samples (plates, cylinders, buoyancy, thrusters) of bodies before b."""
-    return tables[2][b] + tables[4][b] + tables[6][b] + tables[8][b] + tables[11][b]
+    return (
+        model.plate_at[b] + model.flap_at[b] + model.cyl_at[b] + model.buoy_at[b] + model.thr_at[b]
+    )
+
+
+@njit(**_INLINE)
+def _offset(S, i, tab, p, e):
+    """World offset from the center of mass of sample p (a per-environment table's S_OFFSET
+    rows, environment e) for body i of the block."""
+    return _rotate(S, i, tab[S_OFFSET, p, e], tab[S_OFFSET + 1, p, e], tab[S_OFFSET + 2, p, e])
 
 
 @njit(**_INLINE)
@@ -241,9 +278,9 @@ def _record(rec, j, i, rx, ry, rz, fx, fy, fz):
 def _rotate(S, i, x, y, z):
     """World vector of the body vector (x, y, z)."""
     return (
-        S[(R) * BLOCK + i] * x + S[(R + 1) * BLOCK + i] * y + S[(R + 2) * BLOCK + i] * z,
-        S[(R + 3) * BLOCK + i] * x + S[(R + 4) * BLOCK + i] * y + S[(R + 5) * BLOCK + i] * z,
-        S[(R + 6) * BLOCK + i] * x + S[(R + 7) * BLOCK + i] * y + S[(R + 8) * BLOCK + i] * z,
+        S[(ROT) * BLOCK + i] * x + S[(ROT + 1) * BLOCK + i] * y + S[(ROT + 2) * BLOCK + i] * z,
+        S[(ROT + 3) * BLOCK + i] * x + S[(ROT + 4) * BLOCK + i] * y + S[(ROT + 5) * BLOCK + i] * z,
+        S[(ROT + 6) * BLOCK + i] * x + S[(ROT + 7) * BLOCK + i] * y + S[(ROT + 8) * BLOCK + i] * z,
     )
 
 
@@ -260,16 +297,16 @@ def _body_point(S, i):
     angular velocity and the water's velocity relative to the air at body i:
     (z - eta, vx, vy, vz, wx, wy, wz, dux, duy, duz)."""
     return (
-        S[H * BLOCK + i],
-        S[(Y + OV) * BLOCK + i] - S[FL * BLOCK + i],
-        S[(Y + OV + 1) * BLOCK + i] - S[(FL + 1) * BLOCK + i],
-        S[(Y + OV + 2) * BLOCK + i] - S[(FL + 2) * BLOCK + i],
-        S[W * BLOCK + i],
-        S[(W + 1) * BLOCK + i],
-        S[(W + 2) * BLOCK + i],
-        S[(FL + 3) * BLOCK + i],
-        S[(FL + 4) * BLOCK + i],
-        S[(FL + 5) * BLOCK + i],
+        S[HEIGHT * BLOCK + i],
+        S[(STATE + OV) * BLOCK + i] - S[FLUID * BLOCK + i],
+        S[(STATE + OV + 1) * BLOCK + i] - S[(FLUID + 1) * BLOCK + i],
+        S[(STATE + OV + 2) * BLOCK + i] - S[(FLUID + 2) * BLOCK + i],
+        S[OMEGA * BLOCK + i],
+        S[(OMEGA + 1) * BLOCK + i],
+        S[(OMEGA + 2) * BLOCK + i],
+        S[(FLUID + 3) * BLOCK + i],
+        S[(FLUID + 4) * BLOCK + i],
+        S[(FLUID + 5) * BLOCK + i],
     )
 
 
@@ -295,72 +332,89 @@ def _flow(pt, rx, ry, rz, fluid):
 def _source(S, i):
     """The wake source row of environment i as a tuple of scalars (branch-free)."""
     return (
-        S[SRC * BLOCK + i], S[(SRC + 1) * BLOCK + i], S[(SRC + 2) * BLOCK + i],
-        S[(SRC + 3) * BLOCK + i], S[(SRC + 4) * BLOCK + i], S[(SRC + 5) * BLOCK + i],
-        S[(SRC + 6) * BLOCK + i], S[(SRC + 7) * BLOCK + i], S[(SRC + 8) * BLOCK + i],
-        S[(SRC + 9) * BLOCK + i], S[(SRC + 10) * BLOCK + i], S[(SRC + 11) * BLOCK + i],
-        S[(SRC + 12) * BLOCK + i], S[(SRC + 13) * BLOCK + i], S[(SRC + 14) * BLOCK + i],
-        S[(SRC + 15) * BLOCK + i], S[(SRC + 16) * BLOCK + i], S[(SRC + 17) * BLOCK + i],
+        S[SOURCE * BLOCK + i], S[(SOURCE + 1) * BLOCK + i], S[(SOURCE + 2) * BLOCK + i],
+        S[(SOURCE + 3) * BLOCK + i], S[(SOURCE + 4) * BLOCK + i], S[(SOURCE + 5) * BLOCK + i],
+        S[(SOURCE + 6) * BLOCK + i], S[(SOURCE + 7) * BLOCK + i], S[(SOURCE + 8) * BLOCK + i],
+        S[(SOURCE + 9) * BLOCK + i], S[(SOURCE + 10) * BLOCK + i], S[(SOURCE + 11) * BLOCK + i],
+        S[(SOURCE + 12) * BLOCK + i], S[(SOURCE + 13) * BLOCK + i], S[(SOURCE + 14) * BLOCK + i],
+        S[(SOURCE + 15) * BLOCK + i], S[(SOURCE + 16) * BLOCK + i], S[(SOURCE + 17) * BLOCK + i],
     )  # fmt: skip
 
 
 @njit(**_JIT)
-def _wake_rows(S, n, ox, oy, oz, wprm, tau):
-    """Water-minus-air rows FL + 3.. at one sample's point: the environment's own (rows FB)
-    plus the wake there, ``tau`` after the step's start. Not inlined: the field branches,
+def _wake_rows(S, n, e0, tab, p, wprm, tau):
+    """Water-minus-air rows FLUID + 3.. at one sample's point: the environment's own (rows
+    OWN_WATER) plus the wake there, ``tau`` after the step's start. Not inlined: the field branches,
     so this loop stays scalar, and the force loop that follows keeps its vectorized form
     whether or not there is a wake."""
     for i in range(n):
-        rx, ry, rz = _rotate(S, i, ox, oy, oz)
-        # the source has moved on by tau u since the step's start (rows SRC hold it there;
+        rx, ry, rz = _offset(S, i, tab, p, e0 + i)
+        # the source has moved on by tau u since the step's start (rows SOURCE hold it there;
         # the wake moves rigidly with it): the field at p then is the field at p - tau u now.
         # A source frozen over the step made rk2 and rk4 first order behind a moving wake.
         w = wake_at(
-            S[(Y + OX) * BLOCK + i] + rx - tau * S[(SRC + 12) * BLOCK + i],
-            S[(Y + OX + 1) * BLOCK + i] + ry - tau * S[(SRC + 13) * BLOCK + i],
-            S[(Y + OX + 2) * BLOCK + i] + rz - tau * S[(SRC + 14) * BLOCK + i],
+            S[(STATE + OX) * BLOCK + i] + rx - tau * S[(SOURCE + 12) * BLOCK + i],
+            S[(STATE + OX + 1) * BLOCK + i] + ry - tau * S[(SOURCE + 13) * BLOCK + i],
+            S[(STATE + OX + 2) * BLOCK + i] + rz - tau * S[(SOURCE + 14) * BLOCK + i],
             _source(S, i),
             wprm,
         )
-        S[(FL + 3) * BLOCK + i] = S[FB * BLOCK + i] + w[0]
-        S[(FL + 4) * BLOCK + i] = S[(FB + 1) * BLOCK + i] + w[1]
-        S[(FL + 5) * BLOCK + i] = S[(FB + 2) * BLOCK + i] + w[2]
+        S[(FLUID + 3) * BLOCK + i] = S[OWN_WATER * BLOCK + i] + w[0]
+        S[(FLUID + 4) * BLOCK + i] = S[(OWN_WATER + 1) * BLOCK + i] + w[1]
+        S[(FLUID + 5) * BLOCK + i] = S[(OWN_WATER + 2) * BLOCK + i] + w[2]
 
 
 @njit(**_JIT)
 def _phase_rows(S, n, e0, swell, clock):
-    """Rows PH: each wave's time phase ``phase - omega t`` at each environment's clock."""
+    """Rows PHASE: each wave's time phase ``phase - omega t`` at each environment's clock."""
     for j in range(swell.shape[0]):
         for i in range(n):
-            S[(PH + j) * BLOCK + i] = time_phase(clock[e0 + i], swell, j)
+            S[(PHASE + j) * BLOCK + i] = time_phase(clock[e0 + i], swell, j)
 
 
 @njit(**_JIT)
-def _swell_rows(S, n, ox, oy, oz, prm, tau):
-    """Row H at one sample's point: the body's z minus the surface height under the sample,
+def _swell_rows(S, n, e0, tab, p, prm, tau):
+    """Row HEIGHT at one sample's point: the body's z minus the surface height under the sample,
     at the step's start plus ``tau``. Not inlined, like ``_wake_rows``: it runs only with
     swell, and the force loops keep their vectorized form. ``surface.surface_height`` with
-    the time phases of rows PH and the waves outside the loops over environments, so that
-    they vectorize (``wave_cos`` is branch-free); H accumulates eta, then becomes z - eta."""
+    the time phases of rows PHASE and the waves outside the loops over environments, so that
+    they vectorize (``wave_cos`` is branch-free); HEIGHT accumulates eta, then becomes z - eta."""
     for i in range(n):
-        rx, ry, _ = _rotate(S, i, ox, oy, oz)
-        S[SX * BLOCK + i] = S[(Y + OX) * BLOCK + i] + rx
-        S[SY * BLOCK + i] = S[(Y + OX + 1) * BLOCK + i] + ry
-        S[H * BLOCK + i] = ZERO
+        rx, ry, _ = _offset(S, i, tab, p, e0 + i)
+        S[SAMPLE_X * BLOCK + i] = S[(STATE + OX) * BLOCK + i] + rx
+        S[SAMPLE_Y * BLOCK + i] = S[(STATE + OX + 1) * BLOCK + i] + ry
+        S[HEIGHT * BLOCK + i] = ZERO
     for j in range(int(prm[P_NWAVES])):
         w = P_SWELL + 4 * j
         a, kx, ky, shift = prm[w], prm[w + 1], prm[w + 2], prm[w + 3] * tau  # omega tau
         for i in range(n):
-            phase = kx * S[SX * BLOCK + i] + ky * S[SY * BLOCK + i]
-            S[H * BLOCK + i] += a * wave_cos(phase + (S[(PH + j) * BLOCK + i] - shift))
+            phase = kx * S[SAMPLE_X * BLOCK + i] + ky * S[SAMPLE_Y * BLOCK + i]
+            S[HEIGHT * BLOCK + i] += a * wave_cos(phase + (S[(PHASE + j) * BLOCK + i] - shift))
     for i in range(n):
-        S[H * BLOCK + i] = S[(Y + OX + 2) * BLOCK + i] - S[H * BLOCK + i]
+        S[HEIGHT * BLOCK + i] = S[(STATE + OX + 2) * BLOCK + i] - S[HEIGHT * BLOCK + i]
+
+
+@njit(**_INLINE)
+def _at_sample(S, n, e0, tab, p, prm, wprm, tau, wake, sea):
+    """The prelude every sample kind shares, before its loop over environments: the rows that
+    depend on where sample p is (row p of the per-environment table ``tab``): the wake's flow
+    there (``wake``: there is one and the kind feels the flow) and the surface's height under
+    it (``sea``: there is swell). Called outside the loops over environments, so its
+    branches cost nothing per body."""
+    if wake:
+        _wake_rows(S, n, e0, tab, p, wprm, tau)
+    if sea:
+        _swell_rows(S, n, e0, tab, p, prm, tau)
 
 
 @njit(**_JIT)
-def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau, rec):
-    """Derivative rows D of the state rows Y: dx = v, dq, dv = F/m + g, dL = torque; the
-    surface ``tau`` seconds after the time phases of rows PH (the step's start).
+def _evaluate(S, b, n, e0, model, data, tau, rec):
+    """Derivative rows DERIV of the state rows STATE: dx = v, dq, dv = F/m + g, dL = torque;
+    the surface ``tau`` seconds after the time phases of rows PHASE (the step's start).
+
+    Each sample kind is one loop: the shared prelude :func:`_at_sample`, then per
+    environment the sample's world offset (:func:`_offset`), its force law
+    (``forces.py``) and :func:`_add_force`.
 
     ``rec``: None in the step path, or ``rec[N, 6, BLOCK]`` (``sample_forces``) that gets each
     sample's world offset from the center of mass and force, ``rec[j, :, i]``, j counting the
@@ -368,78 +422,74 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau, rec):
     thrusters); the external force is not a sample. ``rec is None`` is resolved when numba
     compiles (a branch on a None argument is pruned), so the step kernels' machine code has
     no recording in it at all, and the forces have one source: these loops."""
-    body, fpl, fpl_at, cpl, cpl_at, cyl, cyl_at, buo, buo_at, thr, thr_ch, thr_at = tables[:12]
-    j = _first_sample(tables, b)  # rec row of this body's first sample
+    prm = model.prm
+    j = _first_sample(model, b)  # rec row of this body's first sample
     vmax, fmax = prm[P_VMAX], prm[P_FMAX]
+    wprm = model.wprm
     wake = wprm[W_ON] != 0.0
     sea = prm[P_NWAVES] > ZERO
     fluid = _fluid(prm)
     water, inv_blend, rho_w = fluid[0], fluid[1], fluid[3]
-    _omega_row(S, body, b, n)
+    _omega_row(S, n)
     for i in range(n):
-        S[H * BLOCK + i] = S[(Y + OX + 2) * BLOCK + i]  # calm water: the surface is z = 0
+        S[HEIGHT * BLOCK + i] = S[(STATE + OX + 2) * BLOCK + i]  # calm water: the surface is z = 0
         for k in range(3):
-            S[(D + OX + k) * BLOCK + i] = S[(Y + OV + k) * BLOCK + i]
-            S[(D + OV + k) * BLOCK + i] = ZERO
-            S[(D + OL + k) * BLOCK + i] = ZERO
+            S[(DERIV + OX + k) * BLOCK + i] = S[(STATE + OV + k) * BLOCK + i]
+            S[(DERIV + OV + k) * BLOCK + i] = ZERO
+            S[(DERIV + OL + k) * BLOCK + i] = ZERO
         dq = quat_rate(
-            S[(Y + OQ) * BLOCK + i],
-            S[(Y + OQ + 1) * BLOCK + i],
-            S[(Y + OQ + 2) * BLOCK + i],
-            S[(Y + OQ + 3) * BLOCK + i],
-            S[(W) * BLOCK + i],
-            S[(W + 1) * BLOCK + i],
-            S[(W + 2) * BLOCK + i],
+            S[(STATE + OQ) * BLOCK + i],
+            S[(STATE + OQ + 1) * BLOCK + i],
+            S[(STATE + OQ + 2) * BLOCK + i],
+            S[(STATE + OQ + 3) * BLOCK + i],
+            S[(OMEGA) * BLOCK + i],
+            S[(OMEGA + 1) * BLOCK + i],
+            S[(OMEGA + 2) * BLOCK + i],
         )
-        S[(D + OQ) * BLOCK + i], S[(D + OQ + 1) * BLOCK + i] = dq[0], dq[1]
-        S[(D + OQ + 2) * BLOCK + i], S[(D + OQ + 3) * BLOCK + i] = dq[2], dq[3]
+        S[(DERIV + OQ) * BLOCK + i], S[(DERIV + OQ + 1) * BLOCK + i] = dq[0], dq[1]
+        S[(DERIV + OQ + 2) * BLOCK + i], S[(DERIV + OQ + 3) * BLOCK + i] = dq[2], dq[3]
 
-    for p in range(fpl_at[b], fpl_at[b + 1]):  # fixed plates
-        ox, oy, oz, bx, by, bz = fpl[0, p], fpl[1, p], fpl[2, p], fpl[3, p], fpl[4, p], fpl[5, p]
-        area, eff = fpl[6, p], fpl[7, p]
-        if wake:
-            _wake_rows(S, n, ox, oy, oz, wprm, tau)
-        if sea:
-            _swell_rows(S, n, ox, oy, oz, prm, tau)
+    tab, normal = model.plate, model.plate_normal
+    for p in range(model.plate_at[b], model.plate_at[b + 1]):  # fixed plates
+        _at_sample(S, n, e0, tab, p, prm, wprm, tau, wake, sea)
+        bx, by, bz = normal[0, p], normal[1, p], normal[2, p]
         for i in range(n):
-            rx, ry, rz = _rotate(S, i, ox, oy, oz)
+            e = e0 + i
+            rx, ry, rz = _offset(S, i, tab, p, e)
             nx, ny, nz = _rotate(S, i, bx, by, bz)
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
+            area, eff = tab[S_AREA, p, e], tab[S_EFFICIENCY, p, e]
             fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, area, eff, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
             if rec is not None:
                 _record(rec, j, i, rx, ry, rz, fx, fy, fz)
         j += 1
 
-    for p in range(cpl_at[b], cpl_at[b + 1]):  # control surfaces: normals deflected per env
-        ox, oy, oz, area, eff = cpl[0, p], cpl[1, p], cpl[2, p], cpl[9, p], cpl[10, p]
-        if wake:
-            _wake_rows(S, n, ox, oy, oz, wprm, tau)
-        if sea:
-            _swell_rows(S, n, ox, oy, oz, prm, tau)
+    tab, normal = model.flap, data.flap_now  # control surfaces: normals deflected per env
+    for p in range(model.flap_at[b], model.flap_at[b + 1]):
+        _at_sample(S, n, e0, tab, p, prm, wprm, tau, wake, sea)
         for i in range(n):
-            rx, ry, rz = _rotate(S, i, ox, oy, oz)
-            nx, ny, nz = _rotate(
-                S, i, cnorm[0, p, e0 + i], cnorm[1, p, e0 + i], cnorm[2, p, e0 + i]
-            )
+            e = e0 + i
+            rx, ry, rz = _offset(S, i, tab, p, e)
+            nx, ny, nz = _rotate(S, i, normal[0, p, e], normal[1, p, e], normal[2, p, e])
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
+            area, eff = tab[S_AREA, p, e], tab[S_EFFICIENCY, p, e]
             fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, area, eff, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
             if rec is not None:
                 _record(rec, j, i, rx, ry, rz, fx, fy, fz)
         j += 1
 
-    for p in range(cyl_at[b], cyl_at[b + 1]):
-        ox, oy, oz, bx, by, bz = cyl[0, p], cyl[1, p], cyl[2, p], cyl[3, p], cyl[4, p], cyl[5, p]
-        area = cyl[6, p]
-        if wake:
-            _wake_rows(S, n, ox, oy, oz, wprm, tau)
-        if sea:
-            _swell_rows(S, n, ox, oy, oz, prm, tau)
+    tab, axis = model.cyl, model.cyl_axis
+    for p in range(model.cyl_at[b], model.cyl_at[b + 1]):
+        _at_sample(S, n, e0, tab, p, prm, wprm, tau, wake, sea)
+        bx, by, bz = axis[0, p], axis[1, p], axis[2, p]
         for i in range(n):
-            rx, ry, rz = _rotate(S, i, ox, oy, oz)
+            e = e0 + i
+            rx, ry, rz = _offset(S, i, tab, p, e)
             ax, ay, az = _rotate(S, i, bx, by, bz)
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
+            area = tab[S_CYL_AREA, p, e]
             fx, fy, fz = cylinder_force(vx, vy, vz, ax, ay, az, rho, area, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
             if rec is not None:
@@ -447,27 +497,30 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau, rec):
         j += 1
 
     g = prm[P_G]
-    for p in range(buo_at[b], buo_at[b + 1]):
-        ox, oy, oz, vol, area = buo[0, p], buo[1, p], buo[2, p], buo[3, p], buo[4, p]
-        if sea:
-            _swell_rows(S, n, ox, oy, oz, prm, tau)
+    tab = model.buoy
+    for p in range(model.buoy_at[b], model.buoy_at[b + 1]):
+        _at_sample(S, n, e0, tab, p, prm, wprm, tau, False, sea)
         for i in range(n):
-            rx, ry, rz = _rotate(S, i, ox, oy, oz)
-            z = S[H * BLOCK + i] + rz  # the sample's height above the surface
+            e = e0 + i
+            rx, ry, rz = _offset(S, i, tab, p, e)
+            z = S[HEIGHT * BLOCK + i] + rz  # the sample's height above the surface
             frac = water_fraction(z, water, inv_blend)
+            vol, area = tab[S_VOLUME, p, e], tab[S_BUOY_AREA, p, e]
             fz = buoyancy_force(z, frac, water, rho_w, g, vol, area)
             _add_force(S, i, rx, ry, rz, ZERO, ZERO, fz)
             if rec is not None:
                 _record(rec, j, i, rx, ry, rz, ZERO, ZERO, fz)
         j += 1
 
-    for p in range(thr_at[b], thr_at[b + 1]):
-        ox, oy, oz, bx, by, bz = thr[0, p], thr[1, p], thr[2, p], thr[3, p], thr[4, p], thr[5, p]
-        lo, hi, ch = thr[6, p], thr[7, p], thr_ch[p]
+    tab, direction, ctrl = model.thr, model.thr_dir, data.ctrl
+    for p in range(model.thr_at[b], model.thr_at[b + 1]):
+        bx, by, bz, ch = direction[0, p], direction[1, p], direction[2, p], model.thr_channel[p]
         for i in range(n):
-            a = ctrl[ch, e0 + i] if ch >= 0 else ONE
+            e = e0 + i
+            a = ctrl[ch, e] if ch >= 0 else ONE
+            lo, hi = tab[S_THRUST_MIN, p, e], tab[S_THRUST_MAX, p, e]
             thrust = lo + HALF * (a + ONE) * (hi - lo)
-            rx, ry, rz = _rotate(S, i, ox, oy, oz)
+            rx, ry, rz = _offset(S, i, tab, p, e)
             dx, dy, dz = _rotate(S, i, bx, by, bz)
             fx, fy, fz = thrust * dx, thrust * dy, thrust * dz
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
@@ -475,27 +528,27 @@ def _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, tau, rec):
                 _record(rec, j, i, rx, ry, rz, fx, fy, fz)
         j += 1
 
-    ext = tables[19]  # Simulator.set_external_force: world force and torque, held per call
+    ext = data.external  # Simulator.set_external_force: world force and torque, held per call
     for k in range(6):
         for i in range(n):
-            S[(D + OV + k) * BLOCK + i] += ext[e0 + i, b, k]  # rows OV..OV+2, then OL..OL+2
+            S[(DERIV + OV + k) * BLOCK + i] += ext[e0 + i, b, k]  # rows OV..OV+2, then OL..OL+2
 
-    inv_m = ONE / body[b, 0]
     for i in range(n):
+        inv_m = ONE / S[(BODY + B_MASS) * BLOCK + i]
         for k in range(3):
-            S[(D + OV + k) * BLOCK + i] *= inv_m
-        S[(D + OV + 2) * BLOCK + i] -= g
+            S[(DERIV + OV + k) * BLOCK + i] *= inv_m
+        S[(DERIV + OV + 2) * BLOCK + i] -= g
     gm = prm[P_GM]
     if gm != ZERO:  # a point mass at the origin: -GM x / |x|^3
         for i in range(n):
-            x = S[(Y + OX) * BLOCK + i]
-            y = S[(Y + OX + 1) * BLOCK + i]
-            z = S[(Y + OX + 2) * BLOCK + i]
+            x = S[(STATE + OX) * BLOCK + i]
+            y = S[(STATE + OX + 1) * BLOCK + i]
+            z = S[(STATE + OX + 2) * BLOCK + i]
             r2 = x * x + y * y + z * z
             k = gm / (r2 * math.sqrt(r2))
-            S[(D + OV) * BLOCK + i] -= k * x
-            S[(D + OV + 1) * BLOCK + i] -= k * y
-            S[(D + OV + 2) * BLOCK + i] -= k * z
+            S[(DERIV + OV) * BLOCK + i] -= k * x
+            S[(DERIV + OV + 1) * BLOCK + i] -= k * y
+            S[(DERIV + OV + 2) * BLOCK + i] -= k * z
 
 
 @njit(**_INLINE)
@@ -524,35 +577,35 @@ def _copy(S, dst, src, n):
 
 @njit(**_INLINE)
 def _axpy(S, dst, src, h, n):
-    """State rows dst = src + h * D (all 13 rows)."""
+    """State rows dst = src + h * DERIV (all 13 rows)."""
     for k in range(NSTATE):
         for i in range(n):
-            S[(dst + k) * BLOCK + i] = S[(src + k) * BLOCK + i] + h * S[(D + k) * BLOCK + i]
+            S[(dst + k) * BLOCK + i] = S[(src + k) * BLOCK + i] + h * S[(DERIV + k) * BLOCK + i]
 
 
 @njit(**_INLINE)
-def _rotate_by_omega(S, body, b, n, h):
+def _rotate_by_omega(S, n, h):
     """Turn q by the angular momentum L over h (explicit midpoint in the orientation):
     w from L at q gives a half-step orientation, w from L there turns q by a full step.
     Second order; a one-stage update (w at the old q only) is explicit Euler for the
     rotation and gains energy steadily (about 4% in 10 s for a body spinning at 2 rad/s,
     dt = 1/100), which the midpoint stage removes."""
-    inv_inertia = body_inv_inertia(body, b)
     for i in range(n):
+        inv_inertia = _inv_inertia(S, i)
         lx, ly, lz = (
-            S[(Y + OL) * BLOCK + i],
-            S[(Y + OL + 1) * BLOCK + i],
-            S[(Y + OL + 2) * BLOCK + i],
+            S[(STATE + OL) * BLOCK + i],
+            S[(STATE + OL + 1) * BLOCK + i],
+            S[(STATE + OL + 2) * BLOCK + i],
         )
-        qw, qx = S[(Y + OQ) * BLOCK + i], S[(Y + OQ + 1) * BLOCK + i]
-        qy, qz = S[(Y + OQ + 2) * BLOCK + i], S[(Y + OQ + 3) * BLOCK + i]
+        qw, qx = S[(STATE + OQ) * BLOCK + i], S[(STATE + OQ + 1) * BLOCK + i]
+        qy, qz = S[(STATE + OQ + 2) * BLOCK + i], S[(STATE + OQ + 3) * BLOCK + i]
         w = world_omega(_matrix(S, i), lx, ly, lz, inv_inertia)
         tw, tx, ty, tz = _midpoint_turn(qw, qx, qy, qz, w, lx, ly, lz, inv_inertia, h)
-        S[(Y + OQ) * BLOCK + i] = tw
-        S[(Y + OQ + 1) * BLOCK + i] = tx
-        S[(Y + OQ + 2) * BLOCK + i] = ty
-        S[(Y + OQ + 3) * BLOCK + i] = tz
-    _normalize_quat(S, Y + OQ, n)
+        S[(STATE + OQ) * BLOCK + i] = tw
+        S[(STATE + OQ + 1) * BLOCK + i] = tx
+        S[(STATE + OQ + 2) * BLOCK + i] = ty
+        S[(STATE + OQ + 3) * BLOCK + i] = tz
+    _normalize_quat(S, STATE + OQ, n)
 
 
 @njit(**_INLINE)
@@ -568,13 +621,13 @@ def _midpoint_turn(qw, qx, qy, qz, w, lx, ly, lz, inv_inertia, h):
 
 
 @njit(**_INLINE)
-def _rotate_tetra(S, body, b, n, h, prm):
+def _rotate_tetra(S, n, h, prm):
     """Turn q as a Verlet tetrahedron (``verlet_tetra``): the four particles matched to the
     body (``tetra.match_inertia``) drift a step along their velocities ``w x r_i`` (plus the
     center's), the shape is restored by the rotation that best fits the drifted particles
     (least squares), and the velocities by the rigid field with the particles' own momentum
     and angular momentum, so L (the state) is untouched. The best fit maximizes
-    tr(R^T A) with ``A = sum m_i d_i r_i^T = (1 + h [w]x) R S``, S the body's second moment:
+    tr(ROT^T A) with ``A = sum m_i d_i r_i^T = (1 + h [w]x) ROT S``, S the body's second moment:
     the particles enter only through it. The rotation is found by the iteration of Mueller
     et al. (2016, "A robust method to extract the rotational part of deformations") from
     the rigid midpoint update's orientation (close: the two differ by O((w h)^2)), a fixed
@@ -585,21 +638,22 @@ def _rotate_tetra(S, body, b, n, h, prm):
     turn (its energy error passes the rigid turn's near |w| h = 0.05-0.1 and then grows
     fast: docs/tetra_spin.png): that body steps with the rigid midpoint
     update instead (:func:`_rotate_by_omega`), continuously in q and exactly in L."""
-    inv_inertia = body_inv_inertia(body, b)
-    sxx, syy, szz = body[b, 7], body[b, 8], body[b, 9]
-    sxy, sxz, syz = body[b, 10], body[b, 11], body[b, 12]
     limit = prm[P_TETRA_SWITCH]
+    k = BODY + B_SECOND_MOMENT
     for i in range(n):
+        inv_inertia = _inv_inertia(S, i)
+        sxx, syy, szz = S[k * BLOCK + i], S[(k + 1) * BLOCK + i], S[(k + 2) * BLOCK + i]
+        sxy, sxz, syz = S[(k + 3) * BLOCK + i], S[(k + 4) * BLOCK + i], S[(k + 5) * BLOCK + i]
         lx, ly, lz = (
-            S[(Y + OL) * BLOCK + i],
-            S[(Y + OL + 1) * BLOCK + i],
-            S[(Y + OL + 2) * BLOCK + i],
+            S[(STATE + OL) * BLOCK + i],
+            S[(STATE + OL + 1) * BLOCK + i],
+            S[(STATE + OL + 2) * BLOCK + i],
         )
-        qw, qx = S[(Y + OQ) * BLOCK + i], S[(Y + OQ + 1) * BLOCK + i]
-        qy, qz = S[(Y + OQ + 2) * BLOCK + i], S[(Y + OQ + 3) * BLOCK + i]
+        qw, qx = S[(STATE + OQ) * BLOCK + i], S[(STATE + OQ + 1) * BLOCK + i]
+        qy, qz = S[(STATE + OQ + 2) * BLOCK + i], S[(STATE + OQ + 3) * BLOCK + i]
         r0, r1, r2, r3, r4, r5, r6, r7, r8 = _matrix(S, i)
         wx, wy, wz = world_omega((r0, r1, r2, r3, r4, r5, r6, r7, r8), lx, ly, lz, inv_inertia)
-        # B = R S (columns b0, b1, b2), then A = B + h w x B
+        # B = ROT S (columns b0, b1, b2), then A = B + h w x B
         b00 = r0 * sxx + r1 * sxy + r2 * sxz
         b10 = r3 * sxx + r4 * sxy + r5 * sxz
         b20 = r6 * sxx + r7 * sxy + r8 * sxz
@@ -649,11 +703,11 @@ def _rotate_tetra(S, body, b, n, h, prm):
                 c * pz + dx * py - dy * px + dz * pw,
             )
         rigid = math.sqrt(wx * wx + wy * wy + wz * wz) * h > limit
-        S[(Y + OQ) * BLOCK + i] = gw if rigid else pw
-        S[(Y + OQ + 1) * BLOCK + i] = gx if rigid else px
-        S[(Y + OQ + 2) * BLOCK + i] = gy if rigid else py
-        S[(Y + OQ + 3) * BLOCK + i] = gz if rigid else pz
-    _normalize_quat(S, Y + OQ, n)
+        S[(STATE + OQ) * BLOCK + i] = gw if rigid else pw
+        S[(STATE + OQ + 1) * BLOCK + i] = gx if rigid else px
+        S[(STATE + OQ + 2) * BLOCK + i] = gy if rigid else py
+        S[(STATE + OQ + 3) * BLOCK + i] = gz if rigid else pz
+    _normalize_quat(S, STATE + OQ, n)
 
 
 @njit(**_INLINE)
@@ -661,7 +715,7 @@ def _kick(S, n, h):
     """v += h dv, L += h dL."""
     for k in range(OV, NSTATE):
         for i in range(n):
-            S[(Y + k) * BLOCK + i] += h * S[(D + k) * BLOCK + i]
+            S[(STATE + k) * BLOCK + i] += h * S[(DERIV + k) * BLOCK + i]
 
 
 @njit(**_INLINE)
@@ -669,275 +723,296 @@ def _drift(S, n, h):
     """x += h v."""
     for k in range(3):
         for i in range(n):
-            S[(Y + OX + k) * BLOCK + i] += h * S[(Y + OV + k) * BLOCK + i]
+            S[(STATE + OX + k) * BLOCK + i] += h * S[(STATE + OV + k) * BLOCK + i]
 
 
 @njit(**_JIT)
-def _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, wprm, method):
+def _integrate(scr_blk, nb, n, e0, model, data, method):
     """One time step of every body slot in a block (stage-synchronous across slots, so that
     forces coupling bodies of one environment can be added per stage); each evaluation sees
     the surface at its stage time, the step's start plus ``tau`` (see the module docstring)."""
-    body = tables[0]
+    prm = model.prm
     dt = prm[P_DT]
     h2 = HALF * dt
     tdt = np.float64(dt)  # stage time offsets, float64 like the clock
     th = 0.5 * tdt
-    if method == 0:  # explicit Euler: everything from the old state
+    if method == EXPLICIT_EULER:  # explicit Euler: everything from the old state
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0, None)
+            _evaluate(scr_blk[b], b, n, e0, model, data, T0, None)
         for b in range(nb):
-            _axpy(scr_blk[b], Y, Y, dt, n)
-            _normalize_quat(scr_blk[b], Y + OQ, n)
-    elif method == 1:  # symplectic Euler: velocities first, then positions with new velocities
+            _axpy(scr_blk[b], STATE, STATE, dt, n)
+            _normalize_quat(scr_blk[b], STATE + OQ, n)
+    elif (
+        method == SYMPLECTIC_EULER
+    ):  # symplectic Euler: velocities first, then positions with new velocities
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0, None)
+            _evaluate(scr_blk[b], b, n, e0, model, data, T0, None)
         for b in range(nb):
             S = scr_blk[b]
             _kick(S, n, dt)
             _drift(S, n, dt)
-            _rotate_by_omega(S, body, b, n, dt)
-    elif method == 2:  # velocity Verlet: half kick, drift, new forces, half kick
+            _rotate_by_omega(S, n, dt)
+    elif method == VELOCITY_VERLET:  # velocity Verlet: half kick, drift, new forces, half kick
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0, None)
+            _evaluate(scr_blk[b], b, n, e0, model, data, T0, None)
         for b in range(nb):
             S = scr_blk[b]
             _kick(S, n, h2)
             _drift(S, n, dt)
-            _rotate_by_omega(S, body, b, n, dt)
+            _rotate_by_omega(S, n, dt)
         for b in range(nb):  # at the step's end
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, tdt, None)
+            _evaluate(scr_blk[b], b, n, e0, model, data, tdt, None)
         for b in range(nb):
             _kick(scr_blk[b], n, h2)
-    elif method == 3:  # RK2, explicit midpoint: Y0 keeps the step's start
+    elif method == RK2:  # RK2, explicit midpoint: START keeps the step's start
         for b in range(nb):
-            _copy(scr_blk[b], Y0, Y, n)
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0, None)
+            _copy(scr_blk[b], START, STATE, n)
+            _evaluate(scr_blk[b], b, n, e0, model, data, T0, None)
         for b in range(nb):
-            _axpy(scr_blk[b], Y, Y0, h2, n)
+            _axpy(scr_blk[b], STATE, START, h2, n)
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, th, None)
+            _evaluate(scr_blk[b], b, n, e0, model, data, th, None)
         for b in range(nb):
-            _axpy(scr_blk[b], Y, Y0, dt, n)
-            _normalize_quat(scr_blk[b], Y + OQ, n)
-    elif method == 5:  # verlet_tetra: symplectic kick and drift, the turn as a tetrahedron
+            _axpy(scr_blk[b], STATE, START, dt, n)
+            _normalize_quat(scr_blk[b], STATE + OQ, n)
+    elif (
+        method == VERLET_TETRA
+    ):  # verlet_tetra: symplectic kick and drift, the turn as a tetrahedron
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, T0, None)
+            _evaluate(scr_blk[b], b, n, e0, model, data, T0, None)
         for b in range(nb):
             S = scr_blk[b]
             _kick(S, n, dt)
             _drift(S, n, dt)
-            _rotate_tetra(S, body, b, n, dt, prm)
-    else:  # classic RK4: ACC sums k1 + 2 k2 + 2 k3 + k4
+            _rotate_tetra(S, n, dt, prm)
+    elif method == RK4:  # classic RK4: RK_SUM sums k1 + 2 k2 + 2 k3 + k4
         for b in range(nb):
-            _copy(scr_blk[b], Y0, Y, n)
+            _copy(scr_blk[b], START, STATE, n)
         for stage in range(4):
             tau = T0 if stage == 0 else (th if stage < 3 else tdt)
             for b in range(nb):
-                _evaluate(scr_blk[b], b, n, e0, tables, cnorm, ctrl, prm, wprm, tau, None)
+                _evaluate(scr_blk[b], b, n, e0, model, data, tau, None)
             for b in range(nb):
                 S = scr_blk[b]
                 weight = ONE if stage == 0 or stage == 3 else TWO
                 for k in range(NSTATE):
                     for i in range(n):
-                        acc = S[(D + k) * BLOCK + i] * weight
-                        S[(ACC + k) * BLOCK + i] = (
-                            acc if stage == 0 else S[(ACC + k) * BLOCK + i] + acc
+                        acc = S[(DERIV + k) * BLOCK + i] * weight
+                        S[(RK_SUM + k) * BLOCK + i] = (
+                            acc if stage == 0 else S[(RK_SUM + k) * BLOCK + i] + acc
                         )
                 if stage < 2:
-                    _axpy(S, Y, Y0, h2, n)
+                    _axpy(S, STATE, START, h2, n)
                 elif stage == 2:
-                    _axpy(S, Y, Y0, dt, n)
+                    _axpy(S, STATE, START, dt, n)
                 else:
                     h6 = dt / SIX
                     for k in range(NSTATE):
                         for i in range(n):
-                            S[(Y + k) * BLOCK + i] = (
-                                S[(Y0 + k) * BLOCK + i] + h6 * S[(ACC + k) * BLOCK + i]
+                            S[(STATE + k) * BLOCK + i] = (
+                                S[(START + k) * BLOCK + i] + h6 * S[(RK_SUM + k) * BLOCK + i]
                             )
-                    _normalize_quat(S, Y + OQ, n)
+                    _normalize_quat(S, STATE + OQ, n)
 
 
 @njit(**_JIT)
-def _deflect(e0, n, cpl, cmix, ctrl, cnorm):
+def _deflect(e0, n, model, data):
     """Body-frame normals of the control surfaces for this block's environments."""
-    for p in range(cpl.shape[1]):
+    tab, normal, hinge, mix, ctrl, out = (
+        model.flap,
+        model.flap_normal,
+        model.flap_hinge,
+        model.flap_mix,
+        data.ctrl,
+        data.flap_now,
+    )
+    for p in range(tab.shape[1]):
         for i in range(n):
-            theta = ZERO * cpl[0, p]  # zero in the simulation dtype
-            for c in range(cmix.shape[1]):
-                theta += cmix[p, c] * ctrl[c, e0 + i]
+            theta = ZERO * tab[S_OFFSET, p, e0 + i]  # zero in the simulation dtype
+            for c in range(mix.shape[1]):
+                theta += mix[p, c] * ctrl[c, e0 + i]
             nx, ny, nz = rotate_about_axis(
-                cpl[3, p],
-                cpl[4, p],
-                cpl[5, p],
-                cpl[6, p],
-                cpl[7, p],
-                cpl[8, p],
+                normal[0, p],
+                normal[1, p],
+                normal[2, p],
+                hinge[0, p],
+                hinge[1, p],
+                hinge[2, p],
                 math.cos(theta),
                 math.sin(theta),
             )
-            cnorm[0, p, e0 + i] = nx
-            cnorm[1, p, e0 + i] = ny
-            cnorm[2, p, e0 + i] = nz
+            out[0, p, e0 + i] = nx
+            out[1, p, e0 + i] = ny
+            out[2, p, e0 + i] = nz
 
 
 @njit(**_JIT)
-def _load_block(blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, scr):
-    """Copy a block's state and fluid (and wake source) into its scratch and deflect its
-    control surfaces; returns (first environment, environments in the block)."""
+def _load_block(blk, model, data):
+    """Copy a block's state, body constants and fluid (and wake source) into its scratch and
+    deflect its control surfaces; returns (first environment, environments in the block)."""
+    st, flow, src, scr = data.st, data.flow, data.src, data.scr
     nb, ne = st.shape[1], st.shape[2]
     e0 = blk * BLOCK
     n = min(BLOCK, ne - e0)
     scr_blk = scr[blk]
-    _deflect(e0, n, tables[3], cmix, ctrl, cnorm)
+    _deflect(e0, n, model, data)
     for b in range(nb):
         for k in range(NSTATE):
             for i in range(n):
-                scr_blk[b, (Y + k) * BLOCK + i] = st[k, b, e0 + i]
+                scr_blk[b, (STATE + k) * BLOCK + i] = st[k, b, e0 + i]
+        for k in range(NBODY):
+            for i in range(n):
+                scr_blk[b, (BODY + k) * BLOCK + i] = model.body[e0 + i, b, k]
         for k in range(3):
             for i in range(n):
                 air = flow[k, e0 + i]
-                scr_blk[b, (FL + k) * BLOCK + i] = air
-                scr_blk[b, (FL + 3 + k) * BLOCK + i] = flow[3 + k, e0 + i] - air
-        if wprm[W_ON] != 0.0:
+                scr_blk[b, (FLUID + k) * BLOCK + i] = air
+                scr_blk[b, (FLUID + 3 + k) * BLOCK + i] = flow[3 + k, e0 + i] - air
+        if model.wprm[W_ON] != 0.0:
             for k in range(3):
                 for i in range(n):
-                    scr_blk[b, (FB + k) * BLOCK + i] = scr_blk[b, (FL + 3 + k) * BLOCK + i]
+                    scr_blk[b, (OWN_WATER + k) * BLOCK + i] = scr_blk[
+                        b, (FLUID + 3 + k) * BLOCK + i
+                    ]
             for k in range(NSRC):
                 for i in range(n):
-                    scr_blk[b, (SRC + k) * BLOCK + i] = src[k, e0 + i]
+                    scr_blk[b, (SOURCE + k) * BLOCK + i] = src[k, e0 + i]
     return e0, n
 
 
 @njit(**_JIT)
-def _advance_block(
-    blk, st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, method, steps, scr,
-    diverged,
-):  # fmt: skip
-    e0, n = _load_block(blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, scr)
+def _contact(scr_blk, nb, e0, n, model, data, work):
+    """contact.py: scalar per environment, after a step's integration."""
+    for i in range(n):
+        e = e0 + i
+        body, cbody = model.body[e], model.contact_body[e]
+        if may_touch(scr_blk, nb, i, BLOCK, cbody, model.cprm, data.warm[e]):
+            collide(scr_blk, nb, i, BLOCK, body, model.shape[e], model.shape_at, model.grid,
+                    cbody, model.cprm, work, data.warm[e], data.touch[e])  # fmt: skip
+
+
+@njit(**_JIT)
+def _advance_block(blk, model, data, method, steps):
+    e0, n = _load_block(blk, model, data)
+    st, src, clock, diverged = data.st, data.src, data.clock, data.diverged
     nb = st.shape[1]
-    scr_blk = scr[blk]
-    wake = wprm[W_ON] != 0.0
-    dt = prm[P_DT]
+    scr_blk = data.scr[blk]
+    wake = model.wprm[W_ON] != 0.0
+    dt = model.prm[P_DT]
     tdt = np.float64(dt)
-    sea = swell.shape[0] > 0
-    touching = tables[16][C_ON] != 0.0
-    work = np.empty((num_pairs(nb) if touching else 0, NW), dtype=scr.dtype)  # contact.py
+    sea = model.swell.shape[0] > 0
+    touching = model.cprm[C_ON] != 0.0
+    work = np.empty((num_pairs(nb) if touching else 0, NW), dtype=data.scr.dtype)  # contact.py
     if touching:  # the contacts' impulses over this call
         for i in range(n):
-            for c in range(tables[18].shape[1]):
-                tables[18][e0 + i, c] = 0.0
+            for c in range(data.touch.shape[1]):
+                data.touch[e0 + i, c] = 0.0
     for _ in range(steps):
         if sea:  # the waves' time phases at the step's start
             for b in range(nb):
-                _phase_rows(scr_blk[b], n, e0, swell, clock)
-        _integrate(scr_blk, nb, n, e0, tables, cnorm, ctrl, prm, wprm, method)
-        if touching:  # contact.py: scalar per environment, after the step's integration
-            for i in range(n):
-                if may_touch(scr_blk, nb, i, BLOCK, tables[15], tables[16], tables[17][e0 + i]):
-                    collide(scr_blk, nb, i, BLOCK, tables[0], tables[12], tables[13],
-                            tables[14], tables[15], tables[16], work, tables[17][e0 + i],
-                            tables[18][e0 + i])  # fmt: skip
+                _phase_rows(scr_blk[b], n, e0, model.swell, clock)
+        _integrate(scr_blk, nb, n, e0, model, data, method)
+        if touching:
+            _contact(scr_blk, nb, e0, n, model, data, work)
         for i in range(n):  # each environment's clock: its own slots only
             clock[e0 + i] += tdt
         if wake:  # the source moves on at its velocity (rows: pos 0-2, velocity 12-14)
             for b in range(nb):
                 for k in range(3):
                     for i in range(n):
-                        scr_blk[b, (SRC + k) * BLOCK + i] += (
-                            dt * scr_blk[b, (SRC + 12 + k) * BLOCK + i]
+                        scr_blk[b, (SOURCE + k) * BLOCK + i] += (
+                            dt * scr_blk[b, (SOURCE + 12 + k) * BLOCK + i]
                         )
     if wake:  # the source's new position, so that step(k) then step(m) is step(k + m)
         for k in range(3):
             for i in range(n):
-                src[k, e0 + i] = scr_blk[0, (SRC + k) * BLOCK + i]
+                src[k, e0 + i] = scr_blk[0, (SOURCE + k) * BLOCK + i]
     for i in range(n):
         diverged[e0 + i] = False
     for b in range(nb):
         for k in range(NSTATE):
             for i in range(n):
-                x = scr_blk[b, (Y + k) * BLOCK + i]
+                x = scr_blk[b, (STATE + k) * BLOCK + i]
                 st[k, b, e0 + i] = x
                 diverged[e0 + i] |= not math.isfinite(x)
     # faster than the fluid samples' speed clamp is outside the model (every sample saturated):
     # a runaway that the clamps keep finite is flagged as diverged too (docs/study.md)
-    vmax2 = prm[P_VMAX] * prm[P_VMAX]
+    vmax2 = model.prm[P_VMAX] * model.prm[P_VMAX]
     for b in range(nb):
         for i in range(n):
-            vx = scr_blk[b, (Y + OV) * BLOCK + i]
-            vy = scr_blk[b, (Y + OV + 1) * BLOCK + i]
-            vz = scr_blk[b, (Y + OV + 2) * BLOCK + i]
+            vx = scr_blk[b, (STATE + OV) * BLOCK + i]
+            vy = scr_blk[b, (STATE + OV + 1) * BLOCK + i]
+            vz = scr_blk[b, (STATE + OV + 2) * BLOCK + i]
             diverged[e0 + i] |= vx * vx + vy * vy + vz * vz > vmax2
 
 
-# The kernels' leading arguments (``Simulator._args``): st[13, B, E] state, flow[6, E] air and
-# water velocity, src[NSRC, E] and wprm the wake, swell[n, 5] (float64; empty: calm water) and
-# clock[E] (float64, s), ctrl[C, E] controls, tables, cmix, cnorm, prm.
+@njit(**_JIT)
+def _check_method(method):
+    """An integrator id without a branch in ``_integrate`` would leave the state untouched:
+    refuse it (``integrators.TABLE`` lists the ids)."""
+    for known in _IDS:
+        if method == known:
+            return
+    raise ValueError("unknown integrator id: see integrators.TABLE")
 
 
 @njit(**_JIT)
-def step_serial(
-    st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, method, steps, scr,
-    diverged,
-):  # fmt: skip
-    """Advance every environment ``steps`` steps on the calling thread."""
-    for blk in range(scr.shape[0]):
-        _advance_block(
-            blk, st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, method,
-            steps, scr, diverged,
-        )  # fmt: skip
+def step_serial(model, data, method, steps):
+    """Advance every environment ``steps`` steps on the calling thread (``model``, ``data``:
+    :class:`~fluidsim_envs.physics.model.Model`, :class:`~fluidsim_envs.physics.model.Data`;
+    ``method``: an ``integrators.Integrator.id``)."""
+    _check_method(method)
+    for blk in range(data.scr.shape[0]):
+        _advance_block(blk, model, data, method, steps)
 
 
 @njit(parallel=True, **_JIT)
-def step_parallel(
-    st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, method, steps, scr,
-    diverged,
-):  # fmt: skip
+def step_parallel(model, data, method, steps):
     """Advance every environment ``steps`` steps, blocks spread over numba's threads."""
-    for blk in prange(scr.shape[0]):
-        _advance_block(
-            blk, st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, method,
-            steps, scr, diverged,
-        )  # fmt: skip
+    _check_method(method)
+    for blk in prange(data.scr.shape[0]):
+        _advance_block(blk, model, data, method, steps)
 
 
 @njit(**_JIT)
-def wrench(st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, scr, out):
+def wrench(model, data, out):
     """Net force and torque about the center of mass of every body from its samples,
     buoyancy and thrusters (gravity excluded), out[6, B, E], world frame, at each
     environment's clock."""
-    body = tables[0]
-    g = prm[P_G]
+    g = model.prm[P_G]
+    st, scr = data.st, data.scr
     for blk in range(scr.shape[0]):
-        e0, n = _load_block(blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, scr)
+        e0, n = _load_block(blk, model, data)
         for b in range(st.shape[1]):
             S = scr[blk, b]
-            if swell.shape[0] > 0:
-                _phase_rows(S, n, e0, swell, clock)
-            _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, T0, None)
-            m = body[b, 0]
+            if model.swell.shape[0] > 0:
+                _phase_rows(S, n, e0, model.swell, data.clock)
+            _evaluate(S, b, n, e0, model, data, T0, None)
             for i in range(n):
-                out[0, b, e0 + i] = m * S[(D + OV) * BLOCK + i]
-                out[1, b, e0 + i] = m * S[(D + OV + 1) * BLOCK + i]
-                out[2, b, e0 + i] = m * (S[(D + OV + 2) * BLOCK + i] + g)
+                m = model.body[e0 + i, b, B_MASS]
+                out[0, b, e0 + i] = m * S[(DERIV + OV) * BLOCK + i]
+                out[1, b, e0 + i] = m * S[(DERIV + OV + 1) * BLOCK + i]
+                out[2, b, e0 + i] = m * (S[(DERIV + OV + 2) * BLOCK + i] + g)
                 for k in range(3):
-                    out[3 + k, b, e0 + i] = S[(D + OL + k) * BLOCK + i]
+                    out[3 + k, b, e0 + i] = S[(DERIV + OL + k) * BLOCK + i]
 
 
 @njit(**_JIT)
-def sample_forces(st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, prm, scr, env, out):
+def sample_forces(model, data, env, out):
     """Each sample's world application point and force in environment ``env`` at its clock,
     ``out[N, 6]`` (point x, y, z, then force), N the samples of every body in ``_evaluate``'s
     order: ``_evaluate`` records them as it adds them up, so they sum to :func:`wrench`."""
+    st, scr = data.st, data.scr
     blk = env // BLOCK
-    e0, n = _load_block(blk, st, flow, src, wprm, ctrl, tables, cmix, cnorm, scr)
+    e0, n = _load_block(blk, model, data)
     i = env - e0
     rec = np.zeros((out.shape[0], 6, BLOCK), dtype=scr.dtype)
     for b in range(st.shape[1]):
         S = scr[blk, b]
-        if swell.shape[0] > 0:
-            _phase_rows(S, n, e0, swell, clock)
-        _evaluate(S, b, n, e0, tables, cnorm, ctrl, prm, wprm, T0, rec)
-        for j in range(_first_sample(tables, b), _first_sample(tables, b + 1)):
+        if model.swell.shape[0] > 0:
+            _phase_rows(S, n, e0, model.swell, data.clock)
+        _evaluate(S, b, n, e0, model, data, T0, rec)
+        for j in range(_first_sample(model, b), _first_sample(model, b + 1)):
             for k in range(3):
                 out[j, k] = st[OX + k, b, env] + rec[j, k, i]
                 out[j, 3 + k] = rec[j, 3 + k, i]
@@ -945,13 +1020,11 @@ def sample_forces(st, flow, src, wprm, swell, clock, ctrl, tables, cmix, cnorm, 
 
 @njit(**_JIT)
 def body_omega(st, body, out):
-    """World angular velocity of every body, out[3, B, E] from st[13, B, E]."""
+    """World angular velocity of every body, out[3, B, E], from st[13, B, E] and the body
+    constants body[E, B, NBODY]."""
     for b in range(st.shape[1]):
         for e in range(st.shape[2]):
-            m = quat_to_matrix(st[OQ, b, e], st[OQ + 1, b, e], st[OQ + 2, b, e], st[OQ + 3, b, e])
-            w = world_omega(
-                m, st[OL, b, e], st[OL + 1, b, e], st[OL + 2, b, e], body_inv_inertia(body, b)
-            )
+            w = body_state(st, b, e, body_inv_inertia(body[e], b))[3]
             out[0, b, e] = w[0]
             out[1, b, e] = w[1]
             out[2, b, e] = w[2]

@@ -11,11 +11,7 @@ from __future__ import annotations
 from numba import njit
 
 from .forces import HALF, ONE, TWO
-
-# a rigid body's state, 13 numbers: position x, quaternion q (w, x, y, z; body -> world),
-# linear velocity v and angular momentum L about the center of mass, world frame
-NSTATE = 13
-OX, OQ, OV, OL = 0, 3, 7, 10
+from .state import B_INV_INERTIA, NSTATE, OL, OQ, OV, OX  # noqa: F401  (re-exported)
 
 _INLINE = dict(cache=True, error_model="numpy", inline="always", fastmath={"contract"})
 
@@ -77,5 +73,14 @@ def quat_rate(qw, qx, qy, qz, wx, wy, wz):
 @njit(**_INLINE)
 def body_inv_inertia(body, b):
     """The inverse body inertia entries (xx, yy, zz, xy, xz, yz) of body slot b of a body
-    table ``body[B, NBODY]`` (columns 1-6: ``simulator._pack``)."""
-    return body[b, 1], body[b, 2], body[b, 3], body[b, 4], body[b, 5], body[b, 6]
+    table ``body[B, NBODY]`` (one environment's rows of ``Simulator``'s ``body[E, B, NBODY]``;
+    columns: ``state.BODY_FIELDS``)."""
+    k = B_INV_INERTIA
+    return (
+        body[b, k],
+        body[b, k + 1],
+        body[b, k + 2],
+        body[b, k + 3],
+        body[b, k + 4],
+        body[b, k + 5],
+    )

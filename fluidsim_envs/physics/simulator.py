@@ -8,92 +8,86 @@ from collections.abc import Sequence
 import numpy as np
 
 from . import contact as CT
+from . import integrators as IT
 from . import kernels as K
+from . import model as M
 from . import wake as WK
-from .craft import Craft
+from .craft import Craft, CraftError, check_inertia, shape_reach, shift_offsets
+from .state import BLOCK, NSTATE, OL, OQ, OV, OX, ROWS
 from .world import World
 
 _BATCH_PARALLEL_MIN = 1024  # below this many bodies the serial kernel wins (thread start-up)
+# groups every craft has for Simulator.set_sample_scale, beside its samples' names and its own
+BUILTIN_GROUPS = ("all", "plates", "control_surfaces", "cylinders", "buoyancy")
 
 
-def _pack(
-    crafts: Sequence[Craft], world: World, dt: float, num_envs: int, dtype, integrator: str
-) -> tuple[tuple, np.ndarray, list[str]]:
-    """Flatten the crafts' samples into the kernel's tables (field-major, slot ranges)."""
-    names: list[str] = []
-    offsets = []
-    for c in crafts:
-        offsets.append(len(names))
-        names.extend(
-            c.control_names if len(crafts) == 1 else (f"{c.name}.{n}" for n in c.control_names)
-        )
-    n_ch = len(names)
+def _values(what: str, name: str, value, shape) -> np.ndarray:
+    """``value`` as float64 broadcast to ``shape`` (None: as it is), finite; else a
+    ValueError naming ``what``, ``name`` and the value: the simulator's one input check."""
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what}: {name} must be numbers, got {value!r}") from None
+    if shape is not None:
+        try:
+            arr = np.broadcast_to(arr, shape)
+        except ValueError:
+            dims = ", ".join(map(str, shape))
+            raise ValueError(
+                f"{what}: {name} of shape {arr.shape} does not broadcast to [{dims}]"
+            ) from None
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{what}: {name} has non-finite values: {value!r}")
+    return arr
 
-    body = np.zeros((len(crafts), K.NBODY))
-    fpl, cpl, cyl, buo, thr, thr_ch, mix = [], [], [], [], [], [], []
-    at = {k: [0] for k in ("fpl", "cpl", "cyl", "buo", "thr")}
-    for b, c in enumerate(crafts):
-        inv = np.linalg.inv(c.inertia_tensor)
-        sec = 0.5 * np.trace(c.inertia_tensor) * np.eye(3) - c.inertia_tensor  # tetra.py
-        body[b] = (
-            c.mass_kg,
-            *(inv[0, 0], inv[1, 1], inv[2, 2], inv[0, 1], inv[0, 2], inv[1, 2]),
-            *(sec[0, 0], sec[1, 1], sec[2, 2], sec[0, 1], sec[0, 2], sec[1, 2]),
-        )
-        drive: dict[str, np.ndarray] = {}
-        for j, ctl in enumerate(c.controls):
-            for s in ctl.surfaces:
-                row = drive.setdefault(s.sample, np.zeros(n_ch))
-                row[offsets[b] + j] += s.gain * math.radians(ctl.max_deflection_deg)
-        for p in c.plates:
-            if p.name in drive:
-                cpl.append((*p.offset_m, *p.normal, *p.hinge_axis, p.area_m2, p.efficiency))
-                mix.append(drive[p.name])
-            else:
-                fpl.append((*p.offset_m, *p.normal, p.area_m2, p.efficiency))
-        cyl.extend((*s.offset_m, *s.axis, s.area_m2) for s in c.cylinders)
-        buo.extend((*s.offset_m, s.volume_m3 or 0.0, s.area_m2 or 0.0) for s in c.buoyancy)
-        channels = c.control_names
-        for t in c.thrusters:
-            thr.append((*t.offset_m, *t.direction, t.min_thrust_n, t.max_thrust_n))
-            thr_ch.append(-1 if t.control is None else offsets[b] + channels.index(t.control))
-        for key, table in (("fpl", fpl), ("cpl", cpl), ("cyl", cyl), ("buo", buo), ("thr", thr)):
-            at[key].append(len(table))
 
-    def table(rows, width):
-        return np.ascontiguousarray(np.asarray(rows, dtype=dtype).reshape(-1, width).T)
+def _world_params(world: World, dt: float, swell: np.ndarray) -> np.ndarray:
+    """The kernels' ``prm[NPRM]`` (float64): the world and the step (``kernels.P_*``)."""
+    prm = np.zeros(K.NPRM)
+    prm[K.P_G] = world.gravity_mps2
+    prm[K.P_GM] = world.central_gravity_m3s2
+    prm[K.P_RHO_AIR] = world.air_density_kgm3
+    prm[K.P_RHO_WATER] = world.water_density_kgm3
+    prm[K.P_WATER] = 1.0 if world.water else 0.0
+    prm[K.P_WIND : K.P_WIND + 3] = world.wind_mps
+    prm[K.P_CURRENT : K.P_CURRENT + 3] = world.current_mps
+    # a sharp surface is a layer thin enough that the blend is a step
+    prm[K.P_INV_BLEND] = 1.0 / world.surface_blend_m if world.surface_blend_m > 0 else 1e30
+    prm[K.P_VMAX] = world.max_fluid_speed_mps
+    prm[K.P_FMAX] = world.max_sample_force_n
+    prm[K.P_DT] = dt
+    prm[K.P_TETRA_SWITCH] = world.tetra_rigid_spin_rad
+    prm[K.P_NWAVES] = len(swell)
+    for j, (a, kx, ky, omega, _) in enumerate(swell):
+        prm[K.P_SWELL + 4 * j : K.P_SWELL + 4 * j + 4] = (a, kx, ky, omega)
+    return prm
 
-    def ranges(key):
-        return np.asarray(at[key], dtype=np.int64)
 
-    tables = (
-        body.astype(dtype),
-        table(fpl, 8),
-        ranges("fpl"),
-        table(cpl, 11),
-        ranges("cpl"),
-        table(cyl, 7),
-        ranges("cyl"),
-        table(buo, 5),
-        ranges("buo"),
-        table(thr, 8),
-        np.asarray(thr_ch, dtype=np.int64),
-        ranges("thr"),
-        *CT.pack(  # tables[12:19]: contact.py
-            crafts,
-            world.ground,
-            dt,
-            world.gravity_mps2,
-            world.contact_passes,
-            num_envs,
-            dtype,
-            K.DRIFT_SHARE[integrator],
-        ),
-        # tables[19]: the external force and torque on each body [E, B, 6], world frame
-        np.zeros((num_envs, len(crafts), 6), dtype=dtype),
-    )
-    cmix = np.asarray(mix, dtype=dtype).reshape(len(mix), n_ch)
-    return tables, cmix, names
+class _Body:
+    """One body slot's nominal craft, its samples by kind, and each environment's parameters
+    (what ``set_mass_properties`` and ``set_sample_scale`` hold until changed)."""
+
+    def __init__(self, craft: Craft, num_envs: int) -> None:
+        self.craft = craft
+        self.names = M.sample_names(craft)
+        self.rows = {k: np.asarray(r, dtype=np.float64) for k, r in M.sample_rows(craft).items()}
+        self.mass_kg = np.full(num_envs, craft.mass_kg)
+        self.inertia = np.repeat(craft.inertia_tensor[None], num_envs, axis=0)
+        self.com_m = np.zeros((num_envs, 3))  # shift of the center of mass from the craft's
+        self.area = {k: np.ones((num_envs, len(n))) for k, n in self.names.items()}
+        self.efficiency = {k: np.ones((num_envs, len(n))) for k, n in self.names.items()}
+        self.thrust = np.ones(num_envs)
+        groups = {
+            "all": [(k, i) for k, n in self.names.items() for i in range(len(n))],
+            "plates": [(k, i) for k in ("plate", "flap") for i in range(len(self.names[k]))],
+            "control_surfaces": [("flap", i) for i in range(len(self.names["flap"]))],
+            "cylinders": [("cyl", i) for i in range(len(self.names["cyl"]))],
+            "buoyancy": [("buoy", i) for i in range(len(self.names["buoy"]))],
+        }
+        where = {n: (k, i) for k, names in self.names.items() for i, n in enumerate(names)}
+        groups.update({n: [ki] for n, ki in where.items()})
+        groups.update({g: [where[n] for n in members] for g, members in craft.groups})
+        self.groups = groups
 
 
 class Simulator:
@@ -189,10 +183,9 @@ class Simulator:
             raise ValueError(f"num_envs must be a positive integer, got {num_envs!r}")
         if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
             raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
-        if integrator not in K.INTEGRATORS:
-            raise ValueError(
-                f"unknown integrator {integrator!r}; choose one of {sorted(K.INTEGRATORS)}"
-            )
+        method = IT.get(integrator) if isinstance(integrator, str) else None
+        if method is None:
+            raise ValueError(f"integrator must be a name, got {integrator!r}")
         dtype = np.dtype(dtype)
         if dtype not in (np.float32, np.float64):
             raise ValueError(f"dtype must be float32 or float64, got {dtype}")
@@ -208,117 +201,99 @@ class Simulator:
         self.dtype = dtype
         self.wake = wake
         self.parallel = E * B >= _BATCH_PARALLEL_MIN if parallel is None else bool(parallel)
-        self._method = K.INTEGRATORS[integrator]
+        self._method = method.id
         self._kernel = K.step_parallel if self.parallel else K.step_serial
+        self.control_names: tuple[str, ...] = tuple(M.control_names(crafts))
 
-        self._tables, self._cmix, names = _pack(crafts, world, dt, E, dtype, integrator)
-        self.control_names: tuple[str, ...] = tuple(names)
-        self._mass = np.array([c.mass_kg for c in crafts])
-
-        prm = np.zeros(K.NPRM)
-        prm[K.P_G] = world.gravity_mps2
-        prm[K.P_GM] = world.central_gravity_m3s2
-        prm[K.P_RHO_AIR] = world.air_density_kgm3
-        prm[K.P_RHO_WATER] = world.water_density_kgm3
-        prm[K.P_WATER] = 1.0 if world.water else 0.0
-        prm[K.P_WIND : K.P_WIND + 3] = world.wind_mps
-        prm[K.P_CURRENT : K.P_CURRENT + 3] = world.current_mps
-        # a sharp surface is a layer thin enough that the blend is a step
-        prm[K.P_INV_BLEND] = 1.0 / world.surface_blend_m if world.surface_blend_m > 0 else 1e30
-        prm[K.P_VMAX] = world.max_fluid_speed_mps
-        prm[K.P_FMAX] = world.max_sample_force_n
-        prm[K.P_DT] = dt
-        prm[K.P_TETRA_SWITCH] = world.tetra_rigid_spin_rad
         swell = world.swell_table()  # rows (a, kx, ky, omega, phase)
-        prm[K.P_NWAVES] = len(swell)
-        for j, (a, kx, ky, omega, _) in enumerate(swell):
-            prm[K.P_SWELL + 4 * j : K.P_SWELL + 4 * j + 4] = (a, kx, ky, omega)
-        self._prm = prm.astype(dtype)
-
-        # buffers, allocated once
-        n_blocks = -(-E // K.BLOCK)
-        self._st = np.zeros((K.NSTATE, B, E), dtype=dtype)
-        self._st[K.OQ] = 1.0
-        self._ctrl = np.zeros((len(names), E), dtype=dtype)
-        self._cnorm = np.zeros((3, self._cmix.shape[0], E), dtype=dtype)
-        self._scr = np.zeros((n_blocks, B, K.ROWS * K.BLOCK), dtype=dtype)
-        self._diverged = np.zeros(E, dtype=np.bool_)
-        self._omega = np.zeros((3, B, E), dtype=dtype)
-        self._flow = np.zeros((6, E), dtype=dtype)  # air velocity, water velocity per env
-        self._flow[:3] = np.asarray(world.wind_mps)[:, None]
-        self._flow[3:] = np.asarray(world.current_mps)[:, None]
-        self._wrench = np.zeros((6, B, E), dtype=dtype)
-        self._wprm = wake.params(dtype) if wake is not None else np.zeros(WK.NWPRM, dtype)
-        self._src = np.zeros((WK.NSRC, E), dtype=dtype)  # the wake source of each env
-        self._src[3:12:4] = 1.0  # identity rotation
-        # the surface: swell table [n_waves, 5] (empty: calm water) and each env's clock, both
-        # float64 whatever the dtype (wave phases omega t stay exact over long episodes)
-        self._swell = np.ascontiguousarray(swell, dtype=np.float64)
-        self._clock = np.zeros(E, dtype=np.float64)
-        # the kernels' leading arguments: buffers updated in place, never rebound
-        self._args = (
-            self._st,
-            self._flow,
-            self._src,
-            self._wprm,
-            self._swell,
-            self._clock,
-            self._ctrl,
-            self._tables,
-            self._cmix,
-            self._cnorm,
-            self._prm,
+        cprm, grid = CT.params(
+            crafts, world.ground, dt, world.gravity_mps2, world.contact_passes, method.drift_share
         )
+        self._model = M.pack(
+            crafts,
+            E,
+            dtype,
+            _world_params(world, dt, swell),
+            wake.params(dtype) if wake is not None else np.zeros(WK.NWPRM, dtype),
+            swell,
+            cprm,
+            grid,
+        )
+        self._bodies = [_Body(c, E) for c in crafts]
+        n_pairs = CT.num_pairs(B) if cprm[CT.C_ON] else 0
+        flow = np.zeros((6, E), dtype=dtype)  # air velocity, water velocity per env
+        flow[:3] = np.asarray(world.wind_mps)[:, None]
+        flow[3:] = np.asarray(world.current_mps)[:, None]
+        src = np.zeros((WK.NSRC, E), dtype=dtype)  # the wake source of each env
+        src[3:12:4] = 1.0  # identity rotation
+        st = np.zeros((NSTATE, B, E), dtype=dtype)
+        st[OQ] = 1.0
+        # buffers, allocated once; the kernels update them in place, never rebind them
+        self._data = M.Data(
+            st=st,
+            flow=flow,
+            src=src,
+            # float64 whatever the dtype: wave phases omega t stay exact over long episodes
+            clock=np.zeros(E, dtype=np.float64),
+            ctrl=np.zeros((len(self.control_names), E), dtype=dtype),
+            flap_now=np.zeros((3, self._model.flap.shape[1], E), dtype=dtype),
+            external=np.zeros((E, B, 6), dtype=dtype),
+            warm=np.zeros((E if n_pairs else 0, n_pairs, CT.NWARM), dtype=dtype),
+            touch=np.zeros((E if n_pairs else 0, n_pairs), dtype=dtype),
+            scr=np.zeros((-(-E // BLOCK), B, ROWS * BLOCK), dtype=dtype),
+            diverged=np.zeros(E, dtype=np.bool_),
+        )
+        self._omega = np.zeros((3, B, E), dtype=dtype)
+        self._wrench = np.zeros((6, B, E), dtype=dtype)
 
     # ---- state ----------------------------------------------------------------------------
 
     def _view(self, rows: slice) -> np.ndarray:
-        v = self._st[rows].transpose(2, 1, 0)
+        v = self._data.st[rows].transpose(2, 1, 0)
         v.flags.writeable = False
         return v
 
     @property
     def pos(self) -> np.ndarray:
         """Center-of-mass positions [E, B, 3] (m)."""
-        return self._view(slice(K.OX, K.OX + 3))
+        return self._view(slice(OX, OX + 3))
 
     @property
     def quat(self) -> np.ndarray:
         """Orientations [E, B, 4], unit quaternions (w, x, y, z), body -> world."""
-        return self._view(slice(K.OQ, K.OQ + 4))
+        return self._view(slice(OQ, OQ + 4))
 
     @property
     def lin_vel(self) -> np.ndarray:
         """Center-of-mass velocities [E, B, 3] (m/s)."""
-        return self._view(slice(K.OV, K.OV + 3))
+        return self._view(slice(OV, OV + 3))
 
     @property
     def ang_vel(self) -> np.ndarray:
         """Angular velocities [E, B, 3] (rad/s), world frame (derived from L)."""
-        K.body_omega(self._st, self._tables[0], self._omega)
+        K.body_omega(self._data.st, self._model.body, self._omega)
         v = self._omega.transpose(2, 1, 0)
         v.flags.writeable = False
         return v
 
     def angular_momentum(self) -> np.ndarray:
         """Angular momentum about each center of mass [E, B, 3] (kg m^2/s), world frame."""
-        return self._view(slice(K.OL, K.OL + 3)).copy()
+        return self._view(slice(OL, OL + 3)).copy()
 
     def kinetic_energy(self) -> np.ndarray:
         """Kinetic energy of each body [E, B] (J): 1/2 m v^2 + 1/2 L . w."""
-        v, w, L = self.lin_vel, self.ang_vel, self._view(slice(K.OL, K.OL + 3))
-        return 0.5 * self._mass * np.einsum("ebk,ebk->eb", v, v) + 0.5 * np.einsum(
-            "ebk,ebk->eb", L, w
-        )
+        v, w, L = self.lin_vel, self.ang_vel, self._view(slice(OL, OL + 3))
+        kinetic = 0.5 * self.mass_kg * np.einsum("ebk,ebk->eb", v, v)
+        return kinetic + 0.5 * np.einsum("ebk,ebk->eb", L, w)
 
     @property
     def ground_impulse(self) -> np.ndarray:
         """``[E, B]`` (N s, read-only view): the normal impulse the ground gave each body over
         the last :meth:`step` call (0: it did not touch; all zeros without contact). A body
         can touch and bounce clear within one call: this is how a scene sees that it did."""
-        if self._tables[18].shape[0] == 0:
+        if self._data.touch.shape[0] == 0:
             return np.zeros((self.num_envs, self.num_bodies), dtype=self.dtype)
-        v = self._tables[18][:, : self.num_bodies]  # rows: contact.num_pairs
+        v = self._data.touch[:, : self.num_bodies]  # rows: contact.num_pairs
         v.flags.writeable = False
         return v
 
@@ -328,9 +303,9 @@ class Simulator:
         the last :meth:`step` call, pairs in :attr:`pairs` order (all zeros without contact).
         The pairs of body 0 come first: ``pair_impulse[:, : B - 1]`` is body 0 against the
         others."""
-        if self._tables[18].shape[0] == 0:
+        if self._data.touch.shape[0] == 0:
             return np.zeros((self.num_envs, len(self.pairs)), dtype=self.dtype)
-        v = self._tables[18][:, self.num_bodies :]
+        v = self._data.touch[:, self.num_bodies :]
         v.flags.writeable = False
         return v
 
@@ -344,21 +319,21 @@ class Simulator:
         """[E] True where the last step left a non-finite state, or a body faster than
         ``World.max_fluid_speed_mps`` (beyond the fluid model: the clamps would keep such a
         runaway finite, not sane). That env needs a reset."""
-        v = self._diverged.view()
+        v = self._data.diverged.view()
         v.flags.writeable = False
         return v
 
     @property
     def wind_mps(self) -> np.ndarray:
         """Air velocity of each environment [E, 3] (m/s), world frame; see :meth:`set_wind`."""
-        v = self._flow[:3].T
+        v = self._data.flow[:3].T
         v.flags.writeable = False
         return v
 
     @property
     def current_mps(self) -> np.ndarray:
         """Water velocity of each environment [E, 3] (m/s); see :meth:`set_current`."""
-        v = self._flow[3:].T
+        v = self._data.flow[3:].T
         v.flags.writeable = False
         return v
 
@@ -377,7 +352,7 @@ class Simulator:
     def controls(self) -> np.ndarray:
         """``[E, n_controls]`` (read-only view): the controls of the last :meth:`step` or
         :meth:`wrench` call, channels in ``control_names`` order."""
-        v = self._ctrl.T
+        v = self._data.ctrl.T
         v.flags.writeable = False
         return v
 
@@ -385,7 +360,7 @@ class Simulator:
     def external_force(self) -> tuple[np.ndarray, np.ndarray]:
         """``(force [E, B, 3] (N), torque [E, B, 3] (N m))``, read-only views: what
         :meth:`set_external_force` holds on each body."""
-        ext = self._tables[19]
+        ext = self._data.external
         f, t = ext[..., :3], ext[..., 3:]
         f.flags.writeable = t.flags.writeable = False
         return f, t
@@ -399,8 +374,8 @@ class Simulator:
         ids = self._env_ids("set_external_force", env_ids)
         f = self._broadcast("force_n", force_n, 3, ids.size, "set_external_force")
         t = self._broadcast("torque_nm", torque_nm, 3, ids.size, "set_external_force")
-        self._tables[19][ids, :, :3] = f
-        self._tables[19][ids, :, 3:] = t
+        self._data.external[ids, :, :3] = f
+        self._data.external[ids, :, 3:] = t
 
     def _set_flow(self, name: str, rows: slice, value, env_ids) -> None:
         ids = self._env_ids(name, env_ids)
@@ -413,13 +388,13 @@ class Simulator:
             ) from None
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"{name} has non-finite values: {value!r}")
-        self._flow[rows, ids] = arr.T
+        self._data.flow[rows, ids] = arr.T
 
     @property
     def clock(self) -> np.ndarray:
         """Each environment's time [E] (s), float64: advanced by ``dt`` per step (the
         simulation dtype's ``dt``); the swell moves with it. See :meth:`set_clock`."""
-        v = self._clock.view()
+        v = self._data.clock.view()
         v.flags.writeable = False
         return v
 
@@ -437,7 +412,7 @@ class Simulator:
             ) from None
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"set_clock: t has non-finite values: {t!r}")
-        self._clock[ids] = arr
+        self._data.clock[ids] = arr
 
     def surface_height(self, x, y) -> np.ndarray:
         """Height of the water surface (m) above z = 0 in every environment at its own clock:
@@ -446,7 +421,7 @@ class Simulator:
         x = np.asarray(x, dtype=np.float64)
         y = np.asarray(y, dtype=np.float64)
         ndim = max(x.ndim, y.ndim, 1)
-        t = self._clock.reshape((self.num_envs,) + (1,) * (ndim - 1))
+        t = self._data.clock.reshape((self.num_envs,) + (1,) * (ndim - 1))
         return self.world.surface_height(x, y, t)
 
     def surface_arrays(self) -> tuple[np.ndarray, np.ndarray]:
@@ -454,7 +429,7 @@ class Simulator:
         (float64 rows ``(a, kx, ky, omega, phase)``, empty in calm water; pass it to
         ``surface.surface_height(x, y, t, swell)``), ``clock [E]`` (float64, s)). Treat them
         as read-only."""
-        return self._swell, self._clock
+        return self._model.swell, self._data.clock
 
     def set_wake_source(
         self, pos, quat, lin_vel, noise_offset=(0.0, 0.0, 0.0), env_ids=None
@@ -489,7 +464,7 @@ class Simulator:
         if np.any(norm < 1e-12):
             raise ValueError("set_wake_source: quat must be non-zero")
         rot = K.quat_matrices(q / norm).reshape(n, 9)
-        self._src[:, ids] = np.concatenate([p, rot, v, o], axis=1).T
+        self._data.src[:, ids] = np.concatenate([p, rot, v, o], axis=1).T
 
     def wake_source_rows(self) -> np.ndarray:
         """The wake source array [NSRC, E] the kernel reads, without a copy, for env kernels
@@ -498,20 +473,21 @@ class Simulator:
         advances the position rows during a step. Prefer :meth:`set_wake_source` elsewhere."""
         if self.wake is None:
             raise ValueError("wake_source_rows: this Simulator has no wake (pass wake=)")
-        return self._src
+        return self._data.src
 
     def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The arrays env kernels read the state from, without copies: ``(state [13, B, E]``
-        (rows x, q, v, L as in ``kernels.py``), ``flow [6, E]`` (air then water velocity),
-        ``body [B, 7]`` (mass, inverse inertia entries)). Treat them as read-only."""
-        return self._st, self._flow, self._tables[0]
+        (rows ``state.STATE_FIELDS``), ``flow [6, E]`` (air then water velocity),
+        ``body [E, B, NBODY]`` (each environment's mass and inertia, ``state.BODY_FIELDS``;
+        ``rotation.body_inv_inertia(body[e], b)``)). Treat them as read-only."""
+        return self._data.st, self._data.flow, self._model.body
 
     def wrench(self, controls=None) -> tuple[np.ndarray, np.ndarray]:
         """Net force (N) and torque about the center of mass (N m) on each body from its
         fluid samples, buoyancy and thrusters (not gravity) at the current state, world frame,
         each ``[E, B, 3]``. ``controls`` as in :meth:`step` (None: all channels at 0)."""
         self._set_controls(controls)
-        K.wrench(*self._args, self._scr, self._wrench)
+        K.wrench(self._model, self._data, self._wrench)
         out = self._wrench.transpose(2, 1, 0)
         return out[..., :3].copy(), out[..., 3:].copy()
 
@@ -550,7 +526,7 @@ class Simulator:
         self._set_controls(controls)
         counts = [c.num_samples for c in self.crafts]
         out = np.zeros((sum(counts), 6))
-        K.sample_forces(*self._args, self._scr, int(e), out)
+        K.sample_forces(self._model, self._data, int(e), out)
         return out[:, :3], out[:, 3:], np.repeat(np.arange(self.num_bodies), counts)
 
     def _env_ids(self, what: str, env_ids) -> np.ndarray:
@@ -564,6 +540,172 @@ class Simulator:
                 f"{what}: env_ids must be integers in [0, {self.num_envs}), got {env_ids!r}"
             )
         return ids
+
+    # ---- each environment's craft ----------------------------------------------------------
+
+    @property
+    def mass_kg(self) -> np.ndarray:
+        """``[E, B]`` each environment's body masses (kg); see :meth:`set_mass_properties`."""
+        return np.stack([bd.mass_kg for bd in self._bodies], axis=1)
+
+    @property
+    def inertia_kgm2(self) -> np.ndarray:
+        """``[E, B, 3, 3]`` each environment's body inertia tensors about the center of mass."""
+        return np.stack([bd.inertia for bd in self._bodies], axis=1)
+
+    @property
+    def center_of_mass_m(self) -> np.ndarray:
+        """``[E, B, 3]`` each environment's center-of-mass shift from the craft's (body frame)."""
+        return np.stack([bd.com_m for bd in self._bodies], axis=1)
+
+    def set_mass_properties(
+        self, mass_kg=None, inertia_kgm2=None, center_of_mass_m=None, env_ids=None, body=0
+    ) -> None:
+        """Give environments their own mass, inertia and center of mass for body slot ``body``
+        (until changed; a reset keeps them). None leaves a property as it is.
+
+        Args:
+            mass_kg: > 0, broadcasts to ``[n]`` (n: the environments in ``env_ids``).
+            inertia_kgm2: body-frame inertia about the center of mass: principal moments
+                (a shape ending in 3) or tensors (ending in (3, 3)), broadcast to ``[n, 3]``
+                or ``[n, 3, 3]``; each symmetric, positive definite, with I1 + I2 >= I3.
+            center_of_mass_m: the center of mass's shift from the craft's, body frame,
+                broadcast to ``[n, 3]``: every sample and collision shape keeps its place on
+                the airframe, as :meth:`Craft.with_center_of_mass` gives (bit for bit).
+            env_ids: the environments (None: all).
+            body: the body slot.
+
+        The body's state (position, velocity, angular momentum) is kept: call :meth:`reset`
+        for a start that matches the new inertia.
+        """
+        what = "set_mass_properties"
+        ids, bd = self._env_ids(what, env_ids), self._body(what, body)
+        n = ids.size
+        if mass_kg is not None:
+            m = _values(what, "mass_kg", mass_kg, (n,))
+            if np.any(m <= 0.0):
+                raise ValueError(f"{what}: mass_kg must be positive, got {mass_kg!r}")
+        if inertia_kgm2 is not None:
+            arr = _values(what, "inertia_kgm2", inertia_kgm2, None)
+            tensor = arr.ndim >= 2 and arr.shape[-2:] == (3, 3)
+            if tensor:
+                inertia = _values(what, "inertia_kgm2", arr, (n, 3, 3))
+            else:
+                inertia = _values(what, "inertia_kgm2", arr, (n, 3))[:, :, None] * np.eye(3)
+            try:
+                check_inertia(what, inertia, inertia_kgm2)
+            except CraftError as err:
+                raise ValueError(str(err)) from None
+        if center_of_mass_m is not None:
+            com = _values(what, "center_of_mass_m", center_of_mass_m, (n, 3))
+        if mass_kg is not None:
+            bd.mass_kg[ids] = m
+        if inertia_kgm2 is not None:
+            bd.inertia[ids] = inertia
+        if center_of_mass_m is not None:
+            bd.com_m[ids] = com
+        self._write(body, ids)
+
+    def set_sample_scale(self, group, area=None, efficiency=None, env_ids=None, body=0) -> None:
+        """Scale the samples of ``group`` in environments ``env_ids`` of body slot ``body``,
+        from the craft's values (until changed; a reset keeps them).
+
+        Args:
+            group: a sample's name, a group of the craft file (``Craft.groups``), or one of
+                ``"all"``, ``"plates"``, ``"control_surfaces"``, ``"cylinders"``,
+                ``"buoyancy"``.
+            area: > 0, broadcasts to ``[n]``: the factor on each sample's size (plates' and
+                cylinders' ``area_m2``, buoyancy's ``volume_m3`` or ``area_m2``); thrusters
+                have none (:meth:`set_thrust_scale`).
+            efficiency: >= 0, broadcasts to ``[n]``: the factor on each plate's
+                ``efficiency``, which must stay within [0, 1].
+            env_ids, body: as in :meth:`set_mass_properties`.
+        """
+        what = "set_sample_scale"
+        ids, bd = self._env_ids(what, env_ids), self._body(what, body)
+        if group not in bd.groups:
+            raise ValueError(
+                f"{what}: unknown group {group!r} for craft {bd.craft.name!r}; groups are "
+                f"{BUILTIN_GROUPS + tuple(g for g, _ in bd.craft.groups)} and its samples"
+            )
+        members = [(k, i) for k, i in bd.groups[group] if k != "thr"]
+        if area is not None:
+            a = _values(what, "area", area, (ids.size,))
+            if np.any(a <= 0.0):
+                raise ValueError(f"{what}: area must be a positive factor, got {area!r}")
+            if not members:
+                raise ValueError(f"{what}: group {group!r} has no sample with an area")
+        plates = [(k, i) for k, i in members if k in ("plate", "flap")]
+        if efficiency is not None:
+            f = _values(what, "efficiency", efficiency, (ids.size,))
+            if not plates:
+                raise ValueError(f"{what}: group {group!r} has no plate (efficiency is a plate's)")
+            top = max(bd.rows[k][i, M.S_EFFICIENCY] for k, i in plates)
+            if np.any(f < 0.0) or np.any(f * top > 1.0):
+                raise ValueError(
+                    f"{what}: efficiency {efficiency!r} takes a plate of group {group!r} "
+                    f"(efficiency up to {top}) outside [0, 1]"
+                )
+        for k, i in members:
+            if area is not None:
+                bd.area[k][ids, i] = a
+            if efficiency is not None and k in ("plate", "flap"):
+                bd.efficiency[k][ids, i] = f
+        self._write(body, ids)
+
+    def set_thrust_scale(self, scale, env_ids=None, body=0) -> None:
+        """Scale every thruster of body slot ``body`` (its thrust at every control value) in
+        environments ``env_ids``; ``scale`` >= 0 broadcasts to ``[n]``; until changed."""
+        what = "set_thrust_scale"
+        ids, bd = self._env_ids(what, env_ids), self._body(what, body)
+        s = _values(what, "scale", scale, (ids.size,))
+        if np.any(s < 0.0):
+            raise ValueError(f"{what}: scale must be >= 0, got {scale!r}")
+        if not bd.names["thr"]:
+            raise ValueError(f"{what}: craft {bd.craft.name!r} has no thruster")
+        bd.thrust[ids] = s
+        self._write(body, ids)
+
+    def _body(self, what: str, body) -> _Body:
+        if isinstance(body, bool) or not isinstance(body, (int, np.integer)):
+            raise ValueError(f"{what}: body must be a body slot index, got {body!r}")
+        if not 0 <= body < self.num_bodies:
+            raise ValueError(f"{what}: body {body} is not in [0, {self.num_bodies})")
+        return self._bodies[body]
+
+    def _write(self, b: int, ids: np.ndarray) -> None:
+        """Pack body slot b's parameters of environments ``ids`` into the kernels' model: the
+        same numbers the craft itself packs where a parameter is at the craft's value."""
+        bd, model, dtype = self._bodies[b], self._model, self.dtype
+        model.body[ids, b] = M.body_rows(bd.mass_kg[ids], bd.inertia[ids]).astype(dtype)
+        com = bd.com_m[ids][:, None, :]  # [n, 1, 3]
+        for kind, nominal in bd.rows.items():
+            if not len(nominal):
+                continue
+            rows = np.repeat(nominal[None], ids.size, axis=0)  # [n, m, width]
+            rows[..., :3] = shift_offsets(nominal[None, :, :3], com)
+            if kind in ("plate", "flap"):
+                rows[..., M.S_AREA] *= bd.area[kind][ids]
+                rows[..., M.S_EFFICIENCY] *= bd.efficiency[kind][ids]
+            elif kind == "cyl":
+                rows[..., M.S_CYL_AREA] *= bd.area[kind][ids]
+            elif kind == "buoy":
+                rows[..., [M.S_VOLUME, M.S_BUOY_AREA]] *= bd.area[kind][ids][..., None]
+            else:
+                rows[..., [M.S_THRUST_MIN, M.S_THRUST_MAX]] *= bd.thrust[ids][:, None, None]
+            at = getattr(model, f"{kind}_at")
+            getattr(model, kind)[:, at[b] : at[b + 1], ids] = rows.transpose(2, 1, 0).astype(dtype)
+        shapes = bd.craft.shapes
+        if shapes:
+            table = np.repeat(np.asarray(CT.shape_rows(bd.craft))[None], ids.size, axis=0)
+            center = slice(CT.SH_CENTER, CT.SH_CENTER + 3)
+            table[..., center] = shift_offsets(table[..., center], com)
+            table[..., CT.SH_REACH] = shape_reach(
+                table[..., center], np.array([s.extent_m for s in shapes])
+            )
+            s0, s1 = model.shape_at[b], model.shape_at[b + 1]
+            model.shape[ids, :, s0:s1] = table.transpose(0, 2, 1).astype(dtype)
+            model.contact_body[ids, b, CT.CB_REACH] = table[..., CT.SH_REACH].max(axis=1)
 
     # ---- reset and step -------------------------------------------------------------------
 
@@ -605,20 +747,20 @@ class Simulator:
         q = q / norm
         # L = R I R^T w, per body slot
         rot = K.quat_matrices(q.reshape(-1, 4)).reshape(n, self.num_bodies, 3, 3)
-        inertia = np.stack([c.inertia_tensor for c in self.crafts])  # [B, 3, 3]
-        iw = rot @ inertia[None] @ np.swapaxes(rot, -1, -2)
+        inertia = np.stack([bd.inertia[ids] for bd in self._bodies], axis=1)  # [n, B, 3, 3]
+        iw = rot @ inertia @ np.swapaxes(rot, -1, -2)
         L = np.einsum("nbij,nbj->nbi", iw, w)
-        st = self._st
+        st = self._data.st
         for rows, val in (
-            (slice(K.OX, K.OX + 3), p),
-            (slice(K.OQ, K.OQ + 4), q),
-            (slice(K.OV, K.OV + 3), v),
-            (slice(K.OL, K.OL + 3), L),
+            (slice(OX, OX + 3), p),
+            (slice(OQ, OQ + 4), q),
+            (slice(OV, OV + 3), v),
+            (slice(OL, OL + 3), L),
         ):
             st[rows, :, ids] = val.transpose(2, 1, 0)
-        self._diverged[ids] = False
-        if self._tables[17].shape[0]:  # contact warm starts belong to the old state
-            self._tables[17][ids] = 0.0
+        self._data.diverged[ids] = False
+        if self._data.warm.shape[0]:  # contact warm starts belong to the old state
+            self._data.warm[ids] = 0.0
 
     def step(self, controls=None, steps: int = 1) -> None:
         """Advance every environment by ``steps`` time steps, holding ``controls``; each
@@ -632,11 +774,11 @@ class Simulator:
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise ValueError(f"steps must be a positive integer, got {steps!r}")
         self._set_controls(controls)
-        self._kernel(*self._args, self._method, int(steps), self._scr, self._diverged)
+        self._kernel(self._model, self._data, self._method, int(steps))
 
     def _set_controls(self, controls) -> None:
         if controls is None:
-            self._ctrl[...] = 0.0
+            self._data.ctrl[...] = 0.0
         else:
             a = np.asarray(controls)
             shape = (self.num_envs, len(self.control_names))
@@ -651,4 +793,4 @@ class Simulator:
                 raise ValueError(
                     f"controls must lie in [-1, 1], got values up to {np.abs(a).max():.6g}"
                 )
-            self._ctrl[...] = a.T
+            self._data.ctrl[...] = a.T

@@ -1,0 +1,63 @@
+"""The integrators, one table: each method's name, kernel id, cost and what contact needs.
+
+``kernels._integrate`` dispatches on ``Integrator.id`` with one explicit branch per entry and
+no fallback; :func:`get` is the one lookup, and an unknown name or id raises. Adding a method
+means a row here, its branch in ``kernels._integrate`` (tests/physics/test_integrators.py
+checks every row has one: a missing branch leaves the state untouched and fails there) and
+its description in ``Simulator``'s docstring.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Integrator:
+    """A time-stepping method.
+
+    Attributes:
+        name: what ``Simulator(integrator=...)`` takes.
+        id: the kernel's integer code for it.
+        evals_per_step: force evaluations per step (the cost, for benchmarks).
+        drift_share: the share of a step's velocity change that its position update carries
+            (``x1 = x0 + dt v0 + share dt^2 a`` for a constant a): what a resting contact
+            undoes of the drift (``contact.py``). Symplectic Euler and the tetrahedron drift
+            with the new velocity (1), explicit Euler with the old (0); velocity Verlet and
+            the Runge-Kutta methods integrate a constant force exactly (1/2).
+        stage_times: when in the step (fractions of dt) each force evaluation sees the
+            surface and the wake.
+    """
+
+    name: str
+    id: int
+    evals_per_step: int
+    drift_share: float
+    stage_times: tuple[float, ...]
+
+
+TABLE = (
+    Integrator("explicit_euler", 0, 1, 0.0, (0.0,)),
+    Integrator("symplectic_euler", 1, 1, 1.0, (0.0,)),
+    Integrator("velocity_verlet", 2, 2, 0.5, (0.0, 1.0)),
+    Integrator("rk2", 3, 2, 0.5, (0.0, 0.5)),
+    Integrator("rk4", 4, 4, 0.5, (0.0, 0.5, 0.5, 1.0)),
+    Integrator("verlet_tetra", 5, 1, 1.0, (0.0,)),
+)
+BY_NAME = {m.name: m for m in TABLE}
+BY_ID = {m.id: m for m in TABLE}
+assert len(BY_ID) == len(TABLE) and all(len(m.stage_times) == m.evals_per_step for m in TABLE)
+
+# the kernel's codes, as the compile-time constants its branches compare with
+EXPLICIT_EULER, SYMPLECTIC_EULER, VELOCITY_VERLET, RK2, RK4, VERLET_TETRA = (
+    BY_NAME[n].id
+    for n in ("explicit_euler", "symplectic_euler", "velocity_verlet", "rk2", "rk4", "verlet_tetra")
+)
+
+
+def get(name_or_id: str | int) -> Integrator:
+    """The table's row for a name or a kernel id; anything else raises naming it."""
+    row = BY_ID.get(name_or_id) if isinstance(name_or_id, int) else BY_NAME.get(name_or_id)
+    if row is None:
+        raise ValueError(f"unknown integrator {name_or_id!r}; choose one of {sorted(BY_NAME)}")
+    return row

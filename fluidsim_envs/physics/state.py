@@ -1,0 +1,68 @@
+"""Where every number of the physics state lives: the one layout that the integrators, contact,
+the scene kernels and the viewers import.
+
+Two layouts, both declared here as (name, width) lists and turned into row numbers:
+
+- ``STATE_FIELDS``: a rigid body's state, 13 numbers in the world frame: position x, quaternion
+  q (w, x, y, z; body -> world), linear velocity v and angular momentum L about the center of
+  mass. ``Simulator`` stores it as ``st[NSTATE, B, E]``; ``st[OX + k, b, e]`` is body b's x_k
+  in environment e.
+- ``SCRATCH_FIELDS``: the rows of a block's scratch ``S[row * BLOCK + i]`` (``kernels.py``),
+  one row per number and ``BLOCK`` environments per row, so that the loops over a block run
+  over environments innermost and vectorize. The state rows come first; ``STATE + OX`` is
+  where contact and the integrators find a body's position.
+- ``BODY_FIELDS``: the per-environment body constants ``body[E, B, NBODY]`` (mass, inverse
+  inertia, second moment), which ``Simulator.set_mass_properties`` sets per environment.
+"""
+
+from __future__ import annotations
+
+from .surface import MAX_WAVES
+from .wake import NSRC
+
+
+def rows(fields: tuple[tuple[str, int], ...]) -> tuple[dict[str, int], int]:
+    """The first row of each field of a (name, width) list, and the total width."""
+    first, at = {}, 0
+    for name, width in fields:
+        first[name] = at
+        at += width
+    return first, at
+
+
+STATE_FIELDS = (("position", 3), ("quaternion", 4), ("velocity", 3), ("angular_momentum", 3))
+_STATE, NSTATE = rows(STATE_FIELDS)
+OX, OQ, OV, OL = (_STATE[n] for n in ("position", "quaternion", "velocity", "angular_momentum"))
+
+BODY_FIELDS = (
+    ("mass", 1),  # kg
+    ("inv_inertia", 6),  # inverse body inertia tensor (xx, yy, zz, xy, xz, yz), 1/(kg m^2)
+    # S = tr(I)/2 1 - I (xx, yy, zz, xy, xz, yz): a matched tetrahedron's sum m_i r_i r_i^T
+    ("second_moment", 6),
+)
+_BODY, NBODY = rows(BODY_FIELDS)
+B_MASS, B_INV_INERTIA, B_SECOND_MOMENT = (_BODY[n] for n, _ in BODY_FIELDS)
+
+BLOCK = 64  # environments per block: a multiple of the SIMD width, scratch fits in L1/L2
+SCRATCH_FIELDS = (
+    ("state", NSTATE),  # the state being stepped
+    ("start", NSTATE),  # the state at the step's start (Runge-Kutta)
+    ("rk_sum", NSTATE),  # RK4's k1 + 2 k2 + 2 k3 + k4
+    ("deriv", NSTATE),  # the derivative of the state rows (forces, torques, rates)
+    ("rot", 9),  # the rotation matrix R, row-major
+    ("omega", 3),  # the world angular velocity
+    ("fluid", 6),  # the environment's air velocity, then water minus air velocity
+    ("own_water", 3),  # with a wake: the environment's own water minus air velocity
+    ("source", NSRC),  # with a wake: the wake source (wake.source_row)
+    ("height", 1),  # the body's z minus the surface height under the current sample
+    ("sample_x", 1),  # with swell: the current sample's world x
+    ("sample_y", 1),  # and y
+    ("phase", MAX_WAVES),  # with swell: each wave's time phase at the step's start
+    ("body", NBODY),  # the environment's body constants (BODY_FIELDS)
+)
+_ROW, ROWS = rows(SCRATCH_FIELDS)
+STATE, START, RK_SUM, DERIV, ROT, OMEGA = (
+    _ROW[n] for n in ("state", "start", "rk_sum", "deriv", "rot", "omega")
+)
+FLUID, OWN_WATER, SOURCE, HEIGHT = (_ROW[n] for n in ("fluid", "own_water", "source", "height"))
+SAMPLE_X, SAMPLE_Y, PHASE, BODY = (_ROW[n] for n in ("sample_x", "sample_y", "phase", "body"))
