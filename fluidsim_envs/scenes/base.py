@@ -1,8 +1,13 @@
 """What every scene shares: parameters, seeding, actions, autoreset, episode bookkeeping.
 
-A scene subclasses :class:`FluidVectorEnv` and fills in four hooks (``_draw_reset``,
-``_advance``, ``_observe``, ``_frame``); :class:`FluidEnv` turns any scene into a single
-Gymnasium env that is the batch of one, so there is one implementation of each scene.
+A scene subclasses :class:`FluidVectorEnv`, fills in three hooks (``_draw_reset``,
+``_advance``, ``_observe``) and names its ``View`` (the rgb_array frames); :class:`FluidEnv`
+turns any scene into a single Gymnasium env that is the batch of one, so there is one
+implementation of each scene.
+
+Viewers (the ``View`` behind ``render()``, a scene's Rerun hooks) read the env through public,
+read-only accessors (``last_action``, ``episode_steps``, ``episodes`` here, the scene's own
+beside them) and keep their own state; the env's step never touches it.
 
 Seeding: ``reset(seed=s)`` gives sub-env i the generator of ``SeedSequence(s).spawn(E)[i]``
 (spawned children do not depend on E, so sub-env i sees the same randomness for any batch
@@ -77,7 +82,7 @@ class FluidVectorEnv(VectorEnv):
     info of the ended one in ``info["final_obs"]`` and ``info["final_info"]`` (rows marked by
     ``info["_final_obs"]``), as Gymnasium's ``SyncVectorEnv`` does in that mode.
 
-    Subclasses set ``Params`` and ``obs_dim`` and implement the hooks below.
+    Subclasses set ``Params``, ``obs_dim`` and ``View`` and implement the hooks below.
     """
 
     metadata: dict[str, Any] = {
@@ -88,6 +93,9 @@ class FluidVectorEnv(VectorEnv):
     Params: type
     obs_dim: int
     reward_terms: tuple[str, ...]
+    # the rgb_array viewer: View(env) with frame(env_index) -> [H, W, 3] uint8, made on the
+    # first render() and owning whatever it keeps between frames
+    View: type
 
     def __init__(
         self, num_envs: int = 1, render_mode: str | None = None, autoreset: bool = True, **kwargs
@@ -120,6 +128,8 @@ class FluidVectorEnv(VectorEnv):
         self._sums = np.zeros((len(self.reward_terms), E))  # per-episode reward-term sums
         self._act = np.zeros((E, len(self.action_names)))
         self._needs_reset = np.ones(E, dtype=bool)
+        self._episodes = np.zeros(E, dtype=np.int64)
+        self._view = None
 
     # ---- hooks ----------------------------------------------------------------------------
 
@@ -142,9 +152,30 @@ class FluidVectorEnv(VectorEnv):
         """Write the observation of every sub-env into ``out`` [E, obs_dim] (float32)."""
         raise NotImplementedError
 
-    def _frame(self, env_index: int) -> np.ndarray:
-        """An RGB image [H, W, 3] uint8 of sub-env ``env_index``."""
-        raise NotImplementedError
+    # ---- what viewers read (read-only) ---------------------------------------------------
+
+    @property
+    def last_action(self) -> np.ndarray:
+        """The last step's actions [E, n], clipped to [-1, 1] (read-only; zeros before any)."""
+        return _read_only(self._act)
+
+    @property
+    def episode_steps(self) -> np.ndarray:
+        """Steps taken in each sub-env's current episode [E] (read-only)."""
+        return _read_only(self._elapsed)
+
+    @property
+    def episodes(self) -> np.ndarray:
+        """Episodes started in each sub-env [E] (read-only): a viewer's cue to restart what it
+        keeps per episode."""
+        return _read_only(self._episodes)
+
+    @property
+    def view(self):
+        """The rgb_array viewer (``View(self)``), made on first use."""
+        if self._view is None:
+            self._view = self.View(self)
+        return self._view
 
     # ---- Gymnasium API --------------------------------------------------------------------
 
@@ -230,7 +261,7 @@ class FluidVectorEnv(VectorEnv):
         if self.render_mode is None:
             gym.logger.warn("render() called without render_mode; pass render_mode='rgb_array'")
             return None
-        return tuple(self._frame(i) for i in range(self.num_envs))
+        return tuple(self.view.frame(i) for i in range(self.num_envs))
 
     # ---- internals ------------------------------------------------------------------------
 
@@ -241,11 +272,18 @@ class FluidVectorEnv(VectorEnv):
     def _start(self, ids: np.ndarray) -> None:
         self._draw_reset(ids, [self._rngs[i] for i in ids])
         self._elapsed[ids] = 0
+        self._episodes[ids] += 1
         self._sums[:, ids] = 0.0
         self._needs_reset[ids] = False
 
     def _info_after_reset(self) -> dict:
         return {}
+
+
+def _read_only(a: np.ndarray) -> np.ndarray:
+    view = a.view()
+    view.flags.writeable = False
+    return view
 
 
 # --------------------------------------------------------------------------------------------

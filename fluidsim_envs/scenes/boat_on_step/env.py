@@ -7,35 +7,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..craft.buoy import MarkerBuoy
-from ..physics import Craft, Simulator, World
-from ..physics.hydrostatics import static_float
-from ..physics.kernels import INTEGRATORS
-from . import boat_on_step_kernel as TK
-from .base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
+from ...craft.buoy import MarkerBuoy
+from ...physics import Craft, Simulator, World
+from ...physics.hydrostatics import static_float
+from ...physics.kernels import INTEGRATORS
+from ..base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
+from . import kernel as TK
+from .kernel import OBSERVATION, REWARD_TERMS
+from .view import BoatOnStepView
 
-OBSERVATION = (
-    # (name, unit, description): the columns of the observation, in order
-    ("u", "m/s", "velocity along body x (forward)"),
-    ("v", "m/s", "velocity along body y (left)"),
-    ("w", "m/s", "velocity along body z (up)"),
-    ("p", "rad/s", "roll rate (+ starboard side down)"),
-    ("q", "rad/s", "pitch rate (+ bow down)"),
-    ("r", "rad/s", "yaw rate (+ bow left)"),
-    ("trim", "rad", "trim angle, bow up +"),
-    ("heel", "rad", "heel angle, starboard side down +"),
-    ("heave", "m", "center of gravity above the water surface under it, less that at rest"),
-    ("speed_error", "m/s", "target speed minus speed over the ground"),
-    ("gate_bearing_sin", "1", "sine of the bearing of the next gate's center from the bow"),
-    ("gate_bearing_cos", "1", "cosine of that bearing"),
-    ("gate_x", "m", "next gate's center relative to the boat, along its heading"),
-    ("gate_y", "m", "next gate's center relative to the boat, to its left"),
-    ("gate_heading_sin", "1", "sine of the gate's direction of travel minus the heading"),
-    ("gate_heading_cos", "1", "cosine of that angle"),
-    ("target_speed", "m/s", "the episode's target speed"),
-    ("pitch_oscillation", "rad", "peak-to-peak trim oscillation (running estimate)"),
-)
-REWARD_TERMS = ("speed", "progress", "gate", "buoy", "porpoise", "fuel", "crash")
 GATES = 6  # per course (a fixed count, so that an episode's draws never depend on a limit)
 
 
@@ -148,6 +128,7 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
     """
 
     Params = BoatOnStepParams
+    View = BoatOnStepView
     obs_dim = len(OBSERVATION)
     reward_terms = REWARD_TERMS
     action_names = ("throttle", "rudder", "trim_tabs")
@@ -318,12 +299,18 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         swell, clock = self.sim.surface_arrays()
         TK.observe(st, body, self.course, self.task, swell, clock, self._cfg, out)
 
-    # ---- render ---------------------------------------------------------------------------
+    # ---- what viewers read -----------------------------------------------------------------
 
-    def _frame(self, env_index: int) -> np.ndarray:
-        from . import boat_on_step_render as R
+    @property
+    def next_gate(self) -> np.ndarray:
+        """Each sub-env's next gate [E], an index into ``course`` (1 is the first gate; past
+        the last one when the course is run through)."""
+        return self.task[TK.K_GATE].astype(np.int64)
 
-        return R.frame(self, env_index)
+    @property
+    def target_speed(self) -> np.ndarray:
+        """Each sub-env's target speed this episode [E] (m/s, a copy)."""
+        return self.task[TK.K_TARGET].copy()
 
 
 class BoatOnStepEnv(FluidEnv):

@@ -1,6 +1,10 @@
-"""BoatOnStep-v0's per-step task logic in compiled calls: the engine's power curve, the
-observation, the gates and buoys, porpoising and capsize detection and the reward terms, for
-all envs at once."""
+"""BoatOnStep-v0's layouts (observation, reward terms, flags, task state, course, task config)
+and its per-step task logic in compiled calls: the engine's power curve, the observation, the
+gates and buoys, porpoising and capsize detection and the reward terms, for all envs at once.
+
+Each layout is declared once, as a tuple of names, and the constants the kernels use are looked
+up by name from it. The layouts live in this module because numba's cache is keyed on this
+file alone (a layout edited elsewhere would leave stale compiled indices behind)."""
 
 from __future__ import annotations
 
@@ -8,25 +12,100 @@ import math
 
 from numba import njit
 
-from ..physics.kernels import OQ, OV, OX, body_state
-from ..physics.rotation import body_inv_inertia, quat_to_matrix, to_body
-from ..physics.surface import surface_height
+from ...physics.kernels import OQ, OV, OX, body_state
+from ...physics.rotation import body_inv_inertia, quat_to_matrix, to_body
+from ...physics.surface import surface_height
+from ..layout import index
 
-T_SPEED, T_PROGRESS, T_GATE, T_BUOY, T_PORPOISE, T_FUEL, T_CRASH = range(7)
-NTERMS = 7
-F_CAPSIZE, F_STUFF, F_LEFT, F_PORPOISE, F_BUOY, F_PASSED, F_MISSED, F_FINISHED = range(8)
-NFLAGS = 8
+OBSERVATION = (
+    # (name, unit, description): the columns of the observation, in order
+    ("u", "m/s", "velocity along body x (forward)"),
+    ("v", "m/s", "velocity along body y (left)"),
+    ("w", "m/s", "velocity along body z (up)"),
+    ("p", "rad/s", "roll rate (+ starboard side down)"),
+    ("q", "rad/s", "pitch rate (+ bow down)"),
+    ("r", "rad/s", "yaw rate (+ bow left)"),
+    ("trim", "rad", "trim angle, bow up +"),
+    ("heel", "rad", "heel angle, starboard side down +"),
+    ("heave", "m", "center of gravity above the water surface under it, less that at rest"),
+    ("speed_error", "m/s", "target speed minus speed over the ground"),
+    ("gate_bearing_sin", "1", "sine of the bearing of the next gate's center from the bow"),
+    ("gate_bearing_cos", "1", "cosine of that bearing"),
+    ("gate_x", "m", "next gate's center relative to the boat, along its heading"),
+    ("gate_y", "m", "next gate's center relative to the boat, to its left"),
+    ("gate_heading_sin", "1", "sine of the gate's direction of travel minus the heading"),
+    ("gate_heading_cos", "1", "cosine of that angle"),
+    ("target_speed", "m/s", "the episode's target speed"),
+    ("pitch_oscillation", "rad", "peak-to-peak trim oscillation (running estimate)"),
+)
+OBS_NAMES = tuple(name for name, _, _ in OBSERVATION)
+OBS = index(OBS_NAMES)  # name -> column
+O_U, O_V, O_W = OBS["u"], OBS["v"], OBS["w"]
+O_P, O_Q, O_R = OBS["p"], OBS["q"], OBS["r"]
+O_TRIM, O_HEEL, O_HEAVE = OBS["trim"], OBS["heel"], OBS["heave"]
+O_SPEED_ERROR = OBS["speed_error"]
+O_GATE_BEARING_SIN, O_GATE_BEARING_COS = OBS["gate_bearing_sin"], OBS["gate_bearing_cos"]
+O_GATE_X, O_GATE_Y = OBS["gate_x"], OBS["gate_y"]
+O_GATE_HEADING_SIN, O_GATE_HEADING_COS = OBS["gate_heading_sin"], OBS["gate_heading_cos"]
+O_TARGET_SPEED = OBS["target_speed"]
+O_PITCH_OSCILLATION = OBS["pitch_oscillation"]
+
+REWARD_TERMS = ("speed", "progress", "gate", "buoy", "porpoise", "fuel", "crash")
+TERMS = index(REWARD_TERMS)
+T_SPEED, T_PROGRESS, T_GATE = TERMS["speed"], TERMS["progress"], TERMS["gate"]
+T_BUOY, T_PORPOISE = TERMS["buoy"], TERMS["porpoise"]
+T_FUEL, T_CRASH = TERMS["fuel"], TERMS["crash"]
+NTERMS = len(REWARD_TERMS)
+FLAG_NAMES = (
+    "capsized",
+    "bow_stuffed",
+    "left_course",
+    "porpoising",
+    "hit_buoy",
+    "gate_passed",
+    "gate_missed",
+    "finished",
+)
+FLAGS = index(FLAG_NAMES)
+F_CAPSIZE, F_STUFF, F_LEFT = FLAGS["capsized"], FLAGS["bow_stuffed"], FLAGS["left_course"]
+F_PORPOISE, F_BUOY = FLAGS["porpoising"], FLAGS["hit_buoy"]
+F_PASSED, F_MISSED, F_FINISHED = FLAGS["gate_passed"], FLAGS["gate_missed"], FLAGS["finished"]
+NFLAGS = len(FLAG_NAMES)
 # per-env task state rows task[K_*, E]
-K_GATE, K_TARGET, K_TRIM_MEAN, K_DEV_MEAN, K_PITCH_VAR, K_SIDE, K_DIST = range(7)
-K_PASSED, K_MISSED, K_PORPOISING, K_PLANED, K_TIME = 7, 8, 9, 10, 11
-NTASK = 12
+TASK_ROWS = (
+    "gate",  # the next gate's index into the course (1-based: 0 is the start point)
+    "target_speed",
+    "trim_mean",
+    "dev_mean",
+    "pitch_var",
+    "side",  # along-track position relative to the next gate's line (+ past it)
+    "dist",  # distance to the next gate's center
+    "passed",
+    "missed",
+    "porpoising",  # steps porpoising this episode
+    "planed",  # the time the boat first planed, -1 until it does
+    "time",
+)
+TASK = index(TASK_ROWS)
+K_GATE, K_TARGET, K_TRIM_MEAN = TASK["gate"], TASK["target_speed"], TASK["trim_mean"]
+K_DEV_MEAN, K_PITCH_VAR, K_SIDE, K_DIST = (
+    TASK["dev_mean"],
+    TASK["pitch_var"],
+    TASK["side"],
+    TASK["dist"],
+)
+K_PASSED, K_MISSED, K_PORPOISING = TASK["passed"], TASK["missed"], TASK["porpoising"]
+K_PLANED, K_TIME = TASK["planed"], TASK["time"]
+NTASK = len(TASK_ROWS)
 # porpoising is a pitch-heave oscillation of 0.5-2 s period: the trim is high-passed twice with
 # this time constant (a corner near 0.8 Hz) so that the slow trim changes of getting on plane
 # or of a turn (ramps included) do not read as oscillation
 HIGHPASS_S = 0.2
 # course[E, G + 1, 3]: the start point, then each gate's center (x, y) and the heading of the
 # leg that arrives at it, which is the direction of travel through the gate
-G_X, G_Y, G_HEADING = range(3)
+COURSE_COLUMNS = ("x", "y", "heading")
+COURSE = index(COURSE_COLUMNS)
+G_X, G_Y, G_HEADING = COURSE["x"], COURSE["y"], COURSE["heading"]
 # the task parameter vector: these fields (of BoatOnStepParams, or derived), in this order
 CFG_FIELDS = (
     "w_speed",
@@ -53,31 +132,19 @@ CFG_FIELDS = (
     "bow_z_m",
     "hull_half_beam_m",
 )
-(
-    C_W_SPEED,
-    C_W_PROGRESS,
-    C_W_GATE,
-    C_W_BUOY,
-    C_W_PORPOISE,
-    C_W_FUEL,
-    C_W_CRASH,
-    C_SPEED_SCALE,
-    C_GATE_HALF,
-    C_BUOY_R,
-    C_COURSE_HALF,
-    C_CAPSIZE,
-    C_PORPOISE,
-    C_PORPOISE_SPEED,
-    C_PORPOISE_WINDOW,
-    C_POWER,
-    C_MAX_THRUST,
-    C_MIN_THRUST,
-    C_STEP,
-    C_REST,
-    C_BOW_X,
-    C_BOW_Z,
-    C_HALF_BEAM,
-) = range(len(CFG_FIELDS))
+CFG = index(CFG_FIELDS)  # field -> slot
+C_W_SPEED, C_W_PROGRESS, C_W_GATE = CFG["w_speed"], CFG["w_progress"], CFG["w_gate"]
+C_W_BUOY, C_W_PORPOISE, C_W_FUEL = CFG["w_buoy"], CFG["w_porpoise"], CFG["w_fuel"]
+C_W_CRASH = CFG["w_crash"]
+C_SPEED_SCALE = CFG["speed_scale_mps"]
+C_GATE_HALF, C_BUOY_R = CFG["gate_half_width_m"], CFG["buoy_radius_m"]
+C_COURSE_HALF, C_CAPSIZE = CFG["course_half_width_m"], CFG["capsize_heel_deg"]
+C_PORPOISE, C_PORPOISE_SPEED = CFG["porpoise_deg"], CFG["porpoise_min_speed_mps"]
+C_PORPOISE_WINDOW = CFG["porpoise_window_s"]
+C_POWER = CFG["engine_power_w"]
+C_MAX_THRUST, C_MIN_THRUST = CFG["max_thrust_n"], CFG["min_thrust_n"]
+C_STEP, C_REST = CFG["step_s"], CFG["rest_height_m"]
+C_BOW_X, C_BOW_Z, C_HALF_BEAM = CFG["bow_x_m"], CFG["bow_z_m"], CFG["hull_half_beam_m"]
 
 _JIT = dict(cache=True, error_model="numpy")
 
@@ -125,35 +192,36 @@ def _gate_frame(course, e, g, px, py):
 
 @njit(**_JIT)
 def observe(st, body, course, task, swell, clock, cfg, out):
-    """Observation rows out[E, 18] (float32) from the boat's state st[13, 1, E]; heave is
-    measured from the water surface under the boat (the swell at the env's clock)."""
+    """Observation rows out[E, len(OBSERVATION)] (float32) from the boat's state
+    st[13, 1, E]; heave is measured from the water surface under the boat (the swell at the
+    env's clock)."""
     inv_inertia = body_inv_inertia(body, 0)
     last = course.shape[1] - 1
     for e in range(st.shape[2]):
         (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, inv_inertia)
         r0, r3 = rot[0], rot[3]
-        out[e, 0], out[e, 1], out[e, 2] = to_body(rot, vx, vy, vz)
-        out[e, 3], out[e, 4], out[e, 5] = to_body(rot, omega[0], omega[1], omega[2])
+        out[e, O_U], out[e, O_V], out[e, O_W] = to_body(rot, vx, vy, vz)
+        out[e, O_P], out[e, O_Q], out[e, O_R] = to_body(rot, omega[0], omega[1], omega[2])
         trim, heel = attitude(rot)
-        out[e, 6] = trim
-        out[e, 7] = heel
-        out[e, 8] = pz - surface_height(px, py, clock[e], swell) - cfg[C_REST]
+        out[e, O_TRIM] = trim
+        out[e, O_HEEL] = heel
+        out[e, O_HEAVE] = pz - surface_height(px, py, clock[e], swell) - cfg[C_REST]
         speed = math.sqrt(vx * vx + vy * vy)
-        out[e, 9] = task[K_TARGET, e] - speed
+        out[e, O_SPEED_ERROR] = task[K_TARGET, e] - speed
         heading = math.atan2(r3, r0)
         g = min(int(task[K_GATE, e]), last)
         dx, dy = course[e, g, G_X] - px, course[e, g, G_Y] - py
         err = math.atan2(dy, dx) - heading
-        out[e, 10] = math.sin(err)
-        out[e, 11] = math.cos(err)
+        out[e, O_GATE_BEARING_SIN] = math.sin(err)
+        out[e, O_GATE_BEARING_COS] = math.cos(err)
         c, s = math.cos(heading), math.sin(heading)
-        out[e, 12] = c * dx + s * dy
-        out[e, 13] = -s * dx + c * dy
+        out[e, O_GATE_X] = c * dx + s * dy
+        out[e, O_GATE_Y] = -s * dx + c * dy
         gate_err = course[e, g, G_HEADING] - heading
-        out[e, 14] = math.sin(gate_err)
-        out[e, 15] = math.cos(gate_err)
-        out[e, 16] = task[K_TARGET, e]
-        out[e, 17] = 2.0 * math.sqrt(2.0 * task[K_PITCH_VAR, e])  # pitch oscillation, p-p
+        out[e, O_GATE_HEADING_SIN] = math.sin(gate_err)
+        out[e, O_GATE_HEADING_COS] = math.cos(gate_err)
+        out[e, O_TARGET_SPEED] = task[K_TARGET, e]
+        out[e, O_PITCH_OSCILLATION] = 2.0 * math.sqrt(2.0 * task[K_PITCH_VAR, e])  # p-p
 
 
 @njit(**_JIT)
@@ -180,7 +248,7 @@ def start(st, course, task, ids):
 @njit(**_JIT)
 def score(st, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms, flags):
     """Gates, buoys, porpoising, capsize, bow stuffing and leaving the course, and the reward
-    terms, of every env after a step; writes ``terms`` [7, E] and ``flags`` [8, E]. A buoy
+    terms, of every env after a step; writes ``terms`` [NTERMS, E] and ``flags`` [NFLAGS, E]. A buoy
     is touched where ``hits`` [E] says so (buoy bodies: the contact's impulse) or where the
     hull passes within reach of a marker in ``buoys`` [E, n, 2] (n = 0 with buoy bodies).
 

@@ -18,6 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .kernel import OBS
+
 
 @dataclass(frozen=True)
 class HelmGains:
@@ -35,20 +37,23 @@ class HelmGains:
 
 
 class BoatOnStepPilot:
-    """PID autopilot over a batch of observations ``[N, 18]`` (BoatOnStep-v0's layout).
+    """PID autopilot over a batch of observations ``[N, 18]`` (BoatOnStep-v0's layout, read
+        by name through ``OBS``).
 
-    Keeps an integrator per env: call :meth:`reset` with a mask of the envs that start a new
-    episode (all of them when ``mask`` is None).
+        Keeps an integrator per env: call :meth:`reset` with a mask of the envs that start a new
+        episode (all of them when ``mask`` is None).
 
-    Examples:
-        >>> import numpy as np
-        >>> from fluidsim_envs.envs.boat_on_step import BoatOnStepVectorEnv
-        >>> envs = BoatOnStepVectorEnv(num_envs=4)
-        >>> pilot = BoatOnStepPilot()
-        >>> obs, _ = envs.reset(seed=0)
-        >>> for _ in range(5):
-        ...     obs, reward, terminated, truncated, info = envs.step(pilot(obs))
-        ...     pilot.reset(terminated | truncated)
+        Examples:
+            >>> import numpy as np
+
+    from .kernel import OBS
+            >>> from fluidsim_envs.scenes.boat_on_step import BoatOnStepVectorEnv
+            >>> envs = BoatOnStepVectorEnv(num_envs=4)
+            >>> pilot = BoatOnStepPilot()
+            >>> obs, _ = envs.reset(seed=0)
+            >>> for _ in range(5):
+            ...     obs, reward, terminated, truncated, info = envs.step(pilot(obs))
+            ...     pilot.reset(terminated | truncated)
     """
 
     def __init__(self, gains: HelmGains = HelmGains()) -> None:
@@ -66,12 +71,12 @@ class BoatOnStepPilot:
         obs = np.asarray(obs, dtype=np.float64)
         if self._integral.shape != (len(obs),):
             self._integral = np.zeros(len(obs))
-        u, r = obs[:, 0], obs[:, 5]
-        trim = np.degrees(obs[:, 6])
-        err = obs[:, 9]
-        bearing = np.arctan2(obs[:, 10], obs[:, 11])
-        gate_heading = np.arctan2(obs[:, 14], obs[:, 15])
-        oscillation = np.degrees(obs[:, 17])
+        u, r = obs[:, OBS["u"]], obs[:, OBS["r"]]
+        trim = np.degrees(obs[:, OBS["trim"]])
+        err = obs[:, OBS["speed_error"]]
+        bearing = np.arctan2(obs[:, OBS["gate_bearing_sin"]], obs[:, OBS["gate_bearing_cos"]])
+        gate_heading = np.arctan2(obs[:, OBS["gate_heading_sin"]], obs[:, OBS["gate_heading_cos"]])
+        oscillation = np.degrees(obs[:, OBS["pitch_oscillation"]])
 
         # throttle: over the hump at full power, then PI around the cruise setting
         climbing = err > g.plane_margin_mps
@@ -92,3 +97,41 @@ class BoatOnStepPilot:
         hold = g.k_tabs * (trim - g.trim_deg) + g.k_porpoise * oscillation
         tabs = np.where(climbing, 1.0, np.clip(hold, -1.0, 1.0))
         return np.clip(np.stack([throttle, rudder, tabs], axis=1), -1.0, 1.0)
+
+
+def make_pilot(venv) -> BoatOnStepPilot:
+    """The pilot for every sub-env of ``venv`` (it sizes its integrators on first use)."""
+    return BoatOnStepPilot()
+
+
+def demo(num_envs: int = 256, seed: int = 0) -> None:
+    """The pilot (in calm water and in swell), a random policy and idle controls on
+    ``num_envs`` seeded courses."""
+    from ...evaluation import first_episodes, random_policy, zero_policy
+    from .env import BoatOnStepVectorEnv
+
+    print(f"\nBoatOnStep-v0: {num_envs} courses (seed {seed}), one episode each, 60 s at most")
+    print(
+        f"{'policy':>14} {'return':>15} {'gates':>6} {'success':>8} {'porpoise':>9} "
+        f"{'crash':>6} {'to plane (s)':>13}"
+    )
+    swell = ((0.2, 40.0, 45.0),)  # 0.4 m crest to trough, 40 m long
+    for name, waves, policy in (
+        ("scripted pilot", (), BoatOnStepPilot()),
+        ("  (in swell)", swell, BoatOnStepPilot()),
+        ("random", (), None),
+        ("zero controls", (), None),
+    ):
+        venv = BoatOnStepVectorEnv(num_envs=num_envs, swell=waves)
+        if policy is None:
+            policy = random_policy(venv, seed) if name == "random" else zero_policy(venv)
+        r = first_episodes(venv, policy, seed=seed)
+        crash = r["capsized"] | r["bow_stuffed"] | r["left_course"] | r["physics_diverged"]
+        planed = r["time_to_plane_s"][r["time_to_plane_s"] >= 0.0]
+        to_plane = planed.mean() if planed.size else float("nan")
+        print(
+            f"{name:>14} {r['return'].mean():7.1f} +- {r['return'].std():5.1f} "
+            f"{r['gates_passed'].mean():6.2f} {r['success'].mean():8.1%} "
+            f"{r['porpoising_fraction'].mean():9.1%} {crash.mean():6.1%} "
+            f"{to_plane:13.1f}"
+        )

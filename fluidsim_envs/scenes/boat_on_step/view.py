@@ -17,9 +17,10 @@
   episode's target and small ticks every 5 m/s.
 
 The hull's shapes come from the craft's samples (:class:`HullShape`): no boat dimension is
-written here. The wake is kept only for rendered sub-envs, in ``env._tracks``; it restarts
-when a sub-env's episode does (its step count goes down, or stays at its value while the boat
-jumps to a new start).
+written here. The view reads the env's public state (poses, ``course``, ``buoy_xy``,
+``next_gate``, ``target_speed``, ``last_action``, ``episode_steps``, ``episodes``) and keeps
+its own: the wake of each rendered sub-env (:attr:`BoatOnStepView.tracks`), which restarts
+when that sub-env's episode does.
 """
 
 from __future__ import annotations
@@ -28,11 +29,10 @@ import math
 
 import numpy as np
 
-from ..physics import Craft
-from ..physics.kernels import quat_matrices
-from . import boat_on_step_kernel as TK
-from .drawing import EDGE_COLOR, PLATE_COLOR
-from .render import Canvas, OrthoCamera
+from ...physics import Craft
+from ...physics.kernels import quat_matrices
+from ..drawing import EDGE_COLOR, PLATE_COLOR
+from ..render import Canvas, OrthoCamera
 
 WIDTH, PLAN_H, SIDE_H = 480, 300, 180
 PLAN_SCALE = 3.0  # px/m: 160 m across
@@ -182,8 +182,9 @@ def _rect_xz(center, length: float, height: float) -> np.ndarray:
 class Track:
     """The last ``TRACK_LEN`` horizontal positions of one rendered sub-env (a ring buffer)."""
 
-    def __init__(self, elapsed: int) -> None:
+    def __init__(self, elapsed: int, episode: int = 0) -> None:
         self.elapsed = elapsed
+        self.episode = episode
         self.n = 0
         self._xy = np.empty((TRACK_LEN, 2))
 
@@ -202,33 +203,45 @@ class Track:
         return np.concatenate([self._xy[i:], self._xy[:i]])
 
 
-def update_track(env, e: int) -> Track:
-    """Sub-env e's track with its current position added (once per step); a new track when
-    its episode has restarted."""
-    tracks = env.__dict__.setdefault("_tracks", {})
-    elapsed = int(env._elapsed[e])
-    xy = np.asarray(env.sim.pos[e, 0, :2], dtype=np.float64)
-    tr = tracks.get(e)
-    restarted = tr is None or elapsed < tr.elapsed
-    if not restarted and elapsed == tr.elapsed:  # the same step again, or a reset at 0
-        restarted = not np.array_equal(tr.last(), xy, equal_nan=True)
-        if not restarted:
-            return tr
-    if restarted:
-        tr = tracks[e] = Track(elapsed)
-    tr.elapsed = elapsed
-    tr.push(xy)
-    return tr
-
-
 # ---- the frame -----------------------------------------------------------------------------
 
 
-def _hull(env) -> HullShape:
-    shape = env.__dict__.get("_hull_shape")
-    if shape is None:
-        shape = env._hull_shape = HullShape(env.craft)
-    return shape
+class BoatOnStepView:
+    """Frames of a BoatOnStep-v0 vector env. Keeps the hull's outlines and, for each rendered
+    sub-env, its wake (``tracks``: sub-env -> :class:`Track`)."""
+
+    def __init__(self, env) -> None:
+        self.env = env
+        self.shape = HullShape(env.craft)
+        self.tracks: dict[int, Track] = {}
+
+    def update_track(self, e: int) -> Track:
+        """Sub-env e's track with its current position added (once per step); a new track
+        when its episode has restarted."""
+        env = self.env
+        elapsed, episode = int(env.episode_steps[e]), int(env.episodes[e])
+        tr = self.tracks.get(e)
+        if tr is not None and tr.episode == episode and tr.elapsed == elapsed:
+            return tr  # the same step again
+        if tr is None or tr.episode != episode:
+            tr = self.tracks[e] = Track(elapsed, episode)
+        tr.elapsed = elapsed
+        tr.push(np.asarray(env.sim.pos[e, 0, :2], dtype=np.float64))
+        return tr
+
+    def frame(self, e: int) -> np.ndarray:
+        """The [PLAN_H + SIDE_H, WIDTH, 3] uint8 image of sub-env e: the plan over the
+        elevation."""
+        env = self.env
+        track = self.update_track(e)
+        pos = np.asarray(env.sim.pos[e, 0], dtype=np.float64)
+        rot = quat_matrices(np.ascontiguousarray(env.sim.quat[e], dtype=np.float64))[0]
+        out = np.concatenate(
+            [_plan(env, e, self.shape, pos, rot, track), _elevation(env, e, self.shape, pos, rot)],
+            axis=0,
+        )
+        out[PLAN_H - 1 : PLAN_H + 1] = 230  # the divider
+        return out
 
 
 def _place(points: np.ndarray, pos: np.ndarray, rot: np.ndarray) -> np.ndarray:
@@ -244,7 +257,7 @@ def _plan(env, e: int, shape: HullShape, pos, rot, track: Track) -> np.ndarray:
     canvas.ground_grid(cam, center[:2], 0.5 * WIDTH / PLAN_SCALE + GRID_M, GRID_M, GRID)
 
     gates = env.course.shape[1] - 1
-    k = int(env.task[TK.K_GATE, e])  # the next gate, 1-based into the course
+    k = int(env.next_gate[e])  # the next gate, 1-based into the course
     course = np.zeros((gates + 1, 3))
     course[:, :2] = env.course[e, :, :2]
     behind = np.arange(1, gates + 1) < k  # legs and gates already run through
@@ -302,7 +315,7 @@ def _elevation(env, e: int, shape: HullShape, pos, rot) -> np.ndarray:
         canvas.triangles(cam, _strip(deep, line), WATER)
 
     # the boat
-    act = env._act[e]
+    act = env.last_action[e]
     canvas.lines(cam, *_place(shape.legs, pos, rot).transpose(1, 0, 2), GEAR, thickness=4)
     canvas.lines(cam, *_place(shape.props, pos, rot).transpose(1, 0, 2), GEAR, thickness=3)
     if len(shape.cowls):
@@ -324,7 +337,7 @@ def _elevation(env, e: int, shape: HullShape, pos, rot) -> np.ndarray:
     img = canvas.image()
     vel = np.asarray(env.sim.lin_vel[e, 0], dtype=np.float64)
     speed = math.hypot(vel[0], vel[1])
-    target = float(env.task[TK.K_TARGET, e])
+    target = float(env.target_speed[e])
     vmax = 1.5 * max(env.params.target_speed_mps)
     _speed_bar(img, speed, target, vmax, env.params.speed_scale_mps)
     return img
@@ -346,16 +359,3 @@ def _speed_bar(img: np.ndarray, speed: float, target: float, vmax: float, tol: f
         img[y1 : y1 + 2, col(v)] = BAR_BG
     t = col(target)
     img[y0 - 3 : y1 + 3, t - 1 : t + 1] = TICK
-
-
-def frame(env, e: int) -> np.ndarray:
-    """The [PLAN_H + SIDE_H, WIDTH, 3] uint8 image of sub-env e: the plan over the elevation."""
-    shape = _hull(env)
-    track = update_track(env, e)
-    pos = np.asarray(env.sim.pos[e, 0], dtype=np.float64)
-    rot = quat_matrices(np.ascontiguousarray(env.sim.quat[e], dtype=np.float64))[0]
-    out = np.concatenate(
-        [_plan(env, e, shape, pos, rot, track), _elevation(env, e, shape, pos, rot)], axis=0
-    )
-    out[PLAN_H - 1 : PLAN_H + 1] = 230  # the divider
-    return out

@@ -6,32 +6,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..physics import Craft, Ground, Simulator, World
-from ..physics.kernels import INTEGRATORS, quat_matrices
-from . import paper_airplane_kernel as TK
-from .base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
-from .drawing import CraftMesh, chase_camera, fill_ground
-from .render import Canvas
-
-OBSERVATION = (
-    # (name, unit, description): the columns of the observation, in order
-    ("u", "m/s", "airspeed along body x (forward)"),
-    ("v", "m/s", "airspeed along body y (left)"),
-    ("w", "m/s", "airspeed along body z (up)"),
-    ("p", "rad/s", "roll rate (+ right wing down)"),
-    ("q", "rad/s", "pitch rate (+ nose down)"),
-    ("r", "rad/s", "yaw rate (+ nose left)"),
-    ("gx", "1", "gravity direction in the body frame, x"),
-    ("gy", "1", "gravity direction in the body frame, y"),
-    ("gz", "1", "gravity direction in the body frame, z"),
-    ("height", "m", "height of the center of mass above the ground"),
-    ("target_forward", "m", "target position ahead, in the heading frame"),
-    ("target_left", "m", "target position to the left, in the heading frame"),
-    ("ground_forward", "m/s", "velocity over the ground ahead, in the heading frame"),
-    ("ground_left", "m/s", "velocity over the ground to the left, in the heading frame"),
-    ("climb", "m/s", "vertical velocity (+ up)"),
-)
-REWARD_TERMS = ("progress", "accuracy", "softness", "crash", "effort")
+from ...physics import Craft, Ground, Simulator, World
+from ...physics.kernels import INTEGRATORS, quat_matrices
+from ..base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
+from . import kernel as TK
+from .kernel import OBSERVATION, REWARD_TERMS
+from .view import PaperAirplaneView
 
 
 @dataclass(frozen=True)
@@ -118,6 +98,7 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
     """
 
     Params = PaperAirplaneParams
+    View = PaperAirplaneView
     obs_dim = len(OBSERVATION)
     reward_terms = REWARD_TERMS
     action_names = ("aileron", "elevator", "rudder")
@@ -145,7 +126,7 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
         self._distance = np.zeros(E)
         self._cfg = np.array([getattr(p, name) for name in TK.CFG_FIELDS], dtype=np.float64)
         self._terms = np.zeros((len(REWARD_TERMS), E))
-        self._flags = np.zeros((5, E), dtype=bool)
+        self._flags = np.zeros((TK.NFLAGS, E), dtype=bool)
         self._sink = np.zeros(E)
 
     # ---- episode start --------------------------------------------------------------------
@@ -235,26 +216,11 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
         st, flow, body = self.sim.kernel_arrays()
         TK.observe(st, body, flow, self.target, out)
 
-    # ---- render ---------------------------------------------------------------------------
+    # ---- what viewers read -----------------------------------------------------------------
 
-    def _frame(self, env_index: int) -> np.ndarray:
-        """Chase view: the dart, the ground grid (1 m), the target (red) and its bearing."""
-        if not hasattr(self, "_mesh"):
-            self._mesh = CraftMesh(self.craft)
-        pos = np.array(self.sim.pos[env_index, 0], dtype=np.float64)
-        rot = quat_matrices(np.ascontiguousarray(self.sim.quat[env_index], dtype=np.float64))[0]
-        camera = chase_camera(pos, rot, back_m=0.7, up_m=0.25)
-        canvas = Canvas(camera.width, camera.height, background=(200, 222, 245))
-        fill_ground(canvas, camera, (186, 204, 170))
-        canvas.ground_grid(camera, pos[:2], 20.0, 1.0, (120, 150, 110))
-        tx, ty = self.target[env_index]
-        ring = np.linspace(0.0, 2.0 * np.pi, 25)
-        circle = np.stack([tx + np.cos(ring), ty + np.sin(ring), 0 * ring], 1)
-        canvas.lines(camera, circle[:-1], circle[1:], (210, 40, 40), thickness=2)
-        canvas.lines(camera, [(tx, ty, 0.0)], [(tx, ty, 0.5)], (210, 40, 40), thickness=2)
-        canvas.lines(camera, [(pos[0], pos[1], 0.0)], [pos], (90, 90, 90))  # height stalk
-        self._mesh.draw(canvas, camera, pos, rot)
-        return canvas.image()
+    def target_xy(self, env_index: int) -> np.ndarray:
+        """Sub-env ``env_index``'s target on the ground, (x, y) in m (a copy)."""
+        return self.target[env_index].copy()
 
 
 class PaperAirplaneEnv(FluidEnv):

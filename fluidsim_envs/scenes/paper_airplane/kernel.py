@@ -1,6 +1,12 @@
-"""PaperAirplane-v0's per-step task logic (observation, touchdown, reward terms) for all envs
-in one compiled call: done in numpy it costs tens of small array operations per step, which
-dominate the step at small batch sizes."""
+"""PaperAirplane-v0's layouts (observation, reward terms, flags, task config) and its per-step
+task logic (observation, touchdown, reward terms) for all envs in one compiled call: done in
+numpy it costs tens of small array operations per step, which dominate the step at small batch
+sizes.
+
+Each layout is declared once, as a tuple of names; the row and column constants the kernels use
+are looked up by name from it (numba freezes module-level ints as compile-time constants). The
+layouts live in this module, not beside it: numba's cache is keyed on this file alone, so a
+layout edited elsewhere would leave stale compiled indices behind."""
 
 from __future__ import annotations
 
@@ -9,17 +15,54 @@ import math
 import numpy as np
 from numba import njit
 
-from ..physics.kernels import (
+from ...physics.kernels import (
     OQ,
     OV,
     OX,
     body_state,
 )
-from ..physics.rotation import body_inv_inertia, quat_to_matrix, to_body
+from ...physics.rotation import body_inv_inertia, quat_to_matrix, to_body
+from ..layout import index
+
+OBSERVATION = (
+    # (name, unit, description): the columns of the observation, in order
+    ("u", "m/s", "airspeed along body x (forward)"),
+    ("v", "m/s", "airspeed along body y (left)"),
+    ("w", "m/s", "airspeed along body z (up)"),
+    ("p", "rad/s", "roll rate (+ right wing down)"),
+    ("q", "rad/s", "pitch rate (+ nose down)"),
+    ("r", "rad/s", "yaw rate (+ nose left)"),
+    ("gx", "1", "gravity direction in the body frame, x"),
+    ("gy", "1", "gravity direction in the body frame, y"),
+    ("gz", "1", "gravity direction in the body frame, z"),
+    ("height", "m", "height of the center of mass above the ground"),
+    ("target_forward", "m", "target position ahead, in the heading frame"),
+    ("target_left", "m", "target position to the left, in the heading frame"),
+    ("ground_forward", "m/s", "velocity over the ground ahead, in the heading frame"),
+    ("ground_left", "m/s", "velocity over the ground to the left, in the heading frame"),
+    ("climb", "m/s", "vertical velocity (+ up)"),
+)
+OBS_NAMES = tuple(name for name, _, _ in OBSERVATION)
+OBS = index(OBS_NAMES)  # name -> column
+O_U, O_V, O_W = OBS["u"], OBS["v"], OBS["w"]
+O_P, O_Q, O_R = OBS["p"], OBS["q"], OBS["r"]
+O_GX, O_GY, O_GZ = OBS["gx"], OBS["gy"], OBS["gz"]
+O_HEIGHT = OBS["height"]
+O_TARGET_FORWARD, O_TARGET_LEFT = OBS["target_forward"], OBS["target_left"]
+O_GROUND_FORWARD, O_GROUND_LEFT = OBS["ground_forward"], OBS["ground_left"]
+O_CLIMB = OBS["climb"]
 
 # rows of the per-step outputs
-T_PROGRESS, T_ACCURACY, T_SOFTNESS, T_CRASH, T_EFFORT = range(5)
-F_TOUCHDOWN, F_LANDED, F_CRASHED, F_OUT, F_SUCCESS = range(5)
+REWARD_TERMS = ("progress", "accuracy", "softness", "crash", "effort")
+TERMS = index(REWARD_TERMS)
+T_PROGRESS, T_ACCURACY, T_SOFTNESS = TERMS["progress"], TERMS["accuracy"], TERMS["softness"]
+T_CRASH, T_EFFORT = TERMS["crash"], TERMS["effort"]
+NTERMS = len(REWARD_TERMS)
+FLAG_NAMES = ("touchdown", "landed", "crashed", "out_of_arena", "success")
+FLAGS = index(FLAG_NAMES)
+F_TOUCHDOWN, F_LANDED, F_CRASHED = FLAGS["touchdown"], FLAGS["landed"], FLAGS["crashed"]
+F_OUT, F_SUCCESS = FLAGS["out_of_arena"], FLAGS["success"]
+NFLAGS = len(FLAG_NAMES)
 # the task parameter vector: these PaperAirplaneParams fields, in this order
 CFG_FIELDS = (
     "w_progress",
@@ -35,20 +78,14 @@ CFG_FIELDS = (
     "ceiling_m",
     "success_radius_m",
 )
-(
-    C_W_PROGRESS,
-    C_W_ACCURACY,
-    C_W_SOFTNESS,
-    C_W_CRASH,
-    C_W_EFFORT,
-    C_ACC_SCALE,
-    C_CRASH_SINK,
-    C_CRASH_SPEED,
-    C_UPRIGHT,
-    C_ARENA,
-    C_CEILING,
-    C_SUCCESS,
-) = range(len(CFG_FIELDS))
+CFG = index(CFG_FIELDS)  # field -> slot
+C_W_PROGRESS, C_W_ACCURACY, C_W_SOFTNESS = CFG["w_progress"], CFG["w_accuracy"], CFG["w_softness"]
+C_W_CRASH, C_W_EFFORT = CFG["w_crash"], CFG["w_effort"]
+C_ACC_SCALE = CFG["accuracy_scale_m"]
+C_CRASH_SINK, C_CRASH_SPEED = CFG["crash_sink_mps"], CFG["crash_speed_mps"]
+C_UPRIGHT = CFG["upright_min"]
+C_ARENA, C_CEILING = CFG["arena_radius_m"], CFG["ceiling_m"]
+C_SUCCESS = CFG["success_radius_m"]
 
 TOUCH_M = 0.002  # the airframe this close to the floor is down (contact rests it within 1 mm)
 _JIT = dict(cache=True, error_model="numpy")
@@ -56,26 +93,26 @@ _JIT = dict(cache=True, error_model="numpy")
 
 @njit(**_JIT)
 def observe(st, body, flow, target, out):
-    """Observation rows out[E, 15] (float32) from the state st[13, 1, E]: see OBSERVATION."""
+    """Observation rows out[E, len(OBSERVATION)] (float32) from the state st[13, 1, E]."""
     inv_inertia = body_inv_inertia(body, 0)
     for e in range(st.shape[2]):
         (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, inv_inertia)
         r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
         # airspeed: R^T (v - wind)
-        out[e, 0], out[e, 1], out[e, 2] = to_body(
+        out[e, O_U], out[e, O_V], out[e, O_W] = to_body(
             rot, vx - flow[0, e], vy - flow[1, e], vz - flow[2, e]
         )
-        out[e, 3], out[e, 4], out[e, 5] = to_body(rot, omega[0], omega[1], omega[2])
-        out[e, 6], out[e, 7], out[e, 8] = -r6, -r7, -r8  # R^T (0, 0, -1)
-        out[e, 9] = pz
+        out[e, O_P], out[e, O_Q], out[e, O_R] = to_body(rot, omega[0], omega[1], omega[2])
+        out[e, O_GX], out[e, O_GY], out[e, O_GZ] = -r6, -r7, -r8  # R^T (0, 0, -1)
+        out[e, O_HEIGHT] = pz
         heading = math.atan2(r3, r0)
         c, s = math.cos(heading), math.sin(heading)
         dx, dy = target[e, 0] - px, target[e, 1] - py
-        out[e, 10] = c * dx + s * dy
-        out[e, 11] = -s * dx + c * dy
-        out[e, 12] = c * vx + s * vy
-        out[e, 13] = -s * vx + c * vy
-        out[e, 14] = vz
+        out[e, O_TARGET_FORWARD] = c * dx + s * dy
+        out[e, O_TARGET_LEFT] = -s * dx + c * dy
+        out[e, O_GROUND_FORWARD] = c * vx + s * vy
+        out[e, O_GROUND_LEFT] = -s * vx + c * vy
+        out[e, O_CLIMB] = vz
 
 
 @njit(**_JIT)
@@ -85,7 +122,7 @@ def score(
     """Touchdown, landing, arena and reward terms of every env after a step.
 
     ``distance`` [E] holds the horizontal distance to the target before the step and is
-    updated (kept where the state diverged); ``terms`` [5, E], ``flags`` [5, E] (bool) and
+    updated (kept where the state diverged); ``terms`` [NTERMS, E], ``flags`` [NFLAGS, E] (bool) and
     ``sink`` [E] are written. Touchdown is the floor pushing on the dart during the step
     (``touch`` [E], the ground's impulse: the dart may touch and bounce clear within a
     step) or the airframe (``hull``: its collision boxes' corners) within ``TOUCH_M`` of
@@ -93,8 +130,9 @@ def score(
     the dart) by then, so sink, speed and attitude are judged from ``v_prev`` [E, 4], the
     velocity and the body z axis's height at the step before (updated here)."""
     for e in range(st.shape[2]):
-        for k in range(5):
+        for k in range(NTERMS):
             terms[k, e] = 0.0
+        for k in range(NFLAGS):
             flags[k, e] = False
         sink[e] = 0.0
         effort = 0.0

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .kernel import OBS
+
 
 @dataclass(frozen=True)
 class PilotGains:
@@ -34,17 +36,20 @@ class PilotGains:
 
 
 class PaperAirplanePilot:
-    """PID autopilot over a batch of observations ``[N, 15]`` (PaperAirplane-v0's layout).
+    """PID autopilot over a batch of observations ``[N, 15]`` (PaperAirplane-v0's layout,
+        read by name through ``OBS``).
 
-    Examples:
-        >>> import numpy as np
-        >>> from fluidsim_envs.envs import PaperAirplaneVectorEnv
-        >>> envs = PaperAirplaneVectorEnv(num_envs=8)
-        >>> pilot = PaperAirplanePilot(num_envs=8, dt=envs.params.dt * envs.params.substeps)
-        >>> obs, _ = envs.reset(seed=0)
-        >>> for _ in range(5):
-        ...     obs, reward, terminated, truncated, info = envs.step(pilot(obs))
-        ...     pilot.reset(terminated | truncated)
+        Examples:
+            >>> import numpy as np
+
+    from .kernel import OBS
+            >>> from fluidsim_envs.scenes.paper_airplane import PaperAirplaneVectorEnv
+            >>> envs = PaperAirplaneVectorEnv(num_envs=8)
+            >>> pilot = PaperAirplanePilot(num_envs=8, dt=envs.params.dt * envs.params.substeps)
+            >>> obs, _ = envs.reset(seed=0)
+            >>> for _ in range(5):
+            ...     obs, reward, terminated, truncated, info = envs.step(pilot(obs))
+            ...     pilot.reset(terminated | truncated)
     """
 
     def __init__(self, num_envs: int = 1, dt: float = 1.0 / 30.0, gains=PilotGains()) -> None:
@@ -62,10 +67,11 @@ class PaperAirplanePilot:
     def __call__(self, obs) -> np.ndarray:
         g = self.gains
         obs = np.atleast_2d(np.asarray(obs, dtype=np.float64))
-        u, v, w = obs[:, 0], obs[:, 1], obs[:, 2]
-        p, q, r = obs[:, 3], obs[:, 4], obs[:, 5]
-        gy, gz = obs[:, 7], obs[:, 8]
-        height, tf, tl = obs[:, 9], obs[:, 10], obs[:, 11]
+        u, v, w = obs[:, OBS["u"]], obs[:, OBS["v"]], obs[:, OBS["w"]]
+        p, q, r = obs[:, OBS["p"]], obs[:, OBS["q"]], obs[:, OBS["r"]]
+        gy, gz = obs[:, OBS["gy"]], obs[:, OBS["gz"]]
+        height = obs[:, OBS["height"]]
+        tf, tl = obs[:, OBS["target_forward"]], obs[:, OBS["target_left"]]
         airspeed = np.sqrt(u * u + v * v + w * w)
 
         # guidance (bank + right wing down): turn toward the target (bearing + is to the
@@ -101,3 +107,31 @@ class PaperAirplanePilot:
         # r + is nose left, damped by + (right) rudder
         rudder = -g.k_sideslip * v / np.maximum(airspeed, 1.0) + g.k_yaw_rate * r
         return np.clip(np.stack([aileron, elevator, rudder], axis=1), -1.0, 1.0)
+
+
+def make_pilot(venv) -> PaperAirplanePilot:
+    """The pilot for every sub-env of ``venv`` (a vector env or a wrapper of one), at its
+    action period."""
+    p = venv.unwrapped.params
+    return PaperAirplanePilot(venv.num_envs, dt=p.dt * p.substeps)
+
+
+def demo(num_envs: int = 256, seed: int = 0) -> None:
+    """The pilot, a random policy and idle controls on ``num_envs`` seeded throws."""
+    from ...evaluation import first_episodes, random_policy, zero_policy
+    from .env import PaperAirplaneVectorEnv
+
+    venv = PaperAirplaneVectorEnv(num_envs=num_envs)
+    dt = venv.params.dt * venv.params.substeps
+    print(f"\nPaperAirplane-v0: {num_envs} throws (seed {seed}), one episode each")
+    print(f"{'policy':>14} {'return':>15} {'landed':>7} {'success':>8} {'miss (m)':>9}")
+    for name, policy in (
+        ("scripted pilot", PaperAirplanePilot(num_envs, dt=dt)),
+        ("random", random_policy(venv, seed)),
+        ("zero controls", zero_policy(venv)),
+    ):
+        r = first_episodes(venv, policy, seed=seed)
+        print(
+            f"{name:>14} {r['return'].mean():7.2f} +- {r['return'].std():5.2f} "
+            f"{r['landed'].mean():7.1%} {r['success'].mean():8.1%} {r['distance_m'].mean():9.2f}"
+        )

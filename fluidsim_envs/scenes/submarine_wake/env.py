@@ -3,43 +3,19 @@ wake."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..physics import Craft, Simulator, WakeField, World
-from ..physics.kernels import INTEGRATORS
-from ..physics.wake import NSRC as WAKE_SOURCE_ROWS
-from . import submarine_wake_kernel as TK
-from . import submarine_wake_render as R
-from .base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
+from ...physics import Craft, Simulator, WakeField, World
+from ...physics.kernels import INTEGRATORS
+from ...physics.wake import NSRC as WAKE_SOURCE_ROWS
+from ..base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
+from . import kernel as TK
+from .kernel import OBSERVATION, REWARD_TERMS
+from .view import SubmarineWakeView
 
-OBSERVATION = (
-    # (name, unit, description): the columns of the observation, in order
-    ("u", "m/s", "velocity along body x (forward), over the ground"),
-    ("v", "m/s", "velocity along body y (left)"),
-    ("w", "m/s", "velocity along body z (up)"),
-    ("p", "rad/s", "roll rate (+ right side down)"),
-    ("q", "rad/s", "pitch rate (+ nose down)"),
-    ("r", "rad/s", "yaw rate (+ nose left)"),
-    ("gx", "1", "gravity direction in the body frame, x"),
-    ("gy", "1", "gravity direction in the body frame, y"),
-    ("gz", "1", "gravity direction in the body frame, z"),
-    ("depth", "m", "depth of the center below the surface"),
-    ("altitude", "m", "height of the center above the sea floor"),
-    ("station_x", "m", "station point relative to the vehicle, body x"),
-    ("station_y", "m", "station point relative to the vehicle, body y"),
-    ("station_z", "m", "station point relative to the vehicle, body z"),
-    ("flow_x", "m/s", "water velocity at the nose sensor, body x"),
-    ("flow_y", "m/s", "water velocity at the nose sensor, body y"),
-    ("flow_z", "m/s", "water velocity at the nose sensor, body z"),
-    ("station_vx", "m/s", "station point's velocity relative to the vehicle, body x"),
-    ("station_vy", "m/s", "station point's velocity relative to the vehicle, body y"),
-    ("station_vz", "m/s", "station point's velocity relative to the vehicle, body z"),
-    ("heading_sin", "1", "sine of the lead's heading minus the vehicle's"),
-    ("heading_cos", "1", "cosine of the lead's heading minus the vehicle's"),
-)
-REWARD_TERMS = ("station", "effort", "crash")
 LEAD_LENGTH_M, LEAD_RADIUS_M = 40.0, 3.0  # the submarine craft's hull (a prolate spheroid)
 UUV_RADIUS_M = 0.16  # the uuv craft's hull radius
 ROUTE_SEGMENTS = 8
@@ -159,6 +135,7 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
     """
 
     Params = SubmarineWakeParams
+    View = SubmarineWakeView
     obs_dim = len(OBSERVATION)
     reward_terms = REWARD_TERMS
     action_names = ("thrust", "rudder", "dive_planes")
@@ -190,10 +167,9 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
         self._src = self.sim.wake_source_rows() if p.wake else np.zeros((WAKE_SOURCE_ROWS, E))
         self._cfg = np.array([self._cfg_value(name) for name in TK.CFG_FIELDS], dtype=np.float64)
         self._terms = np.zeros((len(REWARD_TERMS), E))
-        self._flags = np.zeros((4, E), dtype=bool)
+        self._flags = np.zeros((TK.NFLAGS, E), dtype=bool)
         self._distance = np.zeros(E)
         self._on_station = np.zeros(E, dtype=np.int64)
-        self._tracers = {}  # sub-env -> Tracers, from its first rendered frame on
 
     def _cfg_value(self, name: str) -> float:
         derived = {
@@ -257,8 +233,6 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
             spot - np.stack([c * ox - s * oy, s * ox + c * oy, station[:, 2] - depth], 1), axis=1
         )
         TK.lead_source(self.lead, self.noise_offset, self._src)
-        for e in set(ids.tolist()) & set(self._tracers):
-            R.start_tracers(self, e, self._tracers[e])
 
     # ---- step -----------------------------------------------------------------------------
 
@@ -267,8 +241,6 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
         TK.lead_source(self.lead, self.noise_offset, self._src)  # the kernel moves it on
         self.sim.step(actions, steps=p.substeps)
         TK.advance_lead(self.lead, self.route, p.dt * p.substeps, p.route_lag_s)
-        for e, tracers in self._tracers.items():  # only what is being watched
-            R.advance_tracers(self, e, tracers, p.dt * p.substeps)
         TK.lead_source(self.lead, self.noise_offset, self._src)
         diverged = self.sim.diverged.copy()
         st, _, _ = self.sim.kernel_arrays()
@@ -305,13 +277,30 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
         st, _, body = self.sim.kernel_arrays()
         TK.observe(st, body, self.lead, self.station, self._src, self._wprm, self._cfg, out)
 
-    # ---- render ---------------------------------------------------------------------------
+    # ---- what viewers read -----------------------------------------------------------------
 
-    def _frame(self, env_index: int) -> np.ndarray:
-        """Plan over elevation in the lead's heading frame: the lead's hull (gray), the
-        vehicle (yellow), the station point (green cross), the floor (brown) and the wake's
-        tracers (brighter where the water moves faster)."""
-        return R.frame(self, env_index)
+    def lead_pose(self, env_index: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The lead submarine's position [3], quaternion [4] (w, x, y, z; level, turned to its
+        heading) and velocity [3] in sub-env ``env_index`` (new arrays; the lead is
+        scripted, not a simulated body)."""
+        lead = self.lead[:, env_index]
+        h, speed = float(lead[TK.L_HEADING]), float(lead[TK.L_SPEED])
+        pos = np.array([lead[TK.L_X], lead[TK.L_Y], lead[TK.L_Z]])
+        quat = np.array([math.cos(h / 2), 0.0, 0.0, math.sin(h / 2)])
+        vel = np.array([speed * math.cos(h), speed * math.sin(h), 0.0])
+        return pos, quat, vel
+
+    def lead_heading(self, env_index: int) -> float:
+        """The lead's heading in sub-env ``env_index`` (rad, from world x toward y)."""
+        return float(self.lead[TK.L_HEADING, env_index])
+
+    def station_point(self, env_index: int) -> np.ndarray:
+        """The station point of sub-env ``env_index`` in the world [3] (m)."""
+        pos, _, _ = self.lead_pose(env_index)
+        h = self.lead_heading(env_index)
+        c, s = math.cos(h), math.sin(h)
+        sx, sy, sz = self.station[env_index]
+        return pos + np.array([c * sx - s * sy, s * sx + c * sy, sz])
 
 
 class SubmarineWakeEnv(FluidEnv):

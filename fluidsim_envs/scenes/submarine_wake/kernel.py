@@ -1,6 +1,11 @@
-"""SubmarineWake-v0's per-step task logic in compiled calls: the lead submarine's scripted
-route, the station point, the observation (with the flow sensor reading the WakeField) and
-the reward terms, for all envs at once."""
+"""SubmarineWake-v0's layouts (observation, reward terms, flags, the lead's state, task config)
+and its per-step task logic in compiled calls: the lead submarine's scripted route, the station
+point, the observation (with the flow sensor reading the WakeField) and the reward terms, for
+all envs at once.
+
+Each layout is declared once, as a tuple of names, and the constants the kernels use are looked
+up by name from it. The layouts live in this module because numba's cache is keyed on this
+file alone (a layout edited elsewhere would leave stale compiled indices behind)."""
 
 from __future__ import annotations
 
@@ -8,20 +13,71 @@ import math
 
 from numba import njit
 
-from ..physics.kernels import (
+from ...physics.kernels import (
     OQ,
     OX,
     body_state,
 )
-from ..physics.rotation import body_inv_inertia, quat_to_matrix, to_body
-from ..physics.wake import source_tuple, wake_at
+from ...physics.rotation import body_inv_inertia, quat_to_matrix, to_body
+from ...physics.wake import source_tuple, wake_at
+from ..layout import index
 
-T_STATION, T_EFFORT, T_CRASH = range(3)
-F_HULL, F_FLOOR, F_LOST, F_ON_STATION = range(4)
+OBSERVATION = (
+    # (name, unit, description): the columns of the observation, in order
+    ("u", "m/s", "velocity along body x (forward), over the ground"),
+    ("v", "m/s", "velocity along body y (left)"),
+    ("w", "m/s", "velocity along body z (up)"),
+    ("p", "rad/s", "roll rate (+ right side down)"),
+    ("q", "rad/s", "pitch rate (+ nose down)"),
+    ("r", "rad/s", "yaw rate (+ nose left)"),
+    ("gx", "1", "gravity direction in the body frame, x"),
+    ("gy", "1", "gravity direction in the body frame, y"),
+    ("gz", "1", "gravity direction in the body frame, z"),
+    ("depth", "m", "depth of the center below the surface"),
+    ("altitude", "m", "height of the center above the sea floor"),
+    ("station_x", "m", "station point relative to the vehicle, body x"),
+    ("station_y", "m", "station point relative to the vehicle, body y"),
+    ("station_z", "m", "station point relative to the vehicle, body z"),
+    ("flow_x", "m/s", "water velocity at the nose sensor, body x"),
+    ("flow_y", "m/s", "water velocity at the nose sensor, body y"),
+    ("flow_z", "m/s", "water velocity at the nose sensor, body z"),
+    ("station_vx", "m/s", "station point's velocity relative to the vehicle, body x"),
+    ("station_vy", "m/s", "station point's velocity relative to the vehicle, body y"),
+    ("station_vz", "m/s", "station point's velocity relative to the vehicle, body z"),
+    ("heading_sin", "1", "sine of the lead's heading minus the vehicle's"),
+    ("heading_cos", "1", "cosine of the lead's heading minus the vehicle's"),
+)
+OBS_NAMES = tuple(name for name, _, _ in OBSERVATION)
+OBS = index(OBS_NAMES)  # name -> column
+O_U, O_V, O_W = OBS["u"], OBS["v"], OBS["w"]
+O_P, O_Q, O_R = OBS["p"], OBS["q"], OBS["r"]
+O_GX, O_GY, O_GZ = OBS["gx"], OBS["gy"], OBS["gz"]
+O_DEPTH, O_ALTITUDE = OBS["depth"], OBS["altitude"]
+O_STATION_X, O_STATION_Y, O_STATION_Z = OBS["station_x"], OBS["station_y"], OBS["station_z"]
+O_FLOW_X, O_FLOW_Y, O_FLOW_Z = OBS["flow_x"], OBS["flow_y"], OBS["flow_z"]
+O_STATION_VX, O_STATION_VY, O_STATION_VZ = (
+    OBS["station_vx"],
+    OBS["station_vy"],
+    OBS["station_vz"],
+)
+O_HEADING_SIN, O_HEADING_COS = OBS["heading_sin"], OBS["heading_cos"]
+
+REWARD_TERMS = ("station", "effort", "crash")
+TERMS = index(REWARD_TERMS)
+T_STATION, T_EFFORT, T_CRASH = TERMS["station"], TERMS["effort"], TERMS["crash"]
+NTERMS = len(REWARD_TERMS)
+FLAG_NAMES = ("hit_hull", "hit_floor", "lost_lead", "on_station")
+FLAGS = index(FLAG_NAMES)
+F_HULL, F_FLOOR, F_LOST = FLAGS["hit_hull"], FLAGS["hit_floor"], FLAGS["lost_lead"]
+F_ON_STATION = FLAGS["on_station"]
+NFLAGS = len(FLAG_NAMES)
 # the lead's state rows lead[L_*, E]
-L_X, L_Y, L_Z, L_HEADING, L_SPEED, L_TURN, L_TIME = range(7)
-NLEAD = 7
-# the task parameter vector: these SubmarineWakeParams fields, in this order
+LEAD_ROWS = ("x", "y", "z", "heading", "speed", "turn", "time")
+LEAD = index(LEAD_ROWS)
+L_X, L_Y, L_Z = LEAD["x"], LEAD["y"], LEAD["z"]
+L_HEADING, L_SPEED, L_TURN, L_TIME = LEAD["heading"], LEAD["speed"], LEAD["turn"], LEAD["time"]
+NLEAD = len(LEAD_ROWS)
+# the task parameter vector: these fields (of SubmarineWakeParams, or derived), in this order
 CFG_FIELDS = (
     "w_station",
     "w_effort",
@@ -37,21 +93,13 @@ CFG_FIELDS = (
     "vehicle_radius_m",
     "sensor_x_m",
 )
-(
-    C_W_STATION,
-    C_W_EFFORT,
-    C_W_CRASH,
-    C_STATION_SCALE,
-    C_SUCCESS,
-    C_LOST,
-    C_FLOOR,
-    C_LAG,
-    C_HULL_L,
-    C_HULL_R,
-    C_HALF,
-    C_RADIUS,
-    C_SENSOR,
-) = range(len(CFG_FIELDS))
+CFG = index(CFG_FIELDS)  # field -> slot
+C_W_STATION, C_W_EFFORT, C_W_CRASH = CFG["w_station"], CFG["w_effort"], CFG["w_crash"]
+C_STATION_SCALE, C_SUCCESS = CFG["station_scale_m"], CFG["success_radius_m"]
+C_LOST, C_FLOOR, C_LAG = CFG["lost_distance_m"], CFG["floor_depth_m"], CFG["route_lag_s"]
+C_HULL_L, C_HULL_R = CFG["hull_length_m"], CFG["hull_radius_m"]
+C_HALF, C_RADIUS = CFG["vehicle_half_length_m"], CFG["vehicle_radius_m"]
+C_SENSOR = CFG["sensor_x_m"]
 
 _JIT = dict(cache=True, error_model="numpy")
 
@@ -115,48 +163,48 @@ def _station(lead, station, e):
 
 @njit(**_JIT)
 def observe(st, body, lead, station, src, wprm, cfg, out):
-    """Observation rows out[E, 22] (float32) from the vehicle's state st[13, 1, E]."""
+    """Observation rows out[E, len(OBSERVATION)] (float32) from the vehicle's state st[13, 1, E]."""
     inv_inertia = body_inv_inertia(body, 0)
     for e in range(st.shape[2]):
         (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, inv_inertia)
         r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
-        out[e, 0], out[e, 1], out[e, 2] = to_body(rot, vx, vy, vz)
-        out[e, 3], out[e, 4], out[e, 5] = to_body(rot, omega[0], omega[1], omega[2])
-        out[e, 6], out[e, 7], out[e, 8] = -r6, -r7, -r8  # R^T (0, 0, -1)
-        out[e, 9] = -pz
-        out[e, 10] = pz + cfg[C_FLOOR]
+        out[e, O_U], out[e, O_V], out[e, O_W] = to_body(rot, vx, vy, vz)
+        out[e, O_P], out[e, O_Q], out[e, O_R] = to_body(rot, omega[0], omega[1], omega[2])
+        out[e, O_GX], out[e, O_GY], out[e, O_GZ] = -r6, -r7, -r8  # R^T (0, 0, -1)
+        out[e, O_DEPTH] = -pz
+        out[e, O_ALTITUDE] = pz + cfg[C_FLOOR]
         sx, sy, sz, svx, svy, svz = _station(lead, station, e)
         dx, dy, dz = sx - px, sy - py, sz - pz
-        out[e, 11] = r0 * dx + r3 * dy + r6 * dz
-        out[e, 12] = r1 * dx + r4 * dy + r7 * dz
-        out[e, 13] = r2 * dx + r5 * dy + r8 * dz
+        out[e, O_STATION_X] = r0 * dx + r3 * dy + r6 * dz
+        out[e, O_STATION_Y] = r1 * dx + r4 * dy + r7 * dz
+        out[e, O_STATION_Z] = r2 * dx + r5 * dy + r8 * dz
         # the flow sensor in the nose reads the water's velocity there
         n = cfg[C_SENSOR]
         fx, fy, fz = wake_at(px + r0 * n, py + r3 * n, pz + r6 * n, source_tuple(src[:, e]), wprm)
-        out[e, 14] = r0 * fx + r3 * fy + r6 * fz
-        out[e, 15] = r1 * fx + r4 * fy + r7 * fz
-        out[e, 16] = r2 * fx + r5 * fy + r8 * fz
+        out[e, O_FLOW_X] = r0 * fx + r3 * fy + r6 * fz
+        out[e, O_FLOW_Y] = r1 * fx + r4 * fy + r7 * fz
+        out[e, O_FLOW_Z] = r2 * fx + r5 * fy + r8 * fz
         dvx, dvy, dvz = svx - vx, svy - vy, svz - vz
-        out[e, 17] = r0 * dvx + r3 * dvy + r6 * dvz
-        out[e, 18] = r1 * dvx + r4 * dvy + r7 * dvz
-        out[e, 19] = r2 * dvx + r5 * dvy + r8 * dvz
+        out[e, O_STATION_VX] = r0 * dvx + r3 * dvy + r6 * dvz
+        out[e, O_STATION_VY] = r1 * dvx + r4 * dvy + r7 * dvz
+        out[e, O_STATION_VZ] = r2 * dvx + r5 * dvy + r8 * dvz
         err = lead[L_HEADING, e] - math.atan2(r3, r0)
-        out[e, 20] = math.sin(err)
-        out[e, 21] = math.cos(err)
+        out[e, O_HEADING_SIN] = math.sin(err)
+        out[e, O_HEADING_COS] = math.cos(err)
 
 
 @njit(**_JIT)
 def score(st, diverged, lead, station, actions, cfg, terms, flags, distance):
     """Collisions, losing the lead and the reward terms of every env after a step; writes
-    ``terms`` [3, E], ``flags`` [4, E] (bool) and ``distance`` [E] (to the station point;
+    ``terms`` [NTERMS, E], ``flags`` [NFLAGS, E] (bool) and ``distance`` [E] (to the station point;
     kept where the state diverged)."""
     a = 0.5 * cfg[C_HULL_L] + cfg[C_RADIUS]
     b = cfg[C_HULL_R] + cfg[C_RADIUS]
     half = cfg[C_HALF]
     for e in range(st.shape[2]):
-        for k in range(3):
+        for k in range(NTERMS):
             terms[k, e] = 0.0
-        for k in range(4):
+        for k in range(NFLAGS):
             flags[k, e] = False
         effort = 0.0
         for k in range(actions.shape[1]):

@@ -18,7 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..physics import Craft
+from ...physics import Craft
+from .kernel import OBS
 
 
 @dataclass(frozen=True)
@@ -38,11 +39,12 @@ class StationGains:
 
 
 class SubmarineWakePilot:
-    """PD autopilot over a batch of observations ``[N, 22]`` (SubmarineWake-v0's layout).
+    """PD autopilot over a batch of observations ``[N, 22]`` (SubmarineWake-v0's layout, read
+    by name through ``OBS``).
 
     Examples:
         >>> import numpy as np
-        >>> from fluidsim_envs.envs.submarine_wake import SubmarineWakeVectorEnv
+        >>> from fluidsim_envs.scenes.submarine_wake import SubmarineWakeVectorEnv
         >>> envs = SubmarineWakeVectorEnv(num_envs=4)
         >>> pilot = SubmarineWakePilot()
         >>> obs, _ = envs.reset(seed=0)
@@ -65,11 +67,11 @@ class SubmarineWakePilot:
     def __call__(self, obs: np.ndarray) -> np.ndarray:
         g = self.gains
         obs = np.asarray(obs, dtype=np.float64)
-        u, q, r = obs[:, 0], obs[:, 4], obs[:, 5]
-        gx = obs[:, 6]
-        ex, ey, ez = obs[:, 11], obs[:, 12], obs[:, 13]
-        evx, evy, evz = obs[:, 17], obs[:, 18], obs[:, 19]
-        heading_err = np.arctan2(obs[:, 20], obs[:, 21])
+        u, q, r = obs[:, OBS["u"]], obs[:, OBS["q"]], obs[:, OBS["r"]]
+        gx = obs[:, OBS["gx"]]
+        ex, ey, ez = (obs[:, OBS[k]] for k in ("station_x", "station_y", "station_z"))
+        evx, evy, evz = (obs[:, OBS[k]] for k in ("station_vx", "station_vy", "station_vz"))
+        heading_err = np.arctan2(obs[:, OBS["heading_sin"]], obs[:, OBS["heading_cos"]])
 
         # speed: feedforward drag at the station point's speed, plus PD on the error
         target_u = u + evx
@@ -91,3 +93,33 @@ class SubmarineWakePilot:
         a_planes = g.kp_pitch * (pitch_cmd - pitch) + g.kd_pitch * q  # q + nose down
 
         return np.clip(np.stack([a_thrust, a_rudder, a_planes], axis=1), -1.0, 1.0)
+
+
+def make_pilot(venv) -> SubmarineWakePilot:
+    """The pilot for every sub-env of ``venv`` (it keeps no per-env state)."""
+    return SubmarineWakePilot()
+
+
+def demo(num_envs: int = 256, seed: int = 0) -> None:
+    """The pilot (with and without the wake), a random policy and idle controls on
+    ``num_envs`` seeded episodes."""
+    from ...evaluation import first_episodes, random_policy, zero_policy
+    from .env import SubmarineWakeVectorEnv
+
+    print(f"\nSubmarineWake-v0: {num_envs} episodes (seed {seed}), one each, 60 s")
+    print(f"{'policy':>14} {'return':>17} {'on station':>11} {'success':>8} {'crash':>6}")
+    for name, wake, policy in (
+        ("scripted pilot", True, SubmarineWakePilot()),
+        ("  (no wake)", False, SubmarineWakePilot()),
+        ("random", True, None),
+        ("zero controls", True, None),
+    ):
+        venv = SubmarineWakeVectorEnv(num_envs=num_envs, wake=wake)
+        if policy is None:
+            policy = random_policy(venv, seed) if name == "random" else zero_policy(venv)
+        r = first_episodes(venv, policy, seed=seed)
+        crash = 1.0 - r["truncated"].mean()
+        print(
+            f"{name:>14} {r['return'].mean():8.1f} +- {r['return'].std():5.1f} "
+            f"{r['on_station_fraction'].mean():11.1%} {r['success'].mean():8.1%} {crash:6.1%}"
+        )

@@ -1,6 +1,12 @@
 """SubmarineWake-v0's frames: a plan (top view) over an elevation (side view), both in the
 lead's heading frame and centered between the lead and the station point, with the wake's
-tracers colored by the water's speed."""
+tracers colored by the water's speed.
+
+The view reads the env's public state (the vehicle's pose, ``lead_pose``, ``station_point``,
+``lead``, ``wake``, ``noise_offset``, ``episode_steps``, ``episodes``) and owns the tracers of the
+sub-envs it has drawn: it advances them by the steps taken since its last frame, and reseeds
+them when the sub-env's episode restarts. Drawn every step, they move exactly as the water
+does step by step."""
 
 from __future__ import annotations
 
@@ -8,10 +14,10 @@ import math
 
 import numpy as np
 
-from ..physics.kernels import quat_matrices
-from ..physics.tracers import Tracers
-from . import submarine_wake_kernel as TK
-from .render import Canvas, OrthoCamera
+from ...physics.kernels import quat_matrices
+from ...physics.tracers import Tracers
+from ..render import Canvas, OrthoCamera
+from . import kernel as TK
 
 WIDTH, HEIGHT = 480, 240
 SCALE = 6.0  # pixels per meter: 80 m across
@@ -20,28 +26,50 @@ WATER, FLOOR, HULL = (18, 52, 86), (150, 130, 90), (170, 175, 185)
 VEHICLE, STATION = (250, 200, 40), (90, 230, 120)
 
 
-def _lead_pose(env, e):
-    lead = env.lead[:, e]
-    h = lead[TK.L_HEADING]
+def _heading_frame(env, e: int) -> np.ndarray:
+    """The lead's heading frame (columns: forward, left, up) in sub-env e."""
+    h = env.lead_heading(e)
     c, s = math.cos(h), math.sin(h)
-    pos = lead[[TK.L_X, TK.L_Y, TK.L_Z]].copy()
-    quat = np.array([math.cos(h / 2), 0.0, 0.0, math.sin(h / 2)])
-    vel = np.array([lead[TK.L_SPEED] * c, lead[TK.L_SPEED] * s, 0.0])
-    return pos, quat, vel, np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 def start_tracers(env, e: int, tracers: Tracers | None = None) -> Tracers:
     """(Re)seed the tracers of sub-env e around its lead; they only serve the picture, so
     their generator is fixed by e rather than drawn from the episode's."""
-    pos, quat, vel, _ = _lead_pose(env, e)
+    pos, quat, vel = env.lead_pose(e)
     tr = Tracers(env.wake, count=TRACERS) if tracers is None else tracers
     tr.reset(pos, quat, vel, np.random.default_rng(e), env.noise_offset[e])
     return tr
 
 
 def advance_tracers(env, e: int, tr: Tracers, dt: float) -> None:
-    pos, quat, vel, _ = _lead_pose(env, e)
+    """Move sub-env e's tracers on by ``dt`` in the water around its lead as it is now."""
+    pos, quat, vel = env.lead_pose(e)
     tr.advance(dt, pos, quat, vel, env.noise_offset[e])
+
+
+class WatchedTracers:
+    """The tracers of the sub-envs one viewer watches, kept in step with the env: reseeded
+    when a sub-env's episode restarts, advanced by one action period per step taken since the
+    last look."""
+
+    def __init__(self, env) -> None:
+        self.env = env
+        self.tracers: dict[int, Tracers] = {}
+        self._seen: dict[int, tuple[int, int]] = {}  # sub-env -> (episode, steps) at last look
+
+    def update(self, e: int) -> Tracers:
+        env = self.env
+        now = int(env.episodes[e]), int(env.episode_steps[e])
+        seen = self._seen.get(e)
+        if seen is None or seen[0] != now[0]:
+            self.tracers[e] = start_tracers(env, e, self.tracers.get(e))
+        else:
+            dt = env.params.dt * env.params.substeps
+            for _ in range(now[1] - seen[1]):
+                advance_tracers(env, e, self.tracers[e], dt)
+        self._seen[e] = now
+        return self.tracers[e]
 
 
 def _ellipse(center, axis_u, axis_v, a, b, n=48):
@@ -50,18 +78,31 @@ def _ellipse(center, axis_u, axis_v, a, b, n=48):
     return pts[:-1], pts[1:]
 
 
-def frame(env, e: int) -> np.ndarray:
-    """The [2 * HEIGHT, WIDTH, 3] image of sub-env e."""
-    lead_pos, _, _, rot = _lead_pose(env, e)
+class SubmarineWakeView:
+    """Frames of a SubmarineWake-v0 vector env: plan over elevation in the lead's heading
+    frame, the lead's hull (gray), the vehicle (yellow), the station point (green cross), the
+    floor (brown) and the wake's tracers (brighter where the water moves faster)."""
+
+    def __init__(self, env) -> None:
+        self.env = env
+        self.watched = WatchedTracers(env)
+
+    def frame(self, e: int) -> np.ndarray:
+        """The [2 * HEIGHT, WIDTH, 3] image of sub-env e."""
+        tr = self.watched.update(e) if self.env.params.wake else None
+        return frame(self.env, e, tr)
+
+
+def frame(env, e: int, tr: Tracers | None) -> np.ndarray:
+    """The [2 * HEIGHT, WIDTH, 3] image of sub-env e, with the tracers ``tr`` (or none)."""
+    lead_pos, _, _ = env.lead_pose(e)
+    rot = _heading_frame(env, e)
     fwd, left, up = rot[:, 0], rot[:, 1], rot[:, 2]
     st = env.station[e]
     station = lead_pos + rot @ st
     middle = lead_pos + 0.5 * (rot @ st)
     vpos = np.asarray(env.sim.pos[e, 0], dtype=np.float64)
     vrot = quat_matrices(np.ascontiguousarray(env.sim.quat[e], dtype=np.float64))[0]
-    tr = env._tracers.get(e) if env.params.wake else None
-    if tr is None and env.params.wake:  # first look at this env: start showing its wake
-        tr = env._tracers[e] = start_tracers(env, e)
     images = []
     # plan: looking down, the lead's heading to the right, port up
     # elevation: looking from starboard... i.e. along +left, heading to the right, up up

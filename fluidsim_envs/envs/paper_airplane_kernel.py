@@ -1,0 +1,7 @@
+"""PaperAirplane-v0's task kernels and layouts.
+
+Moved to ``fluidsim_envs.scenes.paper_airplane.kernel``."""
+
+# A deprecated import path, kept for one release as a thin re-export; it goes in the next
+# release: import from fluidsim_envs.scenes.paper_airplane.kernel instead.
+from ..scenes.paper_airplane.kernel import *  # noqa: F401, F403
