@@ -1,6 +1,6 @@
 """fluidsim-envs: Gymnasium environments for vehicles in fluids, on batched numba physics.
 
-Importing the package registers the environments:
+Importing the package registers the environments of :data:`fluidsim_envs.scenes.SCENES`:
 
 - ``fluidsim/PaperAirplane-v0``: glide a paper dart to a target and land on it.
 - ``fluidsim/SubmarineWake-v0``: hold a small UUV on station in a submarine's wake.
@@ -9,20 +9,12 @@ Importing the package registers the environments:
 
 from gymnasium.envs.registration import register
 
-register(
-    id="fluidsim/PaperAirplane-v0",
-    entry_point="fluidsim_envs.envs.paper_airplane:PaperAirplaneEnv",
-    vector_entry_point="fluidsim_envs.envs.paper_airplane:PaperAirplaneVectorEnv",
-)
+from .scenes import SCENES
 
-register(
-    id="fluidsim/SubmarineWake-v0",
-    entry_point="fluidsim_envs.envs.submarine_wake:SubmarineWakeEnv",
-    vector_entry_point="fluidsim_envs.envs.submarine_wake:SubmarineWakeVectorEnv",
-)
-
-register(
-    id="fluidsim/BoatOnStep-v0",
-    entry_point="fluidsim_envs.envs.boat_on_step:BoatOnStepEnv",
-    vector_entry_point="fluidsim_envs.envs.boat_on_step:BoatOnStepVectorEnv",
-)
+for _scene in SCENES.values():
+    register(
+        id=_scene.id,
+        entry_point=_scene.entry_point,
+        vector_entry_point=_scene.vector_entry_point,
+    )
+del _scene

@@ -1,7 +1,7 @@
 """Demo (the README's main command until training lands): a paper dart thrown from 10 m
 glides to the floor, a buoy dropped into water settles at its waterline, and on
-PaperAirplane-v0 the scripted pilot, a random policy and idle controls fly 256 seeded throws;
-the same for SubmarineWake-v0 and BoatOnStep-v0.
+each scene of ``SCENES`` (PaperAirplane-v0, SubmarineWake-v0, BoatOnStep-v0) its scripted
+pilot, a random policy and idle controls fly 256 seeded episodes.
 
     python -m fluidsim_envs.demo
 """
@@ -50,86 +50,15 @@ def float_buoy() -> None:
         sim.step(steps=60)
 
 
-def fly_task(num_envs: int = 256, seed: int = 0) -> None:
-    from fluidsim_envs.controllers import PaperAirplanePilot
-    from fluidsim_envs.envs import PaperAirplaneVectorEnv
-    from fluidsim_envs.evaluation import first_episodes, random_policy, zero_policy
+def scenes(num_envs: int = 256, seed: int = 0) -> None:
+    """Each registered scene's demo: its scripted pilot against random and idle controls."""
+    from fluidsim_envs.scenes import SCENES
 
-    venv = PaperAirplaneVectorEnv(num_envs=num_envs)
-    dt = venv.params.dt * venv.params.substeps
-    print(f"\nPaperAirplane-v0: {num_envs} throws (seed {seed}), one episode each")
-    print(f"{'policy':>14} {'return':>15} {'landed':>7} {'success':>8} {'miss (m)':>9}")
-    for name, policy in (
-        ("scripted pilot", PaperAirplanePilot(num_envs, dt=dt)),
-        ("random", random_policy(venv, seed)),
-        ("zero controls", zero_policy(venv)),
-    ):
-        r = first_episodes(venv, policy, seed=seed)
-        print(
-            f"{name:>14} {r['return'].mean():7.2f} +- {r['return'].std():5.2f} "
-            f"{r['landed'].mean():7.1%} {r['success'].mean():8.1%} {r['distance_m'].mean():9.2f}"
-        )
-
-
-def hold_station(num_envs: int = 256, seed: int = 0) -> None:
-    from fluidsim_envs.controllers import SubmarineWakePilot
-    from fluidsim_envs.envs import SubmarineWakeVectorEnv
-    from fluidsim_envs.evaluation import first_episodes, random_policy, zero_policy
-
-    print(f"\nSubmarineWake-v0: {num_envs} episodes (seed {seed}), one each, 60 s")
-    print(f"{'policy':>14} {'return':>17} {'on station':>11} {'success':>8} {'crash':>6}")
-    for name, wake, policy in (
-        ("scripted pilot", True, SubmarineWakePilot()),
-        ("  (no wake)", False, SubmarineWakePilot()),
-        ("random", True, None),
-        ("zero controls", True, None),
-    ):
-        venv = SubmarineWakeVectorEnv(num_envs=num_envs, wake=wake)
-        if policy is None:
-            policy = random_policy(venv, seed) if name == "random" else zero_policy(venv)
-        r = first_episodes(venv, policy, seed=seed)
-        crash = 1.0 - r["truncated"].mean()
-        print(
-            f"{name:>14} {r['return'].mean():8.1f} +- {r['return'].std():5.1f} "
-            f"{r['on_station_fraction'].mean():11.1%} {r['success'].mean():8.1%} {crash:6.1%}"
-        )
-
-
-def run_course(num_envs: int = 256, seed: int = 0) -> None:
-    from fluidsim_envs.controllers import BoatOnStepPilot
-    from fluidsim_envs.envs import BoatOnStepVectorEnv
-    from fluidsim_envs.evaluation import first_episodes, random_policy, zero_policy
-
-    print(f"\nBoatOnStep-v0: {num_envs} courses (seed {seed}), one episode each, 60 s at most")
-    print(
-        f"{'policy':>14} {'return':>15} {'gates':>6} {'success':>8} {'porpoise':>9} "
-        f"{'crash':>6} {'to plane (s)':>13}"
-    )
-    swell = ((0.2, 40.0, 45.0),)  # 0.4 m crest to trough, 40 m long
-    for name, waves, policy in (
-        ("scripted pilot", (), BoatOnStepPilot()),
-        ("  (in swell)", swell, BoatOnStepPilot()),
-        ("random", (), None),
-        ("zero controls", (), None),
-    ):
-        venv = BoatOnStepVectorEnv(num_envs=num_envs, swell=waves)
-        if policy is None:
-            policy = random_policy(venv, seed) if name == "random" else zero_policy(venv)
-        r = first_episodes(venv, policy, seed=seed)
-        crash = r["capsized"] | r["bow_stuffed"] | r["left_course"] | r["physics_diverged"]
-        planed = r["time_to_plane_s"][r["time_to_plane_s"] >= 0.0]
-        to_plane = planed.mean() if planed.size else float("nan")
-        print(
-            f"{name:>14} {r['return'].mean():7.1f} +- {r['return'].std():5.1f} "
-            f"{r['gates_passed'].mean():6.2f} {r['success'].mean():8.1%} "
-            f"{r['porpoising_fraction'].mean():9.1%} {crash.mean():6.1%} "
-            f"{to_plane:13.1f}"
-        )
+    for scene in SCENES.values():
+        scene.demo(num_envs=num_envs, seed=seed)
 
 
 if __name__ == "__main__":
     glide()
     float_buoy()
-    fly_task()
-    hold_station()
-    run_course()
+    scenes()

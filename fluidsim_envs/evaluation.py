@@ -11,7 +11,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .envs.base import FluidVectorEnv
+from .scenes.base import FluidVectorEnv
 
 
 def first_episodes(

@@ -1,8 +1,10 @@
-"""The scenes: one module per task (observation, reward, termination) on the shared base."""
+"""The scenes' envs, under their old import path. Moved to :mod:`fluidsim_envs.scenes`."""
 
-from .boat_on_step import BoatOnStepEnv, BoatOnStepParams, BoatOnStepVectorEnv
-from .paper_airplane import PaperAirplaneEnv, PaperAirplaneParams, PaperAirplaneVectorEnv
-from .submarine_wake import SubmarineWakeEnv, SubmarineWakeParams, SubmarineWakeVectorEnv
+# A deprecated import path, kept for one release as thin re-exports (this package and its
+# modules); it goes in the next release: import from fluidsim_envs.scenes instead.
+from ..scenes.boat_on_step import BoatOnStepEnv, BoatOnStepParams, BoatOnStepVectorEnv
+from ..scenes.paper_airplane import PaperAirplaneEnv, PaperAirplaneParams, PaperAirplaneVectorEnv
+from ..scenes.submarine_wake import SubmarineWakeEnv, SubmarineWakeParams, SubmarineWakeVectorEnv
 
 __all__ = [
     "BoatOnStepEnv",

@@ -125,17 +125,13 @@ def model_policy(cfg: TrainConfig, model, run_dir: Path, venv) -> Callable:
 
 
 def scripted_pilot(env_id: str, venv) -> Callable:
-    """The env's scripted baseline pilot, for ``venv.num_envs`` sub-envs."""
-    from fluidsim_envs.controllers import BoatOnStepPilot, PaperAirplanePilot, SubmarineWakePilot
+    """The env's scripted baseline pilot (its scene's, in ``SCENES``), for ``venv.num_envs``
+    sub-envs."""
+    from fluidsim_envs.scenes import SCENES
 
-    if env_id == "fluidsim/PaperAirplane-v0":
-        p = venv.unwrapped.params
-        return PaperAirplanePilot(venv.num_envs, dt=p.dt * p.substeps)
-    if env_id == "fluidsim/SubmarineWake-v0":
-        return SubmarineWakePilot()
-    if env_id == "fluidsim/BoatOnStep-v0":
-        return BoatOnStepPilot()
-    raise RunError(f"no scripted pilot for {env_id}")
+    if env_id not in SCENES:
+        raise RunError(f"no scripted pilot for {env_id} (not in SCENES: {sorted(SCENES)})")
+    return SCENES[env_id].pilot(venv)
 
 
 # --------------------------------------------------------------------------------------------

@@ -14,7 +14,8 @@ rr = pytest.importorskip("rerun")
 import pyarrow as pa  # noqa: E402  (rerun's dependency)
 from rerun.chunk import RrdReader  # noqa: E402
 
-from fluidsim_envs.wrappers.rerun_logger import SWELL_EVERY, RerunLogger  # noqa: E402
+from fluidsim_envs.scenes.boat_on_step.rerun import SWELL_EVERY  # noqa: E402
+from fluidsim_envs.wrappers.rerun_logger import RerunLogger  # noqa: E402
 
 E, LOGGED, STEPS, EPISODE = 3, 1, 8, 5  # the episodes end (truncated) at step 5
 
@@ -53,7 +54,7 @@ def static(rows, entity: str, column: str):
     return value
 
 
-def run(env_id: str, path, **kwargs) -> tuple[dict, list[dict]]:
+def run(env_id: str, path, watch=None, **kwargs) -> tuple[dict, list[dict]]:
     """STEPS random steps of sub-env LOGGED through the logger; what the env said each step."""
     venv = gym.make_vec(
         env_id, num_envs=E, vectorization_mode="vector_entry_point", max_episode_steps=EPISODE,
@@ -82,6 +83,7 @@ def run(env_id: str, path, **kwargs) -> tuple[dict, list[dict]]:
                 "terms": {k: v[LOGGED] for k, v in info.get("reward_terms", {}).items()},
                 "reward": reward[LOGGED] if step else None,
                 "clock": float(env.sim.clock[LOGGED]),
+                "watched": None if watch is None else watch(env),
             }
         )
     logger.close()
@@ -178,15 +180,23 @@ def test_boat_on_step_with_swell(tmp_path):
 
 
 def test_submarine_wake(tmp_path):
-    from fluidsim_envs.envs.submarine_wake_render import TRACERS
+    from fluidsim_envs.scenes.submarine_wake.view import TRACERS, WatchedTracers
 
-    rows, seen, env = run("fluidsim/SubmarineWake-v0", tmp_path / "sub.rrd")
+    watched = []
+
+    def watch(env):  # the view's own tracers, looked at every step: the same water
+        if not watched:
+            watched.append(WatchedTracers(env))
+        return watched[0].update(LOGGED).positions.copy()
+
+    rows, seen, env = run("fluidsim/SubmarineWake-v0", tmp_path / "sub.rrd", watch=watch)
     check_common(rows, seen, env)
     root = f"/env/{LOGGED}"
     tracers = series(rows, f"{root}/tracers", "Points3D:positions")
     assert sorted(tracers) == list(range(STEPS + 1))
     assert len(tracers[STEPS]) == TRACERS
-    np.testing.assert_allclose(tracers[STEPS], env._tracers[LOGGED].positions, rtol=1e-6)
+    for k in range(STEPS + 1):  # seeded at each episode's start (0, EPISODE), moved each step
+        np.testing.assert_allclose(tracers[k], seen[k]["watched"], rtol=1e-6)
     assert not np.allclose(tracers[STEPS - 1], tracers[STEPS])  # they move with the water
     lead = series(rows, f"{root}/lead", "Transform3D:translation")
     np.testing.assert_allclose(lead[STEPS], env.lead[:3, LOGGED], rtol=1e-6)

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import fluidsim_envs  # noqa: F401
-from fluidsim_envs.envs import boat_on_step_kernel as TK
-from fluidsim_envs.envs import boat_on_step_render as R
 from fluidsim_envs.physics.kernels import quat_matrices
+from fluidsim_envs.scenes.boat_on_step import kernel as TK
+from fluidsim_envs.scenes.boat_on_step import view as R
 
 ID = "fluidsim/BoatOnStep-v0"
 SHAPE = (R.PLAN_H + R.SIDE_H, R.WIDTH, 3)
@@ -88,7 +88,7 @@ def test_frame_follows_the_boat(env):
     rows, cols = np.nonzero(mask(plan, R.HULL))
     assert abs(rows.mean() - R.PLAN_H / 2) < 4 and abs(cols.mean() - R.WIDTH / 2) < 4
     venv = env.unwrapped.vector
-    assert venv._tracks[0].n == 41
+    assert venv.view.tracks[0].n == 41
     wake = mask(plan, R.WAKE, tol=50) & ~mask(plan, R.HULL)  # its newest few meters
     wake_rows, wake_cols = np.nonzero(wake)
     assert len(wake_rows) > 10
@@ -195,12 +195,14 @@ def test_vector_env_renders_each_sub_env_and_restarts_the_wake():
     for _ in range(4):
         venv.step(np.ones((2, 3)))
         venv.render()
-    assert [inner._tracks[e].n for e in range(2)] == [5, 5]
+    assert [inner.view.tracks[e].n for e in range(2)] == [5, 5]
     _, _, _, truncated, _ = venv.step(np.ones((2, 3)))  # the fifth step: autoreset
     assert truncated.all()
     venv.render()
-    assert [inner._tracks[e].n for e in range(2)] == [1, 1]
-    np.testing.assert_allclose(inner._tracks[0].points(), [[0.0, 0.0]], atol=1e-9)
+    assert [inner.view.tracks[e].n for e in range(2)] == [1, 1]
+    np.testing.assert_allclose(inner.view.tracks[0].points(), [[0.0, 0.0]], atol=1e-9)
+    inner.step(np.ones((2, 3)))  # unrendered steps leave the view alone
+    assert [inner.view.tracks[e].n for e in range(2)] == [1, 1]
     venv.close()
 
 

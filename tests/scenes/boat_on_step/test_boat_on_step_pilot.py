@@ -3,9 +3,8 @@ and random."""
 
 import numpy as np
 
-from fluidsim_envs.controllers import BoatOnStepPilot
-from fluidsim_envs.envs import BoatOnStepVectorEnv
 from fluidsim_envs.evaluation import first_episodes, random_policy, zero_policy
+from fluidsim_envs.scenes.boat_on_step import OBS, BoatOnStepPilot, BoatOnStepVectorEnv
 
 
 def test_pilot_planes_and_runs_the_course():
@@ -28,10 +27,10 @@ def test_pilot_planes_and_runs_the_course():
 
 def test_pilot_keeps_an_integrator_per_env_and_resets_it():
     pilot = BoatOnStepPilot()
-    obs = np.zeros((3, 18))
-    obs[:, 9] = 1.0  # 1 m/s slow: within the PI band
-    obs[:, 11] = 1.0
-    obs[:, 15] = 1.0
+    obs = np.zeros((3, len(OBS)))
+    obs[:, OBS["speed_error"]] = 1.0  # 1 m/s slow: within the PI band
+    obs[:, OBS["gate_bearing_cos"]] = 1.0
+    obs[:, OBS["gate_heading_cos"]] = 1.0
     for _ in range(10):
         a = pilot(obs)
     assert np.all(a[:, 0] > pilot.gains.cruise_throttle)  # the integral pushes the throttle

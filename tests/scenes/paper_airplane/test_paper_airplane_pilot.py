@@ -2,9 +2,8 @@
 
 import numpy as np
 
-from fluidsim_envs.controllers import PaperAirplanePilot
-from fluidsim_envs.envs import PaperAirplaneVectorEnv
 from fluidsim_envs.evaluation import first_episodes, random_policy, zero_policy
+from fluidsim_envs.scenes.paper_airplane import PaperAirplanePilot, PaperAirplaneVectorEnv
 
 
 def test_pilot_lands_closer_and_earns_more_than_doing_nothing():

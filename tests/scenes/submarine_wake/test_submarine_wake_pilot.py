@@ -2,9 +2,8 @@
 
 import numpy as np
 
-from fluidsim_envs.controllers import SubmarineWakePilot
-from fluidsim_envs.envs import SubmarineWakeVectorEnv
 from fluidsim_envs.evaluation import first_episodes, random_policy, zero_policy
+from fluidsim_envs.scenes.submarine_wake import SubmarineWakePilot, SubmarineWakeVectorEnv
 
 
 def test_pilot_holds_station_and_earns_more_than_doing_nothing():

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from fluidsim_envs.envs.render import Camera, Canvas
+from fluidsim_envs.scenes.render import Camera, Canvas
 
 W, H = 480, 360
 BG = np.array([200, 225, 245], dtype=np.uint8)

@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from fluidsim_envs.envs.boat_on_step import GATES, BoatOnStepVectorEnv
-from fluidsim_envs.physics.kernels import OQ, OV, OX
+from fluidsim_envs.physics.state import OQ, OV, OX
+from fluidsim_envs.scenes.boat_on_step import GATES, BoatOnStepVectorEnv
 
 
 def test_untouched_buoys_hold_their_marks_and_waterline():

@@ -1,0 +1,333 @@
+"""What every scene shares: parameters, seeding, actions, autoreset, episode bookkeeping.
+
+A scene subclasses :class:`FluidVectorEnv`, fills in three hooks (``_draw_reset``,
+``_advance``, ``_observe``) and names its ``View`` (the rgb_array frames); :class:`FluidEnv`
+turns any scene into a single Gymnasium env that is the batch of one, so there is one
+implementation of each scene.
+
+Viewers (the ``View`` behind ``render()``, a scene's Rerun hooks) read the env through public,
+read-only accessors (``last_action``, ``episode_steps``, ``episodes`` here, the scene's own
+beside them) and keep their own state; the env's step never touches it.
+
+Seeding: ``reset(seed=s)`` gives sub-env i the generator of ``SeedSequence(s).spawn(E)[i]``
+(spawned children do not depend on E, so sub-env i sees the same randomness for any batch
+size), and ``reset(seed=[s0, s1, ...])`` gives sub-env i ``SeedSequence(s_i).spawn(1)[0]``,
+which is what the single env seeded with ``s_i`` uses. Each sub-env draws only from its own
+generator, so its episodes do not depend on the others.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+
+# --------------------------------------------------------------------------------------------
+# parameters
+
+
+def make_params(cls: type, kwargs: dict[str, Any]):
+    """Build the frozen parameter dataclass ``cls`` from keyword arguments; an unknown key is
+    an error that lists the valid ones."""
+    valid = [f.name for f in dataclasses.fields(cls)]
+    unknown = sorted(set(kwargs) - set(valid))
+    if unknown:
+        raise TypeError(f"{cls.__name__}: unknown parameter(s) {unknown}; valid: {valid}")
+    return cls(**kwargs)
+
+
+def check_number(owner: str, key: str, value, lo=None, hi=None, integer=False) -> None:
+    """Raise ValueError naming ``key`` unless ``value`` is a finite number in [lo, hi]
+    (``integer``: an int; 4.0 would fail later, where the error could not name ``key``)."""
+    ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+    ok = ok and math.isfinite(value) and (not integer or isinstance(value, (int, np.integer)))
+    ok = ok and (lo is None or value >= lo) and (hi is None or value <= hi)
+    if not ok:
+        kind = "an integer" if integer else "a finite number"
+        bounds = f" in [{lo}, {hi}]" if lo is not None or hi is not None else ""
+        raise ValueError(f"{owner}: {key} must be {kind}{bounds}, got {value!r}")
+
+
+def check_range(owner: str, key: str, value, lo=None, hi=None) -> tuple[float, float]:
+    """A (low, high) pair with lo <= low <= high <= hi."""
+    if not isinstance(value, (tuple, list)) or len(value) != 2:
+        raise ValueError(f"{owner}: {key} must be a (low, high) pair, got {value!r}")
+    for v in value:
+        check_number(owner, key, v, lo, hi)
+    if value[0] > value[1]:
+        raise ValueError(f"{owner}: {key} must have low <= high, got {value!r}")
+    return float(value[0]), float(value[1])
+
+
+def check_choice(owner: str, key: str, value, choices: Sequence[str]) -> None:
+    if value not in choices:
+        raise ValueError(f"{owner}: {key} must be one of {list(choices)}, got {value!r}")
+
+
+# --------------------------------------------------------------------------------------------
+# the vector env
+
+
+class FluidVectorEnv(VectorEnv):
+    """A batch of one scene, stepped by one compiled physics call per step.
+
+    Autoreset is same-step (``metadata["autoreset_mode"]``): when a sub-env's episode ends,
+    ``step`` returns the first observation of its next episode, and the last observation and
+    info of the ended one in ``info["final_obs"]`` and ``info["final_info"]`` (rows marked by
+    ``info["_final_obs"]``), as Gymnasium's ``SyncVectorEnv`` does in that mode.
+
+    Subclasses set ``Params``, ``obs_dim`` and ``View`` and implement the hooks below.
+    """
+
+    metadata: dict[str, Any] = {
+        "autoreset_mode": AutoresetMode.SAME_STEP,
+        "render_modes": ["rgb_array"],
+        "render_fps": 30,
+    }
+    Params: type
+    obs_dim: int
+    reward_terms: tuple[str, ...]
+    # the rgb_array viewer: View(env) with frame(env_index) -> [H, W, 3] uint8, made on the
+    # first render() and owning whatever it keeps between frames
+    View: type
+
+    def __init__(
+        self, num_envs: int = 1, render_mode: str | None = None, autoreset: bool = True, **kwargs
+    ) -> None:
+        if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)):
+            raise ValueError(f"num_envs must be a positive integer, got {num_envs!r}")
+        if num_envs < 1:
+            raise ValueError(f"num_envs must be a positive integer, got {num_envs!r}")
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(
+                f"render_mode must be None or one of {self.metadata['render_modes']}, "
+                f"got {render_mode!r}"
+            )
+        self.params = make_params(self.Params, kwargs)
+        self.num_envs = E = int(num_envs)
+        self.render_mode = render_mode
+        self.autoreset = autoreset
+        if not autoreset:
+            self.metadata = {**self.metadata, "autoreset_mode": AutoresetMode.DISABLED}
+        self._build()
+        n_act = len(self.action_names)
+        self.single_action_space = gym.spaces.Box(-1.0, 1.0, (n_act,), np.float32)
+        self.action_space = batch_space(self.single_action_space, E)
+        self.single_observation_space = gym.spaces.Box(-np.inf, np.inf, (self.obs_dim,), np.float32)
+        self.observation_space = batch_space(self.single_observation_space, E)
+
+        self._rngs: list[np.random.Generator | None] = [None] * E
+        self._obs = np.zeros((E, self.obs_dim), dtype=np.float32)
+        self._elapsed = np.zeros(E, dtype=np.int64)
+        self._sums = np.zeros((len(self.reward_terms), E))  # per-episode reward-term sums
+        self._act = np.zeros((E, len(self.action_names)))
+        self._needs_reset = np.ones(E, dtype=bool)
+        self._episodes = np.zeros(E, dtype=np.int64)
+        self._view = None
+
+    # ---- hooks ----------------------------------------------------------------------------
+
+    action_names: tuple[str, ...] = ()
+
+    def _build(self) -> None:
+        """Create the simulator and buffers from ``self.params``."""
+        raise NotImplementedError
+
+    def _draw_reset(self, ids: np.ndarray, rngs: list[np.random.Generator]) -> None:
+        """Start new episodes in sub-envs ``ids``, drawing from ``rngs`` (one per id)."""
+        raise NotImplementedError
+
+    def _advance(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
+        """Apply ``actions`` [E, n] in [-1, 1] and step the physics; return new arrays
+        (terminated [E], diverged [E], reward terms [len(reward_terms), E], info {key: [E]})."""
+        raise NotImplementedError
+
+    def _observe(self, out: np.ndarray) -> None:
+        """Write the observation of every sub-env into ``out`` [E, obs_dim] (float32)."""
+        raise NotImplementedError
+
+    # ---- what viewers read (read-only) ---------------------------------------------------
+
+    @property
+    def last_action(self) -> np.ndarray:
+        """The last step's actions [E, n], clipped to [-1, 1] (read-only; zeros before any)."""
+        return _read_only(self._act)
+
+    @property
+    def episode_steps(self) -> np.ndarray:
+        """Steps taken in each sub-env's current episode [E] (read-only)."""
+        return _read_only(self._elapsed)
+
+    @property
+    def episodes(self) -> np.ndarray:
+        """Episodes started in each sub-env [E] (read-only): a viewer's cue to restart what it
+        keeps per episode."""
+        return _read_only(self._episodes)
+
+    @property
+    def view(self):
+        """The rgb_array viewer (``View(self)``), made on first use."""
+        if self._view is None:
+            self._view = self.View(self)
+        return self._view
+
+    # ---- Gymnasium API --------------------------------------------------------------------
+
+    def reset(self, *, seed: int | Sequence[int | None] | None = None, options=None):
+        """Reset every sub-env. ``seed``: an int, a list of one per sub-env, or None.
+        ``options={"env_ids": [...]}`` resets only those sub-envs (their observation rows
+        change; the others keep theirs)."""
+        E = self.num_envs
+        if seed is None:
+            if any(r is None for r in self._rngs):
+                self._seed(np.random.SeedSequence().spawn(E))
+        elif isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+            self._seed(np.random.SeedSequence(int(seed)).spawn(E))
+        else:
+            seeds = list(seed)
+            if len(seeds) != E:
+                raise ValueError(f"reset: expected {E} seeds, one per sub-env, got {len(seeds)}")
+            self._seed([np.random.SeedSequence(s).spawn(1)[0] for s in seeds])
+        ids = np.arange(E)
+        if options and "env_ids" in options:
+            ids = np.asarray(options["env_ids"], dtype=np.int64)
+        self._start(ids)
+        self._observe(self._obs)
+        return self._obs.copy(), self._info_after_reset()
+
+    def step(self, actions):
+        a = np.asarray(actions, dtype=np.float64)
+        if a.shape != self._act.shape:
+            if a.size == self._act.size and self.num_envs == 1:
+                a = a.reshape(self._act.shape)
+            else:
+                raise ValueError(
+                    f"actions must have shape {self._act.shape} "
+                    f"({', '.join(self.action_names)}), got {a.shape}"
+                )
+        if not np.isfinite(a).all():
+            bad = np.argwhere(~np.isfinite(a))[0]
+            raise ValueError(f"actions contain {a[tuple(bad)]} at {tuple(int(i) for i in bad)}")
+        if self._needs_reset.any():
+            raise RuntimeError(
+                f"step called on sub-env(s) {np.flatnonzero(self._needs_reset)[:8].tolist()} "
+                "whose episode has ended (or never started): call reset first"
+            )
+        # the actuators' limits: Box(-1, 1) commands beyond them saturate
+        np.clip(a, -1.0, 1.0, out=self._act)
+
+        terminated, diverged, terms, info = self._advance(self._act)
+        self._elapsed += 1
+        reward = terms.sum(axis=0)
+        self._sums += terms
+        terminated |= diverged
+        truncated = (self._elapsed >= self.params.max_episode_steps) & ~terminated
+
+        if diverged.any():  # keep the last finite observation: never NaN to the learner
+            last = self._obs[diverged].copy()
+            self._observe(self._obs)
+            self._obs[diverged] = last
+        else:
+            self._observe(self._obs)
+        info["physics_diverged"] = diverged
+        info["reward_terms"] = dict(zip(self.reward_terms, terms, strict=True))
+
+        done = terminated | truncated
+        if done.any():
+            ended = np.flatnonzero(done)
+            # the ended episodes' totals, masked like Gymnasium's other per-sub-env keys
+            info["episode_terms"] = dict(zip(self.reward_terms, self._sums.copy(), strict=True))
+            info["_episode_terms"] = done
+            info["episode_steps"] = self._elapsed.copy()
+            info["_episode_steps"] = done
+            if self.autoreset:
+                info["final_info"] = dict(info)
+                info["_final_info"] = done
+                info["final_obs"] = self._obs.copy()
+                info["_final_obs"] = done
+                self._start(ended)
+                self._observe(self._obs)
+            else:
+                self._needs_reset[ended] = True
+        return self._obs.copy(), reward, terminated, truncated, info
+
+    def render(self):
+        if self.render_mode is None:
+            gym.logger.warn("render() called without render_mode; pass render_mode='rgb_array'")
+            return None
+        return tuple(self.view.frame(i) for i in range(self.num_envs))
+
+    # ---- internals ------------------------------------------------------------------------
+
+    def _seed(self, sequences) -> None:
+        self._rngs = [np.random.Generator(np.random.PCG64(s)) for s in sequences]
+        self._np_random = self._rngs[0]
+
+    def _start(self, ids: np.ndarray) -> None:
+        self._draw_reset(ids, [self._rngs[i] for i in ids])
+        self._elapsed[ids] = 0
+        self._episodes[ids] += 1
+        self._sums[:, ids] = 0.0
+        self._needs_reset[ids] = False
+
+    def _info_after_reset(self) -> dict:
+        return {}
+
+
+def _read_only(a: np.ndarray) -> np.ndarray:
+    view = a.view()
+    view.flags.writeable = False
+    return view
+
+
+# --------------------------------------------------------------------------------------------
+# the single env: the batch of one
+
+
+def _first(value):
+    """Sub-env 0's entry of a batched info value."""
+    if isinstance(value, dict):
+        return {k: _first(v) for k, v in value.items() if not k.startswith("_")}
+    if isinstance(value, np.ndarray) and value.ndim >= 1:
+        v = value[0]
+        return v.item() if isinstance(v, np.generic) else v
+    return value
+
+
+class FluidEnv(gym.Env):
+    """A single env that is a :class:`FluidVectorEnv` of one sub-env without autoreset."""
+
+    vector_cls: type[FluidVectorEnv]
+    metadata = FluidVectorEnv.metadata
+
+    def __init__(self, render_mode: str | None = None, **kwargs) -> None:
+        self.vector = self.vector_cls(
+            num_envs=1, render_mode=render_mode, autoreset=False, **kwargs
+        )
+        self.params = self.vector.params
+        self.render_mode = render_mode
+        self.action_space = self.vector.single_action_space
+        self.observation_space = self.vector.single_observation_space
+
+    def reset(self, *, seed: int | None = None, options=None):
+        super().reset(seed=seed)  # keeps gymnasium's bookkeeping; the generator is replaced
+        obs, info = self.vector.reset(seed=None if seed is None else [seed], options=options)
+        self._np_random = self.vector._rngs[0]
+        return obs[0], _first(info)
+
+    def step(self, action):
+        obs, reward, terminated, truncated, info = self.vector.step(np.asarray(action)[None])
+        return obs[0], float(reward[0]), bool(terminated[0]), bool(truncated[0]), _first(info)
+
+    def render(self):
+        frames = self.vector.render()
+        return None if frames is None else frames[0]
+
+    def close(self) -> None:
+        self.vector.close()

@@ -1,0 +1,42 @@
+"""BoatOnStep-v0: get a planing speedboat up on step and run a course of gates.
+
+- ``env.py``: the env (parameters, episode start, step, the public state viewers read);
+- ``kernel.py``: the observation, reward-term, flag, task-state, course and config layouts
+  and the task kernels;
+- ``view.py``: the rgb_array frames; ``rerun.py``: the Rerun hooks;
+- ``pilot.py``: the scripted baseline pilot and the demo.
+"""
+
+from ..scene import Scene
+from .env import GATES, BoatOnStepEnv, BoatOnStepParams, BoatOnStepVectorEnv
+from .kernel import OBS, OBS_NAMES, OBSERVATION
+from .pilot import BoatOnStepPilot, HelmGains, demo, make_pilot
+from .rerun import BoatOnStepRerun
+from .view import BoatOnStepView
+
+SCENE = Scene(
+    id="fluidsim/BoatOnStep-v0",
+    summary="get a planing speedboat up on step and run a course of gates",
+    env_cls=BoatOnStepEnv,
+    vector_cls=BoatOnStepVectorEnv,
+    params_cls=BoatOnStepParams,
+    observation=OBSERVATION,
+    pilot=make_pilot,
+    view=BoatOnStepView,
+    rerun=BoatOnStepRerun,
+    demo=demo,
+    short_episodes={"max_episode_steps": 40},
+)
+
+__all__ = [
+    "GATES",
+    "OBS",
+    "OBSERVATION",
+    "OBS_NAMES",
+    "SCENE",
+    "BoatOnStepEnv",
+    "BoatOnStepParams",
+    "BoatOnStepPilot",
+    "BoatOnStepVectorEnv",
+    "HelmGains",
+]

@@ -1,0 +1,50 @@
+"""PaperAirplane-v0: glide a paper dart to a target on the ground and land on it.
+
+- ``env.py``: the env (parameters, episode start, step, the public state viewers read);
+- ``kernel.py``: the observation, reward-term, flag and config layouts and the task kernels;
+- ``view.py``: the rgb_array frames; ``rerun.py``: the Rerun hooks;
+- ``pilot.py``: the scripted baseline pilot and the demo.
+"""
+
+import numpy as np
+
+from ..scene import Scene
+from .env import PaperAirplaneEnv, PaperAirplaneParams, PaperAirplaneVectorEnv
+from .kernel import OBS, OBS_NAMES, OBSERVATION
+from .pilot import PaperAirplanePilot, PilotGains, demo, make_pilot
+from .rerun import PaperAirplaneRerun
+from .view import PaperAirplaneView
+
+
+def _blow_up(venv, env_index: int) -> None:
+    """Sub-env ``env_index``'s state goes infinite (a stand-in for a real blow-up)."""
+    st, _, _ = venv.sim.kernel_arrays()
+    st[:, :, env_index] = np.inf
+
+
+SCENE = Scene(
+    id="fluidsim/PaperAirplane-v0",
+    summary="glide a paper dart to a target on the ground and land on it",
+    env_cls=PaperAirplaneEnv,
+    vector_cls=PaperAirplaneVectorEnv,
+    params_cls=PaperAirplaneParams,
+    observation=OBSERVATION,
+    pilot=make_pilot,
+    view=PaperAirplaneView,
+    rerun=PaperAirplaneRerun,
+    demo=demo,
+    short_episodes={"launch_height_m": (1.5, 2.5), "max_episode_steps": 40},
+    diverge=_blow_up,
+)
+
+__all__ = [
+    "OBS",
+    "OBSERVATION",
+    "OBS_NAMES",
+    "SCENE",
+    "PaperAirplaneEnv",
+    "PaperAirplaneParams",
+    "PaperAirplanePilot",
+    "PaperAirplaneVectorEnv",
+    "PilotGains",
+]

@@ -1,0 +1,74 @@
+"""The description of a scene that the registry (:data:`fluidsim_envs.scenes.SCENES`) holds:
+everything generic code needs to register, evaluate, log, demo and test it without naming it."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from .base import FluidEnv, FluidVectorEnv
+
+
+def nan_state(venv: FluidVectorEnv, env_index: int) -> None:
+    """Make sub-env ``env_index``'s physics state NaN: a stand-in for a real blow-up."""
+    st, _, _ = venv.sim.kernel_arrays()
+    st[:, :, env_index] = np.nan
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One scene: its gym id, classes, layout, baseline pilot, viewers and test hooks.
+
+    Checked on construction (a scene that does not hang together fails at import)."""
+
+    id: str  # the gym id, "fluidsim/Name-vN"
+    summary: str  # one line: the task
+    env_cls: type[FluidEnv]  # the single env (the batch of one)
+    vector_cls: type[FluidVectorEnv]  # the native vector env
+    params_cls: type  # the frozen parameter dataclass (gym.make kwargs)
+    observation: tuple[tuple[str, str, str], ...]  # the columns: (name, unit, description)
+    # the scripted baseline for a vector env (or a wrapper of one): a policy obs -> actions,
+    # with reset(mask) for the sub-envs whose episode ended
+    pilot: Callable[[Any], Callable[[np.ndarray], np.ndarray]]
+    view: type  # the rgb_array viewer: view(env).frame(env_index) -> [H, W, 3] uint8
+    # the Rerun hooks: rerun(logger) -> RerunHooks (world, episode, step; see scenes/rerun.py)
+    rerun: Callable[[Any], Any]
+    # prints the pilot against random and idle controls (python -m fluidsim_envs.demo)
+    demo: Callable[..., None]
+    # parameters under which episodes end within tens of steps: contract tests, smoke runs
+    short_episodes: Mapping[str, Any] = field(default_factory=dict)
+    # forces a non-finite state in sub-env e of a vector env (the divergence contract test)
+    diverge: Callable[[FluidVectorEnv, int], None] = nan_state
+
+    def __post_init__(self) -> None:
+        own = f"Scene {self.id!r}"
+        if not re.fullmatch(r"fluidsim/[A-Z][A-Za-z0-9]*-v\d+", self.id):
+            raise ValueError(f"{own}: the id must read 'fluidsim/Name-vN'")
+        if getattr(self.env_cls, "vector_cls", None) is not self.vector_cls:
+            raise ValueError(f"{own}: {self.env_cls.__name__}.vector_cls is not vector_cls")
+        for attr, value in (("Params", self.params_cls), ("View", self.view)):
+            if getattr(self.vector_cls, attr, None) is not value:
+                raise ValueError(f"{own}: {self.vector_cls.__name__}.{attr} is not {value}")
+        if self.vector_cls.obs_dim != len(self.observation):
+            raise ValueError(
+                f"{own}: obs_dim {self.vector_cls.obs_dim} != {len(self.observation)} columns"
+            )
+        object.__setattr__(self, "observation", tuple(tuple(c) for c in self.observation))
+        object.__setattr__(self, "short_episodes", MappingProxyType(dict(self.short_episodes)))
+
+    @property
+    def obs_names(self) -> tuple[str, ...]:
+        return tuple(name for name, _, _ in self.observation)
+
+    @property
+    def entry_point(self) -> str:
+        return f"{self.env_cls.__module__}:{self.env_cls.__qualname__}"
+
+    @property
+    def vector_entry_point(self) -> str:
+        return f"{self.vector_cls.__module__}:{self.vector_cls.__qualname__}"

@@ -1,0 +1,42 @@
+"""SubmarineWake-v0: hold a small UUV on station in a cruising submarine's wake.
+
+- ``env.py``: the env (parameters, episode start, step, the public state viewers read);
+- ``kernel.py``: the observation, reward-term, flag, lead-state and config layouts and the
+  task kernels;
+- ``view.py``: the rgb_array frames (and the tracers' bookkeeping); ``rerun.py``: the Rerun
+  hooks;
+- ``pilot.py``: the scripted baseline pilot and the demo.
+"""
+
+from ..scene import Scene
+from .env import SubmarineWakeEnv, SubmarineWakeParams, SubmarineWakeVectorEnv
+from .kernel import OBS, OBS_NAMES, OBSERVATION
+from .pilot import StationGains, SubmarineWakePilot, demo, make_pilot
+from .rerun import SubmarineWakeRerun
+from .view import SubmarineWakeView
+
+SCENE = Scene(
+    id="fluidsim/SubmarineWake-v0",
+    summary="hold a small UUV on station in a submarine's wake",
+    env_cls=SubmarineWakeEnv,
+    vector_cls=SubmarineWakeVectorEnv,
+    params_cls=SubmarineWakeParams,
+    observation=OBSERVATION,
+    pilot=make_pilot,
+    view=SubmarineWakeView,
+    rerun=SubmarineWakeRerun,
+    demo=demo,
+    short_episodes={"max_episode_steps": 40, "lost_distance_m": 5.0},
+)
+
+__all__ = [
+    "OBS",
+    "OBSERVATION",
+    "OBS_NAMES",
+    "SCENE",
+    "StationGains",
+    "SubmarineWakeEnv",
+    "SubmarineWakeParams",
+    "SubmarineWakePilot",
+    "SubmarineWakeVectorEnv",
+]

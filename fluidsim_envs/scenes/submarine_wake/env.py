@@ -1,0 +1,399 @@
+"""fluidsim/SubmarineWake-v0: a small UUV holds station behind a cruising submarine, in its
+wake."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...physics import Craft, Simulator, WakeField, World
+from ...physics.kernels import INTEGRATORS
+from ...physics.wake import NSRC as WAKE_SOURCE_ROWS
+from ..base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
+from . import kernel as TK
+from .kernel import OBSERVATION, REWARD_TERMS
+from .view import SubmarineWakeView
+
+LEAD_LENGTH_M, LEAD_RADIUS_M = 40.0, 3.0  # the submarine craft's hull (a prolate spheroid)
+UUV_RADIUS_M = 0.16  # the uuv craft's hull radius
+ROUTE_SEGMENTS = 8
+
+
+@dataclass(frozen=True)
+class SubmarineWakeParams:
+    """Parameters of SubmarineWake-v0 (``gym.make(id, **kwargs)`` overrides any of them).
+
+    Ranges are (low, high) pairs drawn uniformly per episode. Offsets are in the lead's
+    frame (x forward from its center, y to port, z up); its hull spans x in [-20, 20] m.
+    """
+
+    # rk2 at 1/20 s: 0.8 times the force evaluations of symplectic Euler at 1/50 s and more
+    # accurate (docs/study.md, Reading)
+    dt: float = 1.0 / 20.0  # physics step (s)
+    substeps: int = 2  # physics steps per action: 10 actions per second
+    integrator: str = "rk2"
+    dtype: str = "float64"  # physics precision; observations are float32
+    max_episode_steps: int = 600  # 60 s
+    # the lead submarine's scripted route
+    lead_depth_m: tuple = (25.0, 40.0)
+    lead_speed_mps: tuple = (1.2, 2.2)  # each route segment's cruising speed
+    lead_turn_deg_s: tuple = (-1.5, 1.5)  # each segment's turn rate (+ left)
+    straight_fraction: float = 0.4  # share of segments run straight
+    segment_s: tuple = (10.0, 25.0)  # segment durations
+    route_lag_s: float = 5.0  # time constant of the lead's speed and turn-rate changes
+    floor_depth_m: float = 55.0  # the flat sea floor
+    # the station point and the start
+    station_behind_m: tuple = (-32.0, -24.0)  # station x (the stern is at -20)
+    station_side_m: tuple = (1.0, 4.0)  # |station y|, to port or starboard at random
+    station_up_m: tuple = (-2.0, 2.0)  # station z
+    start_error_m: float = 4.0  # start this far from the station point at most, each axis
+    start_heading_deg: float = 10.0  # and this far off the lead's heading at most
+    # the wake
+    wake: bool = True
+    screws: int = 2
+    circulation: float = 1.0  # vortex strength / (speed x hull radius)
+    noise: float = 0.15  # turbulence amplitude / speed
+    # dipoles carrying the hull's displacement flow: 8 are within 0.5% of the speed of the
+    # exact flow from two hull radii out, where the station lies; 24 resolve it down to the
+    # hull at three times the cost (tests/physics/test_wake.py)
+    wake_dipoles: int = 8
+    # ending and scoring
+    lost_distance_m: float = 30.0  # this far from the station point, the lead is lost
+    success_radius_m: float = 3.0
+    success_fraction: float = 0.8  # of the steps on station, for a successful episode
+    station_scale_m: float = 3.0
+    w_station: float = 1.0  # per step, times exp(-distance / station_scale_m)
+    w_effort: float = 0.05  # per step, times the mean squared action
+    w_crash: float = 100.0  # hitting the hull or the floor, losing the lead, diverging
+
+    def __post_init__(self) -> None:
+        own = "SubmarineWake-v0"
+        check_number(own, "dt", self.dt, 1e-5, 0.5)
+        check_number(own, "substeps", self.substeps, 1, 1000, integer=True)
+        check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
+        check_choice(own, "dtype", self.dtype, ("float32", "float64"))
+        check_number(own, "max_episode_steps", self.max_episode_steps, 1, integer=True)
+        for key, lo, hi in (
+            ("lead_depth_m", 5.0, 1000.0),
+            ("lead_speed_mps", 0.0, 5.0),
+            ("lead_turn_deg_s", -10.0, 10.0),
+            ("segment_s", 1.0, 1e4),
+            ("station_behind_m", -200.0, 200.0),
+            ("station_side_m", 0.0, 100.0),
+            ("station_up_m", -100.0, 100.0),
+        ):
+            object.__setattr__(self, key, check_range(own, key, getattr(self, key), lo, hi))
+        check_number(own, "straight_fraction", self.straight_fraction, 0.0, 1.0)
+        for key in ("route_lag_s", "floor_depth_m", "lost_distance_m", "station_scale_m"):
+            check_number(own, key, getattr(self, key), 1e-6)
+        for key in ("start_error_m", "start_heading_deg", "success_radius_m"):
+            check_number(own, key, getattr(self, key), 0.0)
+        check_number(own, "success_fraction", self.success_fraction, 0.0, 1.0)
+        check_choice(own, "wake", self.wake, (True, False))
+        check_number(own, "screws", self.screws, 1, 2, integer=True)
+        check_number(own, "circulation", self.circulation, 0.0, 10.0)
+        check_number(own, "noise", self.noise, 0.0, 10.0)
+        check_number(own, "wake_dipoles", self.wake_dipoles, 1, 32, integer=True)
+        for key in ("w_station", "w_effort", "w_crash"):
+            check_number(own, key, getattr(self, key), 0.0)
+        if self.floor_depth_m <= self.lead_depth_m[1] + LEAD_RADIUS_M:
+            raise ValueError(
+                f"{own}: floor_depth_m ({self.floor_depth_m}) must be below the deepest lead "
+                f"({self.lead_depth_m[1]} m) plus its radius ({LEAD_RADIUS_M} m)"
+            )
+
+    def wake_field(self) -> WakeField:
+        """The lead's WakeField with these parameters."""
+        return WakeField(
+            length_m=LEAD_LENGTH_M,
+            radius_m=LEAD_RADIUS_M,
+            screws=int(self.screws),
+            circulation=float(self.circulation),
+            noise=float(self.noise),
+            dipoles=int(self.wake_dipoles),
+        )
+
+
+class SubmarineWakeVectorEnv(FluidVectorEnv):
+    """SubmarineWake-v0 for N scenes at once, stepped by one compiled call; the task, spaces
+    and rewards are documented on :class:`SubmarineWakeEnv`.
+
+    Examples:
+        >>> import gymnasium as gym
+        >>> import numpy as np
+        >>> import fluidsim_envs
+        >>> envs = gym.make_vec("fluidsim/SubmarineWake-v0", num_envs=4,
+        ...                     vectorization_mode="vector_entry_point")
+        >>> obs, info = envs.reset(seed=0)
+        >>> obs.shape
+        (4, 22)
+        >>> obs, reward, terminated, truncated, info = envs.step(np.zeros((4, 3)))
+        >>> sorted(info["reward_terms"])
+        ['crash', 'effort', 'station']
+    """
+
+    Params = SubmarineWakeParams
+    View = SubmarineWakeView
+    obs_dim = len(OBSERVATION)
+    reward_terms = REWARD_TERMS
+    action_names = ("thrust", "rudder", "dive_planes")
+
+    def _build(self) -> None:
+        p = self.params
+        E = self.num_envs
+        self.craft = Craft.load("uuv")
+        self.lead_craft = Craft.load("submarine")
+        self.wake = p.wake_field()
+        self.sim = Simulator(
+            self.craft,
+            World(water=True),
+            num_envs=E,
+            dt=p.dt,
+            integrator=p.integrator,
+            dtype=p.dtype,
+            wake=self.wake if p.wake else None,
+        )
+        self._wprm = self.wake.params() if p.wake else np.zeros_like(self.wake.params())
+        self.lead = np.zeros((TK.NLEAD, E))
+        # segment end time, speed, turn rate; the route repeats after its last segment (a fixed
+        # count, so that an episode's draws do not depend on the time limit)
+        self.route = np.zeros((E, ROUTE_SEGMENTS, 3))
+        self.station = np.zeros((E, 3))  # station offset in the lead's frame
+        self.noise_offset = np.zeros((E, 3))
+        # the wake's source rows: the Simulator's own when it has the wake, so the kernel
+        # reads what lead_source writes
+        self._src = self.sim.wake_source_rows() if p.wake else np.zeros((WAKE_SOURCE_ROWS, E))
+        self._cfg = np.array([self._cfg_value(name) for name in TK.CFG_FIELDS], dtype=np.float64)
+        self._terms = np.zeros((len(REWARD_TERMS), E))
+        self._flags = np.zeros((TK.NFLAGS, E), dtype=bool)
+        self._distance = np.zeros(E)
+        self._on_station = np.zeros(E, dtype=np.int64)
+
+    def _cfg_value(self, name: str) -> float:
+        derived = {
+            "hull_length_m": LEAD_LENGTH_M,
+            "hull_radius_m": LEAD_RADIUS_M,
+            "vehicle_half_length_m": max(abs(s.offset_m[0]) for s in self.craft.plates),
+            "vehicle_radius_m": UUV_RADIUS_M,
+            "sensor_x_m": max(s.offset_m[0] for s in self.craft.plates),
+        }
+        return derived[name] if name in derived else float(getattr(self.params, name))
+
+    # ---- episode start --------------------------------------------------------------------
+
+    def _draw_reset(self, ids, rngs) -> None:
+        p = self.params
+        S = self.route.shape[1]
+        n_u = 14 + 4 * S
+        u = np.array([g.random(n_u) for g in rngs]).reshape(len(ids), n_u)
+
+        def span(x, lo_hi):
+            return lo_hi[0] + x * (lo_hi[1] - lo_hi[0])
+
+        heading = 2 * np.pi * u[:, 0]
+        speed = span(u[:, 1], p.lead_speed_mps)
+        depth = span(u[:, 2], p.lead_depth_m)
+        side = np.where(u[:, 3] < 0.5, 1.0, -1.0) * span(u[:, 4], p.station_side_m)
+        station = np.stack(
+            [span(u[:, 5], p.station_behind_m), side, span(u[:, 6], p.station_up_m)], axis=1
+        )
+        # the route: segments of random duration, speed and turn (some straight)
+        seg = u[:, 14:].reshape(len(ids), S, 4)
+        ends = np.cumsum(span(seg[..., 0], p.segment_s), axis=1)
+        turn = np.radians(span(seg[..., 2], p.lead_turn_deg_s))
+        turn = np.where(seg[..., 3] < p.straight_fraction, 0.0, turn)
+        self.route[ids] = np.stack([ends, span(seg[..., 1], p.lead_speed_mps), turn], axis=2)
+        self.route[ids, 0, 1] = speed  # the first segment keeps the starting speed
+
+        lead = self.lead
+        lead[:, ids] = 0.0
+        lead[TK.L_Z, ids] = -depth
+        lead[TK.L_HEADING, ids] = heading
+        lead[TK.L_SPEED, ids] = speed
+        lead[TK.L_TURN, ids] = self.route[ids, 0, 2]
+        self.station[ids] = station
+        self.noise_offset[ids] = 1000.0 * u[:, 7:10]
+
+        # the vehicle: near the station point, roughly on the lead's heading, at its speed
+        err = 2 * u[:, 10:14] - 1
+        c, s = np.cos(heading), np.sin(heading)
+        ox, oy = station[:, 0], station[:, 1]
+        spot = (
+            np.stack([c * ox - s * oy, s * ox + c * oy, station[:, 2] - depth], axis=1)
+            + p.start_error_m * err[:, :3]
+        )
+        yaw = heading + np.radians(p.start_heading_deg) * err[:, 3]
+        quat = np.stack([np.cos(yaw / 2), 0 * yaw, 0 * yaw, np.sin(yaw / 2)], axis=1)
+        vel = np.stack([speed * c, speed * s, 0 * speed], axis=1)
+        self.sim.reset(pos=spot[:, None], quat=quat[:, None], lin_vel=vel[:, None], env_ids=ids)
+        self._on_station[ids] = 0
+        self._distance[ids] = np.linalg.norm(
+            spot - np.stack([c * ox - s * oy, s * ox + c * oy, station[:, 2] - depth], 1), axis=1
+        )
+        TK.lead_source(self.lead, self.noise_offset, self._src)
+
+    # ---- step -----------------------------------------------------------------------------
+
+    def _advance(self, actions):
+        p = self.params
+        TK.lead_source(self.lead, self.noise_offset, self._src)  # the kernel moves it on
+        self.sim.step(actions, steps=p.substeps)
+        TK.advance_lead(self.lead, self.route, p.dt * p.substeps, p.route_lag_s)
+        TK.lead_source(self.lead, self.noise_offset, self._src)
+        diverged = self.sim.diverged.copy()
+        st, _, _ = self.sim.kernel_arrays()
+        TK.score(
+            st,
+            diverged,
+            self.lead,
+            self.station,
+            actions,
+            self._cfg,
+            self._terms,
+            self._flags,
+            self._distance,
+        )
+        flags = self._flags.copy()
+        self._on_station += flags[TK.F_ON_STATION]
+        crashed = flags[TK.F_HULL] | flags[TK.F_FLOOR] | flags[TK.F_LOST]
+        fraction = self._on_station / (self._elapsed + 1)
+        info = {
+            "station_distance_m": self._distance.copy(),
+            "hit_hull": flags[TK.F_HULL],
+            "hit_floor": flags[TK.F_FLOOR],
+            "lost_lead": flags[TK.F_LOST],
+            "on_station": flags[TK.F_ON_STATION],
+            "on_station_fraction": fraction,
+            # so far: at the episode's end (a crash, or either time limit) it is the verdict
+            "success": ~crashed & ~diverged & (fraction >= p.success_fraction),
+        }
+        return crashed, diverged, self._terms.copy(), info
+
+    # ---- observation ----------------------------------------------------------------------
+
+    def _observe(self, out) -> None:
+        st, _, body = self.sim.kernel_arrays()
+        TK.observe(st, body, self.lead, self.station, self._src, self._wprm, self._cfg, out)
+
+    # ---- what viewers read -----------------------------------------------------------------
+
+    def lead_pose(self, env_index: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The lead submarine's position [3], quaternion [4] (w, x, y, z; level, turned to its
+        heading) and velocity [3] in sub-env ``env_index`` (new arrays; the lead is
+        scripted, not a simulated body)."""
+        lead = self.lead[:, env_index]
+        h, speed = float(lead[TK.L_HEADING]), float(lead[TK.L_SPEED])
+        pos = np.array([lead[TK.L_X], lead[TK.L_Y], lead[TK.L_Z]])
+        quat = np.array([math.cos(h / 2), 0.0, 0.0, math.sin(h / 2)])
+        vel = np.array([speed * math.cos(h), speed * math.sin(h), 0.0])
+        return pos, quat, vel
+
+    def lead_heading(self, env_index: int) -> float:
+        """The lead's heading in sub-env ``env_index`` (rad, from world x toward y)."""
+        return float(self.lead[TK.L_HEADING, env_index])
+
+    def station_point(self, env_index: int) -> np.ndarray:
+        """The station point of sub-env ``env_index`` in the world [3] (m)."""
+        pos, _, _ = self.lead_pose(env_index)
+        h = self.lead_heading(env_index)
+        c, s = math.cos(h), math.sin(h)
+        sx, sy, sz = self.station[env_index]
+        return pos + np.array([c * sx - s * sy, s * sx + c * sy, sz])
+
+
+class SubmarineWakeEnv(FluidEnv):
+    """A small UUV must hold station behind and beside a cruising submarine, in its wake.
+
+    ## Description
+
+    The lead is the shipped craft ``submarine`` (40 m, 773 t, twin screws), driven along a
+    scripted route: level cruise at a constant depth above a flat sea floor, in segments of
+    random length, each with its own speed and turn rate, changed smoothly. Its wake is a
+    :class:`~fluidsim_envs.physics.WakeField`: water pushed aside by the hull, a
+    counter-rotating vortex pair from the screws, and turbulence behind, all scaled with its
+    speed. The agent flies the shipped ``uuv`` (2.4 m, 172 kg, slightly positive, a
+    propeller, all-moving rudder and dive planes) whose fluid samples feel the wake at their
+    own points: it is pushed, rolled and pitched by it. It must stay at a station point set
+    behind and beside the lead without hitting the hull or the floor.
+
+    ## Action Space
+
+    ``Box(-1, 1, (3,), float32)``: thrust (-1: 60 N astern, +1: 120 N ahead; 0 gives 30 N),
+    rudder (+ turns the nose right), dive planes (+ pitches the nose up), each fin up to 25
+    degrees. Values beyond [-1, 1] saturate at the limit; NaN or a wrong shape is an error.
+
+    ## Observation Space
+
+    ``Box(-inf, inf, (22,), float32)``, SI units, body frame x forward, y left, z up:
+
+    | Index | Name | Unit | Description |
+    |-------|------|------|-------------|
+    | 0-2 | u, v, w | m/s | velocity over the ground in the body frame |
+    | 3-5 | p, q, r | rad/s | body rates: p + right side down, q + nose down, r + nose left |
+    | 6-8 | gx, gy, gz | 1 | unit gravity direction in the body frame |
+    | 9 | depth | m | depth of the center below the surface |
+    | 10 | altitude | m | height of the center above the sea floor |
+    | 11-13 | station_x, _y, _z | m | station point relative to the vehicle, body frame |
+    | 14-16 | flow_x, _y, _z | m/s | water velocity (the wake) at the nose sensor, body frame |
+    | 17-19 | station_vx, _vy, _vz | m/s | station point's velocity relative to the vehicle |
+    | 20-21 | heading_sin, _cos | 1 | sine and cosine of the lead's heading minus the vehicle's |
+
+    ## Rewards
+
+    The reward is the sum of named terms, each reported per step in
+    ``info["reward_terms"]`` and summed per episode in ``info["episode_terms"]`` at its end:
+
+    - ``station``: ``w_station * exp(-distance / station_scale_m)`` every step (1 on the
+      station point, 0.37 at 3 m);
+    - ``effort``: ``-w_effort`` x the mean squared action, every step;
+    - ``crash``: ``-w_crash`` on hitting the hull or the floor, losing the lead, or a
+      diverged state.
+
+    ## Starting State
+
+    The lead starts at the origin's vertical at a depth in ``lead_depth_m``, heading in a
+    uniformly random direction at a speed in ``lead_speed_mps``. The station point is at
+    x in ``station_behind_m`` (the stern is at -20 m), 1-4 m to port or starboard
+    (``station_side_m``) and z in ``station_up_m`` in the lead's frame. The vehicle starts
+    within ``start_error_m`` of it on each axis, within ``start_heading_deg`` of the lead's
+    heading, level, at the lead's velocity. The turbulence is shifted by a random offset.
+
+    ## Episode End
+
+    Terminated: the vehicle's nose, center or tail within its radius of the lead's hull
+    (``info["hit_hull"]``) or of the floor (``info["hit_floor"]``); farther than
+    ``lost_distance_m`` from the station point (``info["lost_lead"]``); a non-finite physics
+    state (``info["physics_diverged"]``; the observation is then the last finite one).
+    Truncated: ``max_episode_steps`` actions. ``info["success"]`` at the last step marks an
+    episode that ended without a crash, having spent ``success_fraction`` of its steps within
+    ``success_radius_m`` of the station point (``info["on_station_fraction"]``).
+
+    ## Arguments
+
+    ``gym.make("fluidsim/SubmarineWake-v0", **kwargs)`` and ``gym.make_vec(...,
+    vectorization_mode="vector_entry_point", **kwargs)`` accept ``render_mode``
+    (``"rgb_array"``) and every field of :class:`SubmarineWakeParams` (physics ``dt``,
+    ``substeps``, ``integrator``, ``dtype``; the lead's route; the station; the wake:
+    ``wake`` on or off, ``screws``, ``circulation``, ``noise``; limits and reward weights);
+    an unknown key is an error listing the valid ones.
+
+    ## Version History
+
+    - v0: first version.
+
+    Examples:
+        >>> import gymnasium as gym
+        >>> import fluidsim_envs
+        >>> env = gym.make("fluidsim/SubmarineWake-v0")
+        >>> obs, info = env.reset(seed=0)
+        >>> obs.shape
+        (22,)
+        >>> obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+    """
+
+    vector_cls = SubmarineWakeVectorEnv
+
+
+__all__ = ["OBSERVATION", "SubmarineWakeEnv", "SubmarineWakeParams", "SubmarineWakeVectorEnv"]
