@@ -70,7 +70,7 @@ def run(env_id: str, path, watch=None, **kwargs) -> tuple[dict, list[dict]]:
         else:
             _, reward, _, _, info = logger.step(rng.uniform(-1, 1, (E, 3)))
         # the controls the logger used are the Simulator's now (its sample_forces set them)
-        controls = env.sim._ctrl.T.copy()
+        controls = env.sim.controls.copy()
         points, forces, _ = env.sim.sample_forces(controls, env_index=LOGGED)
         seen.append(
             {
