@@ -35,7 +35,7 @@ pilots: $(STAMP)
 	$(BIN)/python -m fluidsim_envs.demo
 
 bench: $(STAMP)
-	$(BIN)/python benchmarks/bench_kernel.py
+	$(BIN)/python -m benchmarks.bench_kernel
 
 clean:
 	rm -rf $(VENV) .pytest_cache build *.egg-info
