@@ -6,10 +6,10 @@ STAMP := $(VENV)/.installed
 
 .PHONY: setup test lint demo pilots bench clean
 
-$(STAMP): pyproject.toml
+$(STAMP): pyproject.toml constraints.txt
 	$(PY) -m venv $(VENV)
 	$(BIN)/pip install --quiet --upgrade pip
-	$(BIN)/pip install --quiet -e ".[dev]"
+	$(BIN)/pip install --quiet -c constraints.txt -e ".[dev]"
 	touch $(STAMP)
 
 setup: $(STAMP)
@@ -35,7 +35,7 @@ pilots: $(STAMP)
 	$(BIN)/python -m fluidsim_envs.demo
 
 bench: $(STAMP)
-	$(BIN)/python benchmarks/bench_kernel.py
+	$(BIN)/python -m benchmarks.bench_kernel
 
 clean:
 	rm -rf $(VENV) .pytest_cache build *.egg-info

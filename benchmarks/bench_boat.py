@@ -10,20 +10,16 @@ group is the time it adds to a body-step over the variant without it.
 
 Writes ``docs/bench_boat.csv`` (machine in ``#`` lines).
 
-    python benchmarks/bench_boat.py [--quick]
+    python -m benchmarks.bench_boat [--quick]
 """
 
 from __future__ import annotations
 
-import argparse
-import csv
-import time
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
-from machine import describe
 
+from benchmarks.common import arguments, best_of, describe, sized, write_csv
 from fluidsim_envs.physics import Craft, Simulator, World
 
 NUM_ENVS = 4096
@@ -53,30 +49,24 @@ def rate(craft: Craft, seconds: float, repeats: int, world: World | None = None)
     controls = np.zeros((NUM_ENVS, len(sim.control_names)))
     controls[:, 0] = 0.1
     controls[:, 2] = -1.0
-    sim.reset(pos=(0.0, 0.0, 0.3), lin_vel=(15.0, 0.0, 0.0))
-    sim.step(controls)  # compile / warm
-    t0 = time.perf_counter()
-    sim.step(controls, steps=4)
-    steps = max(1, int(seconds / max(time.perf_counter() - t0, 1e-6) * 4))
-    best = 0.0
-    for _ in range(repeats):
+
+    def reset():
         sim.reset(pos=(0.0, 0.0, 0.3), lin_vel=(15.0, 0.0, 0.0))
-        t0 = time.perf_counter()
-        sim.step(controls, steps=steps)
-        best = max(best, NUM_ENVS * steps / (time.perf_counter() - t0))
-    return best
+
+    reset()
+    sim.step(controls)  # compile / warm
+    steps = sized(lambda n: sim.step(controls, steps=n), seconds, probe=4)
+    best = best_of(lambda: sim.step(controls, steps=steps), repeats, reset, warmup=False)
+    return NUM_ENVS * steps / best
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true", help="shorter, noisier runs")
+    parser = arguments(__doc__, "shorter, noisier runs", "bench_boat.csv")
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--out", default=str(Path(__file__).parents[1] / "docs/bench_boat.csv"))
     args = parser.parse_args()
     seconds, repeats = (0.1, 1) if args.quick else (0.3, args.repeats)
 
     machine = describe()
-    print("\n".join(machine))
     craft = Craft.load("speedboat")
     rows = []
     for label, c in variants(craft).items():
@@ -97,15 +87,16 @@ def main() -> None:
         shares[group] = (full - 1e9 / r) / full
         print(f"  {group:24s} {100 * shares[group]:5.1f}%")
 
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with out.open("w", newline="") as f:
-        f.write("".join(f"# {line}\n" for line in machine))
-        w = csv.writer(f)
-        w.writerow(("variant", "samples", "body_steps_per_s", "ns_per_body_step", "share_of_full"))
-        for label, n, r in rows:
-            share = shares.get(label.removeprefix("without "), float("nan"))
-            w.writerow((label, n, f"{r:.1f}", f"{1e9 / r:.1f}", f"{share:.4f}"))
+    out = write_csv(
+        args.out,
+        ("variant", "samples", "body_steps_per_s", "ns_per_body_step", "share_of_full"),
+        [
+            (label, n, f"{r:.1f}", f"{1e9 / r:.1f}", f"{share:.4f}")
+            for label, n, r in rows
+            for share in [shares.get(label.removeprefix("without "), float("nan"))]
+        ],
+        machine,
+    )
     print(f"\nwrote {out}")
 
 

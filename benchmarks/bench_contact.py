@@ -15,19 +15,14 @@ time a contact-resolving body-step takes over a free one.
 
 Writes ``docs/bench_contact.csv`` (machine in ``#`` lines).
 
-    python benchmarks/bench_contact.py [--quick]
+    python -m benchmarks.bench_contact [--quick]
 """
 
 from __future__ import annotations
 
-import argparse
-import csv
-import time
-from pathlib import Path
-
 import numpy as np
-from machine import describe
 
+from benchmarks.common import arguments, best_of, describe, sized, write_csv
 from fluidsim_envs.physics import Craft, Ground, Shape, Simulator, World
 
 NUM_ENVS = 4096
@@ -91,28 +86,18 @@ def rate(crafts, world, start, seconds: float, repeats: int) -> float:
     sim.reset(pos=np.asarray(start)[None])
     sim.step(steps=240)  # compile, settle
     state = [np.array(a) for a in (sim.pos, sim.quat, sim.lin_vel, sim.ang_vel)]
-    t0 = time.perf_counter()
-    sim.step(steps=4)
-    steps = max(1, int(seconds / max(time.perf_counter() - t0, 1e-6) * 4))
-    best = 0.0
-    for _ in range(repeats):
-        sim.reset(*state)
-        t0 = time.perf_counter()
-        sim.step(steps=steps)
-        best = max(best, NUM_ENVS * len(crafts) * steps / (time.perf_counter() - t0))
-    return best
+    steps = sized(lambda n: sim.step(steps=n), seconds, probe=4)
+    best = best_of(lambda: sim.step(steps=steps), repeats, lambda: sim.reset(*state), warmup=False)
+    return NUM_ENVS * len(crafts) * steps / best
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true", help="shorter, noisier runs")
+    parser = arguments(__doc__, "shorter, noisier runs", "bench_contact.csv")
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--out", default=str(Path(__file__).parents[1] / "docs/bench_contact.csv"))
     args = parser.parse_args()
     seconds, repeats = (0.1, 1) if args.quick else (0.3, args.repeats)
 
     machine = describe()
-    print("\n".join(machine))
     rows = []
     free = None
     for label, (crafts, world, start, kind) in scenes().items():
@@ -122,14 +107,12 @@ def main() -> None:
         extra = ns - free
         rows.append((label, len(crafts), r, ns, extra))
         print(f"{label:32s} B={len(crafts)} {r:14,.0f} body-steps/s {ns:7.0f} ns (+{extra:.0f})")
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with out.open("w", newline="") as f:
-        f.write("".join(f"# {line}\n" for line in machine))
-        w = csv.writer(f)
-        w.writerow(("scene", "bodies", "body_steps_per_s", "ns_per_body_step", "ns_over_free"))
-        for label, b, r, ns, extra in rows:
-            w.writerow((label, b, f"{r:.1f}", f"{ns:.1f}", f"{extra:.1f}"))
+    out = write_csv(
+        args.out,
+        ("scene", "bodies", "body_steps_per_s", "ns_per_body_step", "ns_over_free"),
+        [(label, b, f"{r:.1f}", f"{ns:.1f}", f"{extra:.1f}") for label, b, r, ns, extra in rows],
+        machine,
+    )
     print(f"\nwrote {out}")
 
 

@@ -11,21 +11,16 @@ empty env (four numbers of state), so its rate is the ceiling of the Gymnasium A
 Writes ``docs/bench_envs.csv`` (machine in ``#`` lines) and prints a table with our rate over
 CartPole's at each num_envs.
 
-    python benchmarks/bench_envs.py [--quick]
+    python -m benchmarks.bench_envs [--quick]
 """
 
 from __future__ import annotations
 
-import argparse
-import csv
-import time
-from pathlib import Path
-
 import gymnasium as gym
 import numpy as np
-from machine import describe
 
 import fluidsim_envs  # noqa: F401  (registers the envs)
+from benchmarks.common import arguments, describe, rate_over, write_csv
 
 ENVS = ("fluidsim/PaperAirplane-v0", "fluidsim/SubmarineWake-v0", "fluidsim/BoatOnStep-v0")
 SWELL = ((0.3, 30.0, 45.0), (0.15, 12.0, -60.0))
@@ -84,47 +79,49 @@ def vector_rate(
         venv.unwrapped._frame(0)
     for a in acts:  # warm-up: compile, caches
         venv.step(a)
-    best = 0.0
-    for _ in range(repeats):
-        steps, t0 = 0, time.perf_counter()
-        while (elapsed := time.perf_counter() - t0) < seconds:
-            for a in acts:
-                venv.step(a)
-            steps += len(acts)
-        best = max(best, steps * num_envs / elapsed)
+    best = max(rate_over(stepping(venv, acts), seconds) for _ in range(repeats))
     venv.close()
     return best
+
+
+def stepping(venv, acts: list):
+    """A run for ``rate_over``: the actions one after the other on a vector env (which resets
+    its ended sub-envs itself); returns the env-steps done."""
+    work = len(acts) * venv.num_envs
+
+    def run() -> int:
+        for a in acts:
+            venv.step(a)
+        return work
+
+    return run
 
 
 def single_rate(env_id: str, seconds: float, repeats: int) -> float:
     env = gym.make(env_id)
     acts = actions_for(env.action_space, 64, np.random.default_rng(0))
     env.reset(seed=0)
-    best = 0.0
-    for _ in range(repeats):
-        steps, t0 = 0, time.perf_counter()
-        while (elapsed := time.perf_counter() - t0) < seconds:
-            for a in acts:
-                _, _, term, trunc, _ = env.step(a)
-                if term or trunc:
-                    env.reset()
-            steps += len(acts)
-        best = max(best, steps / elapsed)
+
+    def run() -> int:
+        for a in acts:
+            _, _, term, trunc, _ = env.step(a)
+            if term or trunc:
+                env.reset()
+        return len(acts)
+
+    best = max(rate_over(run, seconds) for _ in range(repeats))
     env.close()
     return best
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true", help="shorter, noisier runs")
+    parser = arguments(__doc__, "shorter, noisier runs", "bench_envs.csv")
     parser.add_argument("--seconds", type=float, default=1.0)
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--out", default=str(Path(__file__).parents[1] / "docs/bench_envs.csv"))
     args = parser.parse_args()
     seconds, repeats = (0.3, 1) if args.quick else (args.seconds, args.repeats)
 
     machine = describe()
-    print("\n".join(machine))
     rows = []
     for env_id in (*ENVS, PEER):
         rate = single_rate(env_id, seconds, repeats)
@@ -147,15 +144,16 @@ def main() -> None:
         if env_id != PEER and (kind, n) in peer:
             print(f"{env_id:28s} {kind:6s} {n:6d}  x{r / peer[(kind, n)]:.3f}")
 
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with out.open("w", newline="") as f:
-        f.write("".join(f"# {line}\n" for line in machine))
-        w = csv.writer(f)
-        w.writerow(("env", "kind", "num_envs", "env_steps_per_s", "ratio_to_cartpole"))
-        for env_id, kind, n, r in rows:
-            ratio = r / peer[(kind, n)] if (kind, n) in peer else float("nan")
-            w.writerow((env_id, kind, n, f"{r:.1f}", f"{ratio:.4f}"))
+    out = write_csv(
+        args.out,
+        ("env", "kind", "num_envs", "env_steps_per_s", "ratio_to_cartpole"),
+        [
+            (env_id, kind, n, f"{r:.1f}", f"{ratio:.4f}")
+            for env_id, kind, n, r in rows
+            for ratio in [r / peer[(kind, n)] if (kind, n) in peer else float("nan")]
+        ],
+        machine,
+    )
     print(f"\nwrote {out}")
 
 

@@ -20,25 +20,22 @@ Measures, and prints as a table and writes as CSV (``--out``):
 The machine (CPU, core count, numba and numpy versions, threading layer, load average) is
 printed first and written as ``#`` comment lines at the top of the CSV.
 
-Run it with ``python benchmarks/bench_kernel.py`` (or ``make bench``); ``--quick`` gives a
+Run it with ``python -m benchmarks.bench_kernel`` (or ``make bench``); ``--quick`` gives a
 shorter, noisier run. Timings are disturbed by anything else running on the machine.
 """
 
 from __future__ import annotations
 
-import argparse
-import csv
 import os
 import subprocess
 import sys
 import tempfile
 import time
-from pathlib import Path
 
 import numba
 import numpy as np
-from machine import describe
 
+from benchmarks.common import Table, arguments, describe, timed, write_csv
 from fluidsim_envs.physics import INTEGRATORS, Craft, Simulator, World
 
 CRAFT = "paper_airplane"
@@ -85,10 +82,11 @@ def make_sim(
 
 def timed_call(sim: Simulator, controls: np.ndarray, steps: int) -> float:
     """Seconds for one ``sim.step(controls, steps)`` from a fresh gliding state."""
-    sim.reset(pos=(0.0, 0.0, 10.0), lin_vel=(6.0, 0.0, 0.0))
-    t0 = time.perf_counter()
-    sim.step(controls, steps=steps)
-    return time.perf_counter() - t0
+
+    def glide():
+        sim.reset(pos=(0.0, 0.0, 10.0), lin_vel=(6.0, 0.0, 0.0))
+
+    return timed(lambda: sim.step(controls, steps=steps), setup=glide)
 
 
 def body_steps_per_s(sim: Simulator, controls: np.ndarray, target_s: float, repeats: int) -> float:
@@ -111,7 +109,7 @@ def call_overhead_us(calls: int) -> float:
     sim.reset(pos=(0.0, 0.0, 10.0), lin_vel=(6.0, 0.0, 0.0))
     sim.step(controls)
     times = np.empty(calls)
-    for i in range(calls):
+    for i in range(calls):  # timed inline: a helper's extra call would show at this scale
         t0 = time.perf_counter_ns()
         sim.step(controls, steps=1)
         times[i] = time.perf_counter_ns() - t0
@@ -128,34 +126,13 @@ def first_step_seconds(cache_dir: str) -> float:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="shorter, noisier measurements")
-    parser.add_argument(
-        "--out",
-        type=Path,
-        default=Path("docs/bench_kernel.csv"),
-        help="CSV file to write (default: %(default)s)",
-    )
+    parser = arguments(__doc__, "shorter, noisier measurements", "bench_kernel.csv")
     args = parser.parse_args()
     target_s, repeats, calls = (0.05, 3, 2000) if args.quick else (0.3, 5, 20000)
 
     info = describe()
-    print("\n".join(info), end="\n\n")
-    rows: list[tuple] = []
-
-    def record(section, dtype, integrator, num_envs, threads, kernel, value, unit):
-        rows.append((section, dtype, integrator, num_envs, threads, kernel, value, unit))
-        shown = f"{value:,.0f}" if value >= 1000 else f"{value:.3f}"
-        print(
-            f"{section:<15}{dtype:<9}{integrator:<18}{num_envs:>7}{threads:>9}  {kernel:<10}"
-            f"{shown:>15} {unit}",
-            flush=True,
-        )
-
-    print(
-        f"{'section':<15}{'dtype':<9}{'integrator':<18}{'E':>7}{'threads':>9}  {'kernel':<10}"
-        f"{'value':>15} unit"
-    )
+    table = Table(COLUMNS, (14, 8, 17, -6, -8, 9, -15, 1))
+    record = table.add
     for dtype in DTYPES:
         for num_envs in NUM_ENVS:
             for kernel, threads in KERNELS:
@@ -212,13 +189,7 @@ def main() -> None:
                 "s",
             )
 
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    with args.out.open("w", newline="") as f:
-        f.writelines(f"# {line}\n" for line in info)
-        writer = csv.writer(f)
-        writer.writerow(COLUMNS)
-        writer.writerows(rows)
-    print(f"\nwrote {args.out}")
+    print(f"\nwrote {write_csv(args.out, COLUMNS, table.rows, info)}")
 
 
 if __name__ == "__main__":

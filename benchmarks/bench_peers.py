@@ -30,9 +30,9 @@ Measured, in one process (the peers in child processes), and written to
 
 Rerun (the first line once per machine: it makes the peers' venv):
 
-    python benchmarks/bench_peers.py --setup      # python3 -m venv + pip install, pinned
-    python benchmarks/bench_peers.py [--quick]    # ~5 min (--quick: under 2)
-    python benchmarks/bench_peers.py --md-only    # rebuild the md and png from the CSV
+    python -m benchmarks.bench_peers --setup      # python3 -m venv + pip install, pinned
+    python -m benchmarks.bench_peers [--quick]    # ~5 min (--quick: under 2)
+    python -m benchmarks.bench_peers --md-only    # rebuild the md and png from the CSV
 
 Timings are disturbed by anything else running on the machine; everything compared is
 measured in the same run, and the ratios matter more than the absolute numbers.
@@ -40,8 +40,6 @@ measured in the same run, and the ratios matter more than the absolute numbers.
 
 from __future__ import annotations
 
-import argparse
-import csv
 import json
 import os
 import subprocess
@@ -51,19 +49,28 @@ from pathlib import Path
 import gymnasium as gym
 import numba
 import numpy as np
-from bench_envs import actions_for, single_rate
-from bench_kernel import DT as KERNEL_DT
-from bench_kernel import make_sim, timed_call
-from machine import describe
 from numba import njit, prange
 
 import fluidsim_envs  # noqa: F401  (registers the envs)
+from benchmarks.bench_envs import actions_for, single_rate, stepping
+from benchmarks.bench_kernel import DT as KERNEL_DT
+from benchmarks.bench_kernel import make_sim, timed_call
+from benchmarks.common import (
+    ROOT,
+    arguments,
+    describe,
+    interleaved_best,
+    rate_over,
+    read_csv,
+    sized,
+    timed,
+    write_csv,
+)
 from fluidsim_envs.envs.paper_airplane import PaperAirplaneParams
 from fluidsim_envs.physics import Craft, Ground, World
 from fluidsim_envs.physics.kernels import EVALS_PER_STEP
 
 HERE = Path(__file__).resolve().parent
-ROOT = HERE.parent
 PEERS_VENV = HERE / ".peers-venv"
 PEERS_PYTHON = PEERS_VENV / "bin" / "python"
 # what --setup installs: the two peers pinned, and the versions of what they need that this
@@ -202,20 +209,12 @@ def vector_rates(env_id: str, num_envs: int, threads, seconds: float, repeats: i
     venv.reset(seed=0)
     sim = getattr(venv.unwrapped, "sim", None)
     parallel = bool(sim is not None and sim.parallel)
+    run = stepping(venv, acts)
     for t in threads:  # warm-up: compile or load from the cache, start the threads
         numba.set_num_threads(t)
-        for a in acts:
-            venv.step(a)
-    best = dict.fromkeys(threads, 0.0)
-    for _ in range(repeats):
-        for t in threads:
-            numba.set_num_threads(t)
-            steps, t0 = 0, time.perf_counter()
-            while (elapsed := time.perf_counter() - t0) < seconds:
-                for a in acts:
-                    venv.step(a)
-                steps += len(acts)
-            best[t] = max(best[t], steps * num_envs / elapsed)
+        run()
+    rate = dict.fromkeys(threads, lambda: rate_over(run, seconds))
+    best = interleaved_best(rate, repeats, best=max, before=numba.set_num_threads)
     period = step_period(venv)
     venv.close()
     return {t: {"rate": r, "used": t if parallel else 1, "step_s": period} for t, r in best.items()}
@@ -258,14 +257,10 @@ def peak_and_kernel(target_s: float, repeats: int) -> list[dict]:
             x = np.ones((threads, CHAINS, LANES), dtype=dtype)
             m, c = x.dtype.type(0.999), x.dtype.type(0.001)  # a -> 1: stays finite
             fma(x, m, c, 1)  # compile
-            t0, reps = time.perf_counter(), 1000
-            fma(x, m, c, reps)
-            reps = max(1, int(reps * target_s / (time.perf_counter() - t0)))
+            reps = sized(lambda n, x=x, m=m, c=c: fma(x, m, c, n), target_s, probe=1000)
 
             def peak_call(x=x, m=m, c=c, reps=reps):
-                t0 = time.perf_counter()
-                fma(x, m, c, reps)
-                return time.perf_counter() - t0
+                return timed(lambda: fma(x, m, c, reps))
 
             work = FLOPS_PER_REP * reps * threads
             jobs.append(("peak", "fma", dtype, 0, threads, peak_call, work))
@@ -294,13 +289,13 @@ def peak_and_kernel(target_s: float, repeats: int) -> list[dict]:
             jobs.append(
                 ("kernel", "paper_airplane+floor", dtype, KERNEL_E, threads, floor_call, work)
             )
-    best = [np.inf] * len(jobs)
-    for _ in range(repeats):
-        for j, job in enumerate(jobs):
-            numba.set_num_threads(job[4])
-            best[j] = min(best[j], job[5]())
+    best = interleaved_best(
+        dict(enumerate(job[5] for job in jobs)),
+        repeats,
+        before=lambda j: numba.set_num_threads(jobs[j][4]),
+    )
     rows = []
-    for (section, subject, dtype, n, threads, _, work), t in zip(jobs, best, strict=True):
+    for (section, subject, dtype, n, threads, _, work), t in zip(jobs, best.values(), strict=True):
         unit = "flop/s" if section == "peak" else "body-steps/s"
         rows.append(
             dict(
@@ -346,25 +341,15 @@ def flops_per_body_step(craft_name: str = "paper_airplane") -> tuple[int, dict]:
 # the CSV, the chart and the md
 
 
-def write_csv(path: Path, machine: list[str], rows: list[dict]) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="") as f:
-        f.writelines(f"# {line}\n" for line in machine)
-        w = csv.DictWriter(f, fieldnames=COLUMNS)
-        w.writeheader()
-        for row in rows:
-            out = {k: row.get(k, "") for k in COLUMNS}
-            for k in ("value", "per_core", "sim_s_per_wall_s_per_core"):
-                if isinstance(out[k], float):
-                    out[k] = f"{out[k]:.6g}"
-            w.writerow(out)
-    print(f"wrote {path}")
+def cell(row: dict, k: str):
+    x = row.get(k, "")
+    if k in ("value", "per_core", "sim_s_per_wall_s_per_core") and isinstance(x, float):
+        return f"{x:.6g}"
+    return x
 
 
-def read_csv(path: Path) -> tuple[list[str], list[dict]]:
-    lines = path.read_text().splitlines()
-    machine = [ln[2:] for ln in lines if ln.startswith("# ")]
-    rows = list(csv.DictReader(ln for ln in lines if not ln.startswith("#")))
+def read_rows(path: Path) -> tuple[list[str], list[dict]]:
+    machine, rows = read_csv(path)
     for row in rows:
         for k in ("value", "per_core", "step_s", "sim_s_per_wall_s_per_core"):
             row[k] = float(row[k]) if row[k] not in ("", None) else None
@@ -450,7 +435,7 @@ def write_md(machine: list[str], rows: list[dict], path: Path, csv_name: str) ->
     L.append("## Throughput against peers")
     L.append("")
     L.append(
-        f"Written by `python benchmarks/bench_peers.py` (`--quick` for a shorter run); numbers "
+        f"Written by `python -m benchmarks.bench_peers` (`--quick` for a shorter run); numbers "
         f"from `docs/{csv_name}`, chart `docs/bench_peers.png`. One run on this machine (its "
         "load average at the start below: anything else running lowers the absolute rates, "
         "most the 2-thread rows); what is compared was measured side by side in that run."
@@ -742,18 +727,16 @@ def write_md(machine: list[str], rows: list[dict], path: Path, csv_name: str) ->
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="shorter, noisier runs")
+    parser = arguments(__doc__, "shorter, noisier runs", "bench_peers.csv")
     parser.add_argument("--setup", action="store_true", help="make the peers' venv and exit")
     parser.add_argument("--md-only", action="store_true", help="rebuild md and png from the CSV")
-    parser.add_argument("--out", type=Path, default=ROOT / "docs" / "bench_peers.csv")
     args = parser.parse_args()
     png, md = args.out.with_suffix(".png"), args.out.with_suffix(".md")
     if args.setup:
         setup()
         return
     if args.md_only:
-        machine, rows = read_csv(args.out)
+        machine, rows = read_rows(args.out)
         plot(rows, png)
         write_md(machine, rows, md, args.out.name)
         return
@@ -764,7 +747,6 @@ def main() -> None:
         seconds, repeats, peer_s, peer_rep, target_s, k_rep = 1.0, 5, 2.0, 5, 0.1, 30
     t_start = time.perf_counter()
     machine = describe()
-    print("\n".join(machine), flush=True)
     rows: list[dict] = []
 
     for env_id in (*OURS, CARTPOLE):
@@ -884,8 +866,9 @@ def main() -> None:
         )
     numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
 
-    write_csv(args.out, machine, rows)
-    machine, rows = read_csv(args.out)  # the md and the chart use the CSV's numbers only
+    write_csv(args.out, COLUMNS, [[cell(r, k) for k in COLUMNS] for r in rows], machine)
+    print(f"wrote {args.out}")
+    machine, rows = read_rows(args.out)  # the md and the chart use the CSV's numbers only
     plot(rows, png)
     write_md(machine, rows, md, args.out.name)
     print(f"total {time.perf_counter() - t_start:.0f} s")

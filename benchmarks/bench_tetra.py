@@ -8,18 +8,17 @@ tumbling's phase. World angular momentum is the state: all keep it to rounding.
 
 Writes ``docs/tetra_spin.csv`` and ``docs/tetra_spin.png`` (error against |w| dt, log-log).
 
-    python benchmarks/bench_tetra.py
+    python -m benchmarks.bench_tetra
 """
 
 from __future__ import annotations
 
-import csv
 import math
-from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from benchmarks.common import DOCS, write_csv
 from fluidsim_envs.physics import Craft, Simulator, World
 from fluidsim_envs.physics.kernels import quat_matrices
 
@@ -79,12 +78,12 @@ def main() -> None:
                 de, dl = run(integrator, switch, w0, dt)
                 rows.append((label, dt, spin, spin * dt, de, dl))
                 print(f"dt {dt:.4f} |w| dt {spin * dt:7.4f} {label:26s} dE {de:.2e} dL {dl:.2e}")
-    docs = Path(__file__).parents[1] / "docs"
-    with (docs / "tetra_spin.csv").open("w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(("method", "dt_s", "spin_rad_s", "spin_per_step_rad", "energy_err", "l_err"))
-        for r in rows:
-            w.writerow((r[0], f"{r[1]:.6g}", r[2], f"{r[3]:.6g}", f"{r[4]:.4e}", f"{r[5]:.4e}"))
+    docs = DOCS
+    write_csv(
+        docs / "tetra_spin.csv",
+        ("method", "dt_s", "spin_rad_s", "spin_per_step_rad", "energy_err", "l_err"),
+        [(r[0], f"{r[1]:.6g}", r[2], f"{r[3]:.6g}", f"{r[4]:.4e}", f"{r[5]:.4e}") for r in rows],
+    )
 
     import matplotlib
 

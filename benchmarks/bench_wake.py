@@ -18,22 +18,18 @@ Measures, and prints as a table and writes as CSV (``--out``):
 The machine (CPU, core count, numba and numpy versions, threading layer, load average) is
 printed first and written as ``#`` comment lines at the top of the CSV.
 
-Run it with ``python benchmarks/bench_wake.py``; ``--quick`` gives a shorter, noisier run.
+Run it with ``python -m benchmarks.bench_wake``; ``--quick`` gives a shorter, noisier run.
 Timings are disturbed by anything else running on the machine.
 """
 
 from __future__ import annotations
 
-import argparse
-import csv
 import math
-import time
-from pathlib import Path
 
 import numba
 import numpy as np
-from machine import describe
 
+from benchmarks.common import Table, arguments, best_of, describe, write_csv
 from fluidsim_envs.physics import WakeField
 from fluidsim_envs.physics.tracers import MacroParticles, Tracers, default_box
 from fluidsim_envs.physics.wake import source_row, wake_velocity_batch
@@ -55,27 +51,13 @@ def box_points(wake: WakeField, n: int, seed: int = 0) -> np.ndarray:
     return lo + np.random.default_rng(seed).random((n, 3)) * (hi - lo)
 
 
-def best_seconds(fn, repeats: int, setup=lambda: None) -> float:
-    """Fastest of ``repeats`` timed calls of ``fn`` (``setup`` untimed before each), after a
-    warm-up call (compile or load from the cache, start the threads)."""
-    setup()
-    fn()
-    best = math.inf
-    for _ in range(repeats):
-        setup()
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
-
-
 def field_rate(wake: WakeField, n: int, repeats: int) -> float:
     """Wake-field evaluations per second over n points."""
     pts = box_points(wake, n)
     out = np.empty_like(pts)
     src = source_row((0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0), (SPEED, 0.0, 0.0))
     prm = wake.params()
-    return n / best_seconds(lambda: wake_velocity_batch(pts, src, prm, out), repeats)
+    return n / best_of(lambda: wake_velocity_batch(pts, src, prm, out), repeats)
 
 
 def advance_rate(count: int, macro: int, parallel: bool, advances: int, repeats: int) -> float:
@@ -90,7 +72,7 @@ def advance_rate(count: int, macro: int, parallel: bool, advances: int, repeats:
         for k in range(1, advances + 1):
             tr.advance(DT, (SPEED * DT * k, 0.0, -50.0), quat, vel)
 
-    return advances / best_seconds(run, repeats, reset)
+    return advances / best_of(run, repeats, reset)
 
 
 def macro_error(count: int) -> float:
@@ -105,35 +87,14 @@ def macro_error(count: int) -> float:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="shorter, noisier measurements")
-    parser.add_argument(
-        "--out",
-        type=Path,
-        default=Path("docs/bench_wake.csv"),
-        help="CSV file to write (default: %(default)s)",
-    )
+    parser = arguments(__doc__, "shorter, noisier measurements", "bench_wake.csv")
     args = parser.parse_args()
     points, repeats, advances = (100_000, 3, 5) if args.quick else (1_000_000, 5, 20)
     threads = numba.config.NUMBA_NUM_THREADS
 
     info = describe()
-    print("\n".join(info), end="\n\n")
-    rows: list[tuple] = []
-
-    def record(section, wake, count, mode, kernel, nthreads, value, unit):
-        rows.append((section, wake, count, mode, kernel, nthreads, value, unit))
-        shown = f"{value:,.0f}" if value >= 1000 else f"{value:.3f}"
-        print(
-            f"{section:<13}{wake:<14}{count:>9}  {mode:<7}{kernel:<10}{nthreads:>8}"
-            f"{shown:>16} {unit}",
-            flush=True,
-        )
-
-    print(
-        f"{'section':<13}{'wake':<14}{'count':>9}  {'mode':<7}{'kernel':<10}{'threads':>8}"
-        f"{'value':>16} unit"
-    )
+    table = Table(COLUMNS, (12, 13, -8, 6, 9, -7, -16, 1))
+    record = table.add
     numba.set_num_threads(1)
     for name, parts in PARTS.items():
         rate = field_rate(WakeField(**parts), points, repeats)
@@ -160,13 +121,7 @@ def main() -> None:
     for count in (MACRO, 2000):
         record("macro_error", "+noise", count, "macro", "serial", 1, macro_error(count), "rel. RMS")
 
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    with args.out.open("w", newline="") as f:
-        f.writelines(f"# {line}\n" for line in info)
-        writer = csv.writer(f)
-        writer.writerow(COLUMNS)
-        writer.writerows(rows)
-    print(f"\nwrote {args.out}")
+    print(f"\nwrote {write_csv(args.out, COLUMNS, table.rows, info)}")
 
 
 if __name__ == "__main__":

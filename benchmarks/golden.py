@@ -1,9 +1,13 @@
 """Golden trajectories: a fixed set of simulations and env rollouts, recorded to an ``.npz``,
 so that a refactor can show it did not move the physics, bit for bit.
 
-    python benchmarks/golden.py record before.npz     # on the old commit
-    python benchmarks/golden.py record after.npz      # on the new one, same machine
-    python benchmarks/golden.py compare before.npz after.npz
+    python -m benchmarks.golden record before.npz     # on the old commit
+    python -m benchmarks.golden record after.npz      # on the new one, same machine
+    python -m benchmarks.golden compare before.npz after.npz
+
+It imports nothing else from ``benchmarks/``, so that on a commit older than this file (or than
+``benchmarks/`` being a package) a copy of it runs as a plain script:
+``python /tmp/golden.py record before.npz`` from that checkout.
 
 Only the public API is used (``Simulator``, ``gym.make_vec``), so the same file runs on both
 sides of a change of internals. Covered: every shipped craft under every integrator (float64,
@@ -16,6 +20,7 @@ bit for bit: they are reproducible on one machine kind (the kernels compile for 
 
 from __future__ import annotations
 
+import argparse
 import sys
 
 import numpy as np
@@ -259,10 +264,22 @@ def compare(a_path, b_path):
     return bad == 0
 
 
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(
+        description=__doc__.splitlines()[0], formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    sub = parser.add_subparsers(dest="command", required=True)
+    rec = sub.add_parser("record", help="run the cases and save them to an .npz")
+    rec.add_argument("path")
+    cmp = sub.add_parser("compare", help="exit 1 unless the two recordings are bit-identical")
+    cmp.add_argument("before")
+    cmp.add_argument("after")
+    args = parser.parse_args(argv)
+    if args.command == "record":
+        record(args.path)
+        return 0
+    return 0 if compare(args.before, args.after) else 1
+
+
 if __name__ == "__main__":
-    if len(sys.argv) == 3 and sys.argv[1] == "record":
-        record(sys.argv[2])
-    elif len(sys.argv) == 4 and sys.argv[1] == "compare":
-        sys.exit(0 if compare(sys.argv[2], sys.argv[3]) else 1)
-    else:
-        sys.exit(__doc__)
+    sys.exit(main())

@@ -38,14 +38,12 @@ have (pending a design decision, see ``docs/study.md``).
 Writes ``docs/study_accuracy.csv`` (errors), ``docs/study_cost.csv`` (cost per body-step) and
 ``docs/study_accuracy.png`` (machine description in ``#`` lines at the top of each CSV)::
 
-    python benchmarks/study_accuracy.py            # full size, under a minute on 2 cores
-    python benchmarks/study_accuracy.py --quick    # fewer dts and repeats, into build/study_quick
+    python -m benchmarks.study_accuracy            # full size, under a minute on 2 cores
+    python -m benchmarks.study_accuracy --quick    # fewer dts and repeats, into build/study_quick
 """
 
 from __future__ import annotations
 
-import argparse
-import csv
 import math
 import time
 from dataclasses import dataclass, field
@@ -55,6 +53,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.special import ellipj, ellipkinc
 
+from benchmarks.common import arguments, best_of, describe, fmt, out_dir, write_csv
 from fluidsim_envs.physics import INTEGRATORS, Buoyancy, Craft, Simulator, World
 from fluidsim_envs.physics.hydrostatics import static_float
 from fluidsim_envs.physics.kernels import EVALS_PER_STEP, quat_matrices
@@ -468,28 +467,13 @@ def cost_ns(p: Problem, integrator: str, dtype, num_envs: int, repeats: int, ste
     sim.reset(**p.start)
     ctrl = p.control_array(num_envs)
     sim.step(ctrl, steps=1)  # compile or load the kernel
-    best = math.inf
-    for _ in range(repeats):
-        sim.reset(**p.start)
-        t0 = time.perf_counter()
-        sim.step(ctrl, steps=steps)
-        best = min(best, time.perf_counter() - t0)
+    best = best_of(
+        lambda: sim.step(ctrl, steps=steps), repeats, lambda: sim.reset(**p.start), warmup=False
+    )
     return 1e9 * best / (steps * num_envs * sim.num_bodies)
 
 
 # ---- main ------------------------------------------------------------------------------------
-
-
-def write_csv(path: Path, machine: list[str], header: tuple, rows: list[tuple], notes=()):
-    with path.open("w", newline="") as f:
-        f.write("".join(f"# {line}\n" for line in [*machine, *notes]))
-        w = csv.writer(f)
-        w.writerow(header)
-        w.writerows(rows)
-
-
-def fmt(x) -> str:
-    return f"{x:.6g}" if isinstance(x, float) else str(x)
 
 
 def plot(rows: list[dict], probs: list[Problem], path: Path) -> None:
@@ -553,23 +537,15 @@ def plot(rows: list[dict], probs: list[Problem], path: Path) -> None:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true", help="fewer dts and repeats")
+    parser = arguments(__doc__, "fewer dts and repeats")
     parser.add_argument("--repeats", type=int, default=15, help="timing repeats (min taken)")
     parser.add_argument("--envs", type=int, default=1024, help="batch for the cost timing")
-    parser.add_argument("--out", default=None, help="folder (default docs/, quick: build/)")
     args = parser.parse_args()
-    root = Path(__file__).parents[1]
-    out = Path(args.out) if args.out else root / ("build/study_quick" if args.quick else "docs")
-    out.mkdir(parents=True, exist_ok=True)
+    out = out_dir(args.out, args.quick)
     repeats = 2 if args.quick else args.repeats
     num_envs = 256 if args.quick else args.envs
     t_start = time.perf_counter()
-
-    from machine import describe  # benchmarks/machine.py, beside this script
-
     machine = describe()
-    print("\n".join(machine))
     diff = check_torque_free_reference()
     print(f"torque-free: Jacobi solution vs solve_ivp, max |dw| over 10 s = {diff:.2e} rad/s")
     probs = problems(args.quick)
@@ -641,14 +617,12 @@ def main() -> None:
     header = tuple(rows[0])
     write_csv(
         out / "study_accuracy.csv",
-        machine,
         header,
         [tuple(fmt(r[k]) for k in header) for r in rows],
-        notes,
+        [*machine, *notes],
     )
     write_csv(
         out / "study_cost.csv",
-        machine,
         (
             "problem",
             "integrator",
@@ -659,6 +633,7 @@ def main() -> None:
             "ns_per_body_step",
         ),
         cost_rows,
+        machine,
     )
     plot(rows, probs, out / "study_accuracy.png")
     print(

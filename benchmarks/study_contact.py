@@ -25,24 +25,21 @@ Verlet with 1, and the seed's ``verlet_tetra`` with 1.
 
 Writes ``docs/study_contact.csv`` (machine in ``#`` lines) and ``docs/study_contact.png``::
 
-    python benchmarks/study_contact.py            # about a minute on 2 cores
-    python benchmarks/study_contact.py --quick    # 4 dts, into build/study_quick/
+    python -m benchmarks.study_contact            # about a minute on 2 cores
+    python -m benchmarks.study_contact --quick    # 4 dts, into build/study_quick/
 """
 
 from __future__ import annotations
 
-import argparse
-import csv
 import dataclasses
 import math
 import time
 from pathlib import Path
 
 import numpy as np
-from bench_contact import ball, box
-from machine import describe
-from study_accuracy import fmt
 
+from benchmarks.bench_contact import ball, box
+from benchmarks.common import arguments, describe, fmt, out_dir, write_csv
 from fluidsim_envs.physics import Ground, Simulator, World
 
 G = 9.81
@@ -191,17 +188,12 @@ def plot(table: dict, dts, path: Path) -> None:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true", help="4 time steps")
-    parser.add_argument("--out", default=None, help="folder (default docs/, quick: build/)")
+    parser = arguments(__doc__, "4 time steps")
     args = parser.parse_args()
-    root = Path(__file__).parents[1]
-    out = Path(args.out) if args.out else root / ("build/study_quick" if args.quick else "docs")
-    out.mkdir(parents=True, exist_ok=True)
+    out = out_dir(args.out, args.quick)
     dts = [2.0**-k for k in ((2, 5, 7, 10) if args.quick else range(2, 11))]
     t_start = time.perf_counter()
     machine = describe()
-    print("\n".join(machine))
 
     table, rows = {}, []
     for name, scene in scenes().items():
@@ -239,23 +231,18 @@ def main() -> None:
         f" tops within {HOLD_TOP:.0%}; holds_up_to_dt_s: the largest dt of the sweep at"
         " and below which every run held",
     ]
-    with (out / "study_contact.csv").open("w", newline="") as f:
-        f.write("".join(f"# {line}\n" for line in [*machine, *notes]))
-        w = csv.writer(f)
-        w.writerow(
-            (
-                "scene",
-                "integrator",
-                "passes",
-                "dt_s",
-                "measure",
-                "end_speed_mps_or_last_top",
-                "holds",
-                "finite",
-                "holds_up_to_dt_s",
-            )
-        )
-        w.writerows(rows)
+    header = (
+        "scene",
+        "integrator",
+        "passes",
+        "dt_s",
+        "measure",
+        "end_speed_mps_or_last_top",
+        "holds",
+        "finite",
+        "holds_up_to_dt_s",
+    )
+    write_csv(out / "study_contact.csv", header, rows, [*machine, *notes])
     plot(table, dts, out / "study_contact.png")
     print(f"wrote {out}/study_contact.csv and .png in {time.perf_counter() - t_start:.0f} s")
 

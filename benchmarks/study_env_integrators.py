@@ -65,22 +65,19 @@ episode is its result (later episodes in that sub-env are run but ignored).
 Writes ``docs/study_env_integrators.csv`` (one row per scene and configuration; ``#`` lines
 describing the machine, the method and the checks) and prints a table::
 
-    python benchmarks/study_env_integrators.py           # 256 episodes: 284 s on 2 shared cores
-    python benchmarks/study_env_integrators.py --quick   # 8 episodes, ~30 s, into build/study_quick
+    python -m benchmarks.study_env_integrators           # 256 episodes: 284 s on 2 shared cores
+    python -m benchmarks.study_env_integrators --quick   # 8 episodes, ~30 s, into build/study_quick
 """
 
 from __future__ import annotations
 
-import argparse
-import csv
 import math
-import sys
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
+from benchmarks.common import arguments, describe, out_dir, write_csv
 from fluidsim_envs.envs import BoatOnStepVectorEnv, PaperAirplaneVectorEnv, SubmarineWakeVectorEnv
 from fluidsim_envs.physics.kernels import EVALS_PER_STEP
 from fluidsim_envs.rl.evaluate import scripted_pilot
@@ -336,15 +333,6 @@ def short(x: float) -> str:
     return "-" if math.isnan(x) else f"{x:.1e}"
 
 
-def write_csv(path: Path, comments: list[str], header: list[str], rows: list[dict]) -> None:
-    with path.open("w", newline="") as f:
-        f.write("".join(f"# {line}\n" for line in comments))
-        w = csv.writer(f)
-        w.writerow(header)
-        for r in rows:
-            w.writerow([fmt(r.get(k, "")) for k in header])
-
-
 def print_scene(scene: Scene, rows: list[dict]) -> None:
     keys = [k for k in REASON_COLUMNS if any(r.get(k, "") != "" for r in rows)]
     abbrev = {
@@ -402,17 +390,13 @@ def print_scene(scene: Scene, rows: list[dict]) -> None:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true", help="8 episodes, into build/")
+    parser = arguments(__doc__, "8 episodes, into build/")
     parser.add_argument("--episodes", type=int, default=None, help="episodes (sub-envs)")
     parser.add_argument("--check-envs", type=int, default=None, help="sub-envs of the checks")
     parser.add_argument("--seed", type=int, default=0, help="reset seed of the episodes")
     parser.add_argument("--scenes", default=None, help="comma-separated subset of the scenes")
-    parser.add_argument("--out", default=None, help="folder (default docs/, quick: build/)")
     args = parser.parse_args()
-    root = Path(__file__).parents[1]
-    out = Path(args.out) if args.out else root / ("build/study_quick" if args.quick else "docs")
-    out.mkdir(parents=True, exist_ok=True)
+    out = out_dir(args.out, args.quick)
     episodes = args.episodes or (8 if args.quick else 256)
     check_envs = min(episodes, args.check_envs or (4 if args.quick else 32))
     scenes = SCENES
@@ -423,12 +407,7 @@ def main() -> None:
             parser.error(f"unknown scene(s) {unknown}; valid: {[s.name for s in SCENES]}")
         scenes = [s for s in SCENES if s.name in wanted]
     t_start = time.perf_counter()
-
-    sys.path.insert(0, str(Path(__file__).parent))
-    from machine import describe  # benchmarks/machine.py, beside this script
-
     machine = describe()
-    print("\n".join(machine))
     notes = [
         f"method: {episodes} episodes per scene and configuration (vector env, reset seed "
         f"{args.seed}, no autoreset, first episode per sub-env), float64; closed loop with the "
@@ -529,7 +508,7 @@ def main() -> None:
 
     header = list(dict.fromkeys(k for r in rows for k in r))
     path = out / "study_env_integrators.csv"
-    write_csv(path, machine + notes, header, rows)
+    write_csv(path, header, [[fmt(r.get(k, "")) for k in header] for r in rows], machine + notes)
     print(f"wrote {path} in {time.perf_counter() - t_start:.0f} s")
 
 

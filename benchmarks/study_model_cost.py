@@ -55,16 +55,13 @@ Writes ``docs/study_model_cost.csv`` (one number a row: part, subject, variant, 
 value, unit; the machine in ``#`` lines) and ``docs/study_model_cost.png``, and prints the
 markdown tables that ``docs/study_model_cost.md`` quotes::
 
-    python benchmarks/study_model_cost.py            # full size, about 70 s on 2 cores
-    python benchmarks/study_model_cost.py --quick    # 20 s, into build/study_quick
+    python -m benchmarks.study_model_cost            # full size, about 70 s on 2 cores
+    python -m benchmarks.study_model_cost --quick    # 20 s, into build/study_quick
 """
 
 from __future__ import annotations
 
-import argparse
-import csv
 import math
-import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
@@ -72,9 +69,18 @@ from pathlib import Path
 
 import numba
 import numpy as np
-from bench_envs import actions_for
-from machine import describe
 
+from benchmarks.bench_envs import actions_for, stepping
+from benchmarks.common import (
+    arguments,
+    describe,
+    interleaved_best,
+    load_average,
+    out_dir,
+    rate_over,
+    timed,
+    write_csv,
+)
 from fluidsim_envs.controllers import BoatOnStepPilot, PaperAirplanePilot, SubmarineWakePilot
 from fluidsim_envs.envs import BoatOnStepVectorEnv, PaperAirplaneVectorEnv, SubmarineWakeVectorEnv
 from fluidsim_envs.evaluation import first_episodes
@@ -305,16 +311,14 @@ def attitude_deg(q, q_ref) -> float:
 def interleaved_costs(sims: dict, start: dict, ctrl, repeats: int, steps: int) -> dict:
     """ns per body-step of ``step(ctrl, steps)`` for each simulator, min over repeats taken in
     turn (variant a, b, c, a, b, c, ...), so that a change of load hits them alike."""
-    best = dict.fromkeys(sims, math.inf)
     for sim in sims.values():
         sim.reset(**start)
         sim.step(ctrl, steps=1)  # load the kernel
-    for _ in range(repeats):
-        for label, sim in sims.items():
-            sim.reset(**start)
-            t0 = time.perf_counter()
-            sim.step(ctrl, steps=steps)
-            best[label] = min(best[label], time.perf_counter() - t0)
+
+    def call(sim):
+        return lambda: timed(lambda: sim.step(ctrl, steps=steps), lambda: sim.reset(**start))
+
+    best = interleaved_best({label: call(sim) for label, sim in sims.items()}, repeats)
     return {k: 1e9 * v / (steps * COST_ENVS * sims[k].num_bodies) for k, v in best.items()}
 
 
@@ -443,21 +447,18 @@ def interleaved_rates(makers: dict, seconds: float, repeats: int) -> dict:
         venv.reset(seed=0)
         if watch:  # one frame of sub-env 0 starts its tracers; steps then advance them
             venv._frame(0)
-        for a in acts:  # compile / warm
-            venv.step(a)
-        built[label] = (venv, acts)
+        run = stepping(venv, acts)
+        run()  # compile / warm
+        built[label] = (venv, run)
     threads = sorted({1, numba.config.NUMBA_NUM_THREADS})
-    best = {(*label, k): 0.0 for k in threads for label in makers}
-    for _ in range(repeats):
-        for k in threads:
-            numba.set_num_threads(k)
-            for label, (venv, acts) in built.items():
-                steps, t0 = 0, time.perf_counter()
-                while (elapsed := time.perf_counter() - t0) < seconds:
-                    for a in acts:
-                        venv.step(a)
-                    steps += len(acts)
-                best[(*label, k)] = max(best[(*label, k)], steps * RATE_ENVS / elapsed)
+    calls = {
+        (*label, k): lambda run=run: rate_over(run, seconds)
+        for k in threads
+        for label, (_, run) in built.items()
+    }
+    best = interleaved_best(
+        calls, repeats, best=max, before=lambda key: numba.set_num_threads(key[-1])
+    )
     numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
     for venv, _ in built.values():
         venv.close()
@@ -575,13 +576,13 @@ def fmt(x) -> str:
     return f"{x:.6g}"
 
 
-def write_csv(path: Path, machine: list[str], rows: list) -> None:
-    with path.open("w", newline="") as f:
-        f.write("".join(f"# {line}\n" for line in machine))
-        w = csv.writer(f)
-        w.writerow(("part", "subject", "variant", "quantity", "value", "unit"))
-        for part, subject, variant, quantity, value, unit in rows:
-            w.writerow((part, subject, variant, quantity, fmt(value), unit))
+def write_rows(path: Path, machine: list[str], rows: list) -> None:
+    write_csv(
+        path,
+        ("part", "subject", "variant", "quantity", "value", "unit"),
+        [(*row[:4], fmt(row[4]), row[5]) for row in rows],
+        machine,
+    )
 
 
 def lookup(rows: list) -> dict:
@@ -684,17 +685,13 @@ def plot(rows: list, path: Path) -> None:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true", help="64 episodes, fewer repeats")
+    parser = arguments(__doc__, "64 episodes, fewer repeats")
     parser.add_argument("--episodes", type=int, default=256)
     parser.add_argument("--repeats", type=int, default=40, help="craft-level cost repeats")
     parser.add_argument("--seconds", type=float, default=1.0, help="per env-steps/s run")
     parser.add_argument("--rate-repeats", type=int, default=3)
-    parser.add_argument("--out", default=None, help="folder (default docs/, quick: build/)")
     args = parser.parse_args()
-    root = Path(__file__).parents[1]
-    out = Path(args.out) if args.out else root / ("build/study_quick" if args.quick else "docs")
-    out.mkdir(parents=True, exist_ok=True)
+    out = out_dir(args.out, args.quick)
     if args.quick:
         n_episodes, repeats, seconds, rate_repeats = 64, 3, 0.3, 1
     else:
@@ -703,13 +700,12 @@ def main() -> None:
 
     t_start = time.perf_counter()
     machine = describe()
-    print("\n".join(machine))
     rows: list = []
     craft_level(repeats, rows)
     floor_level(max(3, repeats // 3), rows)
     scene_level(n_episodes, seconds, rate_repeats, rows)
-    machine.append("load average at end: " + ", ".join(f"{x:.2f}" for x in os.getloadavg()))
-    write_csv(out / "study_model_cost.csv", machine, rows)
+    machine.append(load_average("end"))
+    write_rows(out / "study_model_cost.csv", machine, rows)
     plot(rows, out / "study_model_cost.png")
     print(markdown(rows))
     print(

@@ -45,22 +45,20 @@ searched).
 Writes ``docs/study_stability.csv``, ``docs/study_stability_modes.csv`` and the five charts
 (machine description in ``#`` lines at the top of each CSV)::
 
-    python benchmarks/study_stability.py            # full size, about a minute on 2 cores
-    python benchmarks/study_stability.py --quick    # fewer halvings, into build/study_quick
+    python -m benchmarks.study_stability            # full size, about a minute on 2 cores
+    python -m benchmarks.study_stability --quick    # fewer halvings, into build/study_quick
 """
 
 from __future__ import annotations
 
-import argparse
-import csv
 import dataclasses
 import math
 import time
-from pathlib import Path
 
 import numpy as np
-import study_accuracy as SA
 
+from benchmarks import study_accuracy as SA
+from benchmarks.common import arguments, describe, fmt, out_dir, write_csv
 from fluidsim_envs.physics import Buoyancy, Craft, World
 
 FACTOR = 10.0
@@ -377,20 +375,12 @@ def mode_clamps(probs, limit, rows, plt, out):
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true", help="fewer halvings and points")
-    parser.add_argument("--out", default=None, help="folder (default docs/, quick: build/)")
+    parser = arguments(__doc__, "fewer halvings and points")
     args = parser.parse_args()
-    root = Path(__file__).parents[1]
-    out = Path(args.out) if args.out else root / ("build/study_quick" if args.quick else "docs")
-    out.mkdir(parents=True, exist_ok=True)
+    out = out_dir(args.out, args.quick)
     halvings = 4 if args.quick else 10
     t_start = time.perf_counter()
-
-    from machine import describe  # benchmarks/machine.py, beside this script
-
     machine = describe()
-    print("\n".join(machine))
     probs = {p.name: p for p in SA.problems()}
     for name in CRAFTS:
         SA.craft_reference(probs[name])
@@ -409,10 +399,10 @@ def main() -> None:
                         p.name,
                         m,
                         dname,
-                        SA.fmt(p.nominal_dt),
-                        SA.fmt(good),
-                        SA.fmt(bad),
-                        SA.fmt(good / p.nominal_dt),
+                        fmt(p.nominal_dt),
+                        fmt(good),
+                        fmt(bad),
+                        fmt(good / p.nominal_dt),
                         runs,
                     )
                 )
@@ -428,22 +418,17 @@ def main() -> None:
         "dt_unbounded_s inf: bounded at the search's upper end (a tenth of the interval); "
         "dt_bounded_s nan: unbounded already at nominal dt / 64",
     ]
-    with (out / "study_stability.csv").open("w", newline="") as f:
-        f.write("".join(f"# {line}\n" for line in [*machine, *notes]))
-        w = csv.writer(f)
-        w.writerow(
-            (
-                "problem",
-                "integrator",
-                "dtype",
-                "nominal_dt_s",
-                "dt_bounded_s",
-                "dt_unbounded_s",
-                "bounded_over_nominal",
-                "runs",
-            )
-        )
-        w.writerows(table)
+    header = (
+        "problem",
+        "integrator",
+        "dtype",
+        "nominal_dt_s",
+        "dt_bounded_s",
+        "dt_unbounded_s",
+        "bounded_over_nominal",
+        "runs",
+    )
+    write_csv(out / "study_stability.csv", header, table, [*machine, *notes])
 
     import matplotlib
 
@@ -457,11 +442,12 @@ def main() -> None:
     limit = limits["paper_airplane", "symplectic_euler", "float64"]
     mode_airplane_damping(probs, limit, rows, plt, out)
     mode_clamps(probs, limit, rows, plt, out)
-    with (out / "study_stability_modes.csv").open("w", newline="") as f:
-        f.write("".join(f"# {line}\n" for line in machine))
-        w = csv.writer(f)
-        w.writerow(("chart", "case", "dt_s", "quantity", "value"))
-        w.writerows((c, m, SA.fmt(float(dt)), q, SA.fmt(float(v))) for c, m, dt, q, v in rows)
+    write_csv(
+        out / "study_stability_modes.csv",
+        ("chart", "case", "dt_s", "quantity", "value"),
+        [(c, m, fmt(float(dt)), q, fmt(float(v))) for c, m, dt, q, v in rows],
+        machine,
+    )
     print(f"wrote {out}/study_stability*.csv and 5 charts in {time.perf_counter() - t_start:.0f} s")
 
 

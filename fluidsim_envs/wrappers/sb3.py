@@ -7,8 +7,11 @@ the batched info dict becomes SB3's list of per-env dicts, and an ended episode'
 observation and info (``info["final_obs"]``, ``info["final_info"]``) become that env's info
 with ``"terminal_observation"`` and ``"TimeLimit.truncated"``, exactly as SB3's
 ``DummyVecEnv`` over the single envs reports them (``tests/wrappers/test_sb3.py`` checks it
-step by step). Seeding follows ``VecEnv.seed``: ``seed(s)`` gives env i the seed ``s + i`` at
-the next ``reset()``, so env i replays the single env seeded ``s + i``.
+step by step). Seeding goes through the env's own ``SeedSequence``: ``seed(s)`` makes the next
+``reset()`` call ``venv.reset(seed=s)``, so sub-env i draws from ``SeedSequence(s).spawn(E)[i]``
+exactly as in ``gym.make_vec(...).reset(seed=s)`` (and for any E), never from ``s + i``.
+:meth:`SB3VecEnv.seed_each` gives sub-env i the stream of the single env seeded ``seeds[i]``
+(what ``DummyVecEnv.seed`` does, for comparisons with it).
 
     >>> from fluidsim_envs.wrappers.sb3 import make_sb3_vec_env
     >>> venv = make_sb3_vec_env("fluidsim/PaperAirplane-v0", n_envs=4, seed=0)
@@ -91,6 +94,7 @@ class SB3VecEnv(VecEnv):
         self.venv = venv
         self.success_key = success_key
         self._actions: np.ndarray | None = None
+        self._batch_seed: int | None = None  # from seed(), for the next reset()
         self.env_seconds = 0.0  # wall time inside the vector env's reset and step
         self.env_steps = 0  # transitions stepped (num_envs per step)
         super().__init__(venv.num_envs, venv.single_observation_space, venv.single_action_space)
@@ -98,16 +102,39 @@ class SB3VecEnv(VecEnv):
 
     # ---- stepping -------------------------------------------------------------------------
 
+    def seed(self, seed: int | None = None) -> list[np.random.SeedSequence]:
+        """Seed every sub-env at the next :meth:`reset` through the env's ``SeedSequence``:
+        sub-env i gets ``SeedSequence(seed).spawn(num_envs)[i]``, the generator
+        ``venv.reset(seed=seed)`` gives it (not SB3's default ``seed + i``). Without a seed,
+        one is drawn from fresh entropy. Returns the sub-envs' seed sequences."""
+        if seed is None:
+            seed = int(np.random.SeedSequence().generate_state(1)[0])  # fresh OS entropy
+        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+            raise ValueError(f"SB3VecEnv.seed: expected an int or None, got {seed!r}")
+        self._batch_seed = int(seed)
+        self._reset_seeds()
+        return np.random.SeedSequence(self._batch_seed).spawn(self.num_envs)
+
+    def seed_each(self, seeds: Sequence[int]) -> list[int]:
+        """Give sub-env i, at the next :meth:`reset`, the stream of the single env reset with
+        ``seed=seeds[i]`` (``DummyVecEnv.seed(s)`` seeds its envs ``s + i`` this way)."""
+        seeds = [int(s) for s in seeds]
+        if len(seeds) != self.num_envs:
+            raise ValueError(
+                f"SB3VecEnv.seed_each: expected {self.num_envs} seeds, got {len(seeds)}"
+            )
+        self._batch_seed = None
+        self._seeds = seeds
+        return seeds
+
     def reset(self) -> VecEnvObs:
-        """Reset every env with the seeds from :meth:`seed` and the options from
-        :meth:`set_options` (both used once), as ``DummyVecEnv.reset`` does."""
-        seeds = self._seeds
-        if all(s is None for s in seeds):
-            seed: list[int | None] | None = None  # every env continues its own generator
-        else:
-            # a None among given seeds draws fresh entropy for that env (DummyVecEnv would let
-            # it continue its generator; VecEnv.seed never produces such a mix)
-            seed = list(seeds)
+        """Reset every env with the seed from :meth:`seed` (or :meth:`seed_each`) and the
+        options from :meth:`set_options` (both used once), as ``DummyVecEnv.reset`` does."""
+        seed: int | list[int | None] | None = None  # every env continues its own generator
+        if self._batch_seed is not None:
+            seed = self._batch_seed  # the env spawns one child sequence per sub-env
+        elif any(s is not None for s in self._seeds):
+            seed = list(self._seeds)
         options = self._options
         if any(o != options[0] for o in options):
             raise ValueError(
@@ -118,6 +145,7 @@ class SB3VecEnv(VecEnv):
         obs, info = self.venv.reset(seed=seed, options=options[0] or None)
         self.env_seconds += time.perf_counter() - t
         self.reset_infos = [_env_info(info, i) for i in range(self.num_envs)]
+        self._batch_seed = None
         self._reset_seeds()
         self._reset_options()
         return np.array(obs, copy=True)
@@ -233,7 +261,8 @@ def make_sb3_vec_env(
     """``n_envs`` sub-envs of ``env_id`` in one native vector env, as an SB3 ``VecEnv``.
 
     ``env_kwargs`` set the env's parameters (an unknown one is an error listing the valid
-    ones). With ``seed``, env i is seeded ``seed + i`` at the first ``reset()``.
+    ones). With ``seed``, the first ``reset()`` seeds the sub-envs as
+    ``venv.reset(seed=seed)`` does (see :meth:`SB3VecEnv.seed`).
     ``success_key``: see :class:`SB3VecEnv`.
     """
     import fluidsim_envs  # noqa: F401  (registers the ids)

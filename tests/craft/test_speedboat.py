@@ -25,7 +25,7 @@ from fluidsim_envs.craft.hull import VHull, speedboat_toml
 from fluidsim_envs.physics import Craft, Simulator, World
 from fluidsim_envs.physics.hydrostatics import static_float
 from fluidsim_envs.physics.kernels import quat_matrices
-from fluidsim_envs.physics.savitsky import PrismaticHull, savitsky
+from fluidsim_envs.physics.reference.savitsky import PrismaticHull, savitsky
 
 WORLD = World(water=True)
 HULL = VHull()

@@ -22,7 +22,7 @@ import math
 
 import pytest
 
-from fluidsim_envs.physics.savitsky import (
+from fluidsim_envs.physics.reference.savitsky import (
     PlaningState,
     PrismaticHull,
     savitsky,

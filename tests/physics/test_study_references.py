@@ -4,22 +4,14 @@
 body-frame angular velocity of a free rigid body by Jacobi elliptic functions (Landau &
 Lifshitz, Mechanics, section 37). Here it is checked against scipy's ``solve_ivp`` (DOP853 at
 tight tolerance) for spins about the major and the minor axis, both senses, and inertia given
-in any order; the study module is loaded from its file (benchmarks/ is not a package).
+in any order.
 """
-
-import importlib.util
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-_PATH = Path(__file__).parents[2] / "benchmarks" / "study_accuracy.py"
-_SPEC = importlib.util.spec_from_file_location("study_accuracy", _PATH)
-study = importlib.util.module_from_spec(_SPEC)
-sys.modules.setdefault("study_accuracy", study)  # its dataclasses look their module up there
-_SPEC.loader.exec_module(study)
+from benchmarks import study_accuracy as study
 
 
 def euler_equations(inertia, w0, t):

@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from fluidsim_envs.physics import Craft
-from fluidsim_envs.physics.tetra import match_inertia, momenta, particle_velocities
+from fluidsim_envs.physics.reference.tetra import match_inertia, momenta, particle_velocities
 
 
 def inertia_of(masses, positions):
@@ -114,3 +114,14 @@ def test_particle_velocities_carry_momentum_and_angular_momentum(s, q, v, w):
     np.testing.assert_allclose(p, mass * np.array(v), rtol=1e-13, atol=1e-12)
     expected = R @ body_inertia @ R.T @ np.array(w)
     np.testing.assert_allclose(L, expected, rtol=1e-12, atol=1e-11 * (1 + np.abs(expected).max()))
+
+
+def test_old_import_paths_still_work():
+    """The helpers moved to physics.reference; physics.tetra keeps ``match_inertia`` (and
+    physics.savitsky the Savitsky model) importable for one release."""
+    from fluidsim_envs.physics import savitsky as old_savitsky
+    from fluidsim_envs.physics import tetra as old_tetra
+    from fluidsim_envs.physics.reference import savitsky
+
+    assert old_tetra.match_inertia is match_inertia
+    assert old_savitsky.savitsky is savitsky.savitsky

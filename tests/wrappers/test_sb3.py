@@ -56,7 +56,8 @@ def test_matches_dummy_vec_env_across_episode_boundaries(env_id):
     kwargs = SHORT[env_id]
     ours = make_sb3_vec_env(env_id, N_ENVS, **kwargs)
     theirs = DummyVecEnv([_single(env_id, kwargs) for _ in range(N_ENVS)])
-    assert ours.seed(7) == theirs.seed(7) == [7, 8, 9, 10]
+    # DummyVecEnv seeds single env i with 7 + i; seed_each gives our sub-env i that stream
+    assert ours.seed_each(theirs.seed(7)) == [7, 8, 9, 10]
     np.testing.assert_array_equal(ours.reset(), theirs.reset())
     assert ours.reset_infos == theirs.reset_infos
     rng = np.random.default_rng(0)
@@ -77,9 +78,50 @@ def test_matches_dummy_vec_env_across_episode_boundaries(env_id):
     # the comparison crossed boundaries of both kinds, several times
     assert ended["terminated"] >= 2 and ended["truncated"] >= 2, ended
     # reseeding replays the same episodes in both
-    ours.seed(3), theirs.seed(3)
+    ours.seed_each(theirs.seed(3))
     np.testing.assert_array_equal(ours.reset(), theirs.reset())
     ours.close(), theirs.close()
+
+
+@pytest.mark.parametrize("env_id", sorted(SHORT))
+def test_seed_goes_through_the_envs_seed_sequence(env_id):
+    """``seed(s)`` gives sub-env i ``SeedSequence(s).spawn(E)[i]``, as the vector env's own
+    ``reset(seed=s)`` does: the same streams either way (episodes and their autoresets), for
+    any batch size, and not the streams of SB3's default ``s + i``."""
+    kwargs = SHORT[env_id]
+    ours = make_sb3_vec_env(env_id, N_ENVS, seed=11, **kwargs)
+    native = gym.make_vec(
+        env_id, num_envs=N_ENVS, vectorization_mode="vector_entry_point", **kwargs
+    )
+    plus_i = gym.make_vec(
+        env_id, num_envs=N_ENVS, vectorization_mode="vector_entry_point", **kwargs
+    )
+    obs = ours.reset()
+    np.testing.assert_array_equal(obs, native.reset(seed=11)[0])
+    seeded_plus_i = plus_i.reset(seed=[11 + i for i in range(N_ENVS)])[0]
+    assert not np.array_equal(obs, seeded_plus_i), "seeded as seed + i"
+    # a batch of two sees the first two streams of the batch of four
+    two = make_sb3_vec_env(env_id, 2, seed=11, **kwargs)
+    np.testing.assert_array_equal(two.reset(), obs[:2])
+    rng = np.random.default_rng(2)
+    ends = 0
+    for t in range(60):  # through episode ends: the autoresets draw from the same streams
+        actions = rng.uniform(-1.0, 1.0, (N_ENVS, 3)).astype(np.float32)
+        o1, r1, d1, _ = ours.step(actions)
+        o2, r2, term, trunc, _ = native.step(actions)
+        np.testing.assert_array_equal(o1, o2, err_msg=f"obs at step {t}")
+        np.testing.assert_array_equal(r1, r2.astype(np.float32), err_msg=f"rewards at step {t}")
+        np.testing.assert_array_equal(d1, term | trunc, err_msg=f"dones at step {t}")
+        np.testing.assert_array_equal(two.step(actions[:2])[0], o1[:2])
+        ends += int(d1.sum())
+    assert ends >= 2
+    # reseeding replays the first reset
+    assert [c.spawn_key for c in ours.seed(11)] == [(i,) for i in range(N_ENVS)]
+    np.testing.assert_array_equal(ours.reset(), obs)
+    with pytest.raises(ValueError, match="expected an int"):
+        ours.seed(1.5)
+    for venv in (ours, native, plus_i, two):
+        venv.close()
 
 
 def test_vec_env_api():

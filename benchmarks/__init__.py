@@ -1,0 +1,1 @@
+"""Speed, accuracy and stability studies of fluidsim-envs: ``python -m benchmarks.<name>``."""
