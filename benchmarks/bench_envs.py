@@ -19,10 +19,10 @@ from __future__ import annotations
 import gymnasium as gym
 import numpy as np
 
-import fluidsim_envs  # noqa: F401  (registers the envs)
 from benchmarks.common import arguments, describe, rate_over, write_csv
+from fluidsim_envs.scenes import SCENES
 
-ENVS = ("fluidsim/PaperAirplane-v0", "fluidsim/SubmarineWake-v0", "fluidsim/BoatOnStep-v0")
+ENVS = tuple(SCENES)  # every registered scene
 SWELL = ((0.3, 30.0, 45.0), (0.15, 12.0, -60.0))
 # extra rows: (label, env id, make kwargs, watch): SubmarineWake-v0 without its wake, and
 # with the wake's tracers of sub-env 0 advanced every step (what rendering or logging costs)

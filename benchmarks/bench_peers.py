@@ -66,9 +66,9 @@ from benchmarks.common import (
     timed,
     write_csv,
 )
-from fluidsim_envs.envs.paper_airplane import PaperAirplaneParams
 from fluidsim_envs.physics import Craft, Ground, World
 from fluidsim_envs.physics.kernels import EVALS_PER_STEP
+from fluidsim_envs.scenes.paper_airplane.env import PaperAirplaneParams
 
 HERE = Path(__file__).resolve().parent
 PEERS_VENV = HERE / ".peers-venv"

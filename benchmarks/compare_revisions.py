@@ -86,6 +86,7 @@ else:  # an env's vector step, random actions
     print(json.dumps(E / best(step, calls, 3)))
 """
 
+# written out, not read from fluidsim_envs.scenes.SCENES: the old tree may predate it
 ENVS = ("fluidsim/PaperAirplane-v0", "fluidsim/BoatOnStep-v0", "fluidsim/SubmarineWake-v0")
 
 
@@ -146,7 +147,7 @@ def main() -> None:
             rows.append(("cold compile (s)", label, sec, "s"))
             print(f"cold compile {label}: {sec:.1f} s", flush=True)
     for case in [dict(kind="compile")] + cases(args.quick):
-        for label, tree in trees.items():  # fill each tree's own numba cache first
+        for tree in trees.values():  # fill each tree's own numba cache first
             run(tree, case)
         if case["kind"] == "compile":
             continue

@@ -227,6 +227,14 @@ class VHull:
         ]  # fmt: skip
 
         m, (kx, ky, kz) = self.mass_kg, self.gyradius_m
+        # named sets of samples (Simulator.set_sample_scale): the planing bottom, its displaced
+        # volume, the skin friction, the topsides
+        groups = {
+            "bottom": [p["name"] for p in plates if p["name"].startswith("bottom")],
+            "friction": [p["name"] for p in plates if p["name"].startswith("friction")],
+            "hull_volume": [b["name"] for b in buoyancy],
+            "topsides": [p["name"] for p in plates if p["name"].startswith("topside")],
+        }
         return dict(
             name=self.name,
             description=(
@@ -235,6 +243,7 @@ class VHull:
             ),
             mass_kg=m,
             inertia_kgm2=[r(m * kx * kx), r(m * ky * ky), r(m * kz * kz)],
+            groups=groups,
             plates=plates,
             buoyancy=buoyancy,
             shapes=shapes,

@@ -18,6 +18,7 @@ File layout (every table optional except the top-level keys)::
     [[controls]]      # name, max_deflection_deg, surfaces = [{sample=..., gain=...}, ...]
     [[shapes]]        # collision shape: name, kind = "sphere" (radius_m) or "box"
                       # (half_extents_m, axis-aligned in the body frame), center_m
+    groups = { wings = ["left_wing", "right_wing"] }   # named sets of samples (top level)
 
 A craft with shapes touches the ground and the other bodies of its environment (contact.py);
 ``restitution`` and ``friction`` (top level, default 0.5 each) are its contact material.
@@ -37,6 +38,8 @@ from typing import Any
 
 import numpy as np
 
+from . import checks as CK
+
 Vec3 = tuple[float, float, float]
 
 
@@ -49,46 +52,23 @@ class CraftError(ValueError):
 
 
 def _finite(where: str, key: str, value: Any) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise CraftError(f"{where}: {key} must be a number, got {value!r}") from None
-    if not math.isfinite(x):
-        raise CraftError(f"{where}: {key} must be finite, got {value!r}")
-    return x
+    return CK.number(where, key, value, error=CraftError)
 
 
 def _positive(where: str, key: str, value: Any) -> float:
-    x = _finite(where, key, value)
-    if x <= 0.0:
-        raise CraftError(f"{where}: {key} must be > 0, got {value!r}")
-    return x
+    return CK.number(where, key, value, gt=0.0, error=CraftError)
 
 
 def _vec3(where: str, key: str, value: Any) -> Vec3:
-    if not isinstance(value, (list, tuple, np.ndarray)) or len(value) != 3:
-        raise CraftError(f"{where}: {key} must be a list of 3 numbers, got {value!r}")
-    return tuple(_finite(where, f"{key}[{i}]", v) for i, v in enumerate(value))  # type: ignore[return-value]
+    return CK.vector(where, key, value, 3, error=CraftError)  # type: ignore[return-value]
 
 
 def _unit(where: str, key: str, value: Any) -> Vec3:
-    v = _vec3(where, key, value)
-    n = math.sqrt(sum(c * c for c in v))
-    if n < 1e-9:
-        raise CraftError(f"{where}: {key} must be a non-zero direction, got {value!r}")
-    return (v[0] / n, v[1] / n, v[2] / n)
+    return CK.direction(where, key, value, error=CraftError)
 
 
 def _check_keys(where: str, data: dict, cls: type, required: tuple[str, ...]) -> None:
-    if not isinstance(data, dict):
-        raise CraftError(f"{where}: expected a table, got {data!r}")
-    valid = [f.name for f in fields(cls)]
-    unknown = sorted(set(data) - set(valid))
-    if unknown:
-        raise CraftError(f"{where}: unknown key(s) {unknown}; valid keys are {valid}")
-    missing = [k for k in required if k not in data]
-    if missing:
-        raise CraftError(f"{where}: missing required key(s) {missing}")
+    CK.keys(where, data, [f.name for f in fields(cls)], required, error=CraftError)
 
 
 # --------------------------------------------------------------------------------------------

@@ -12,13 +12,15 @@ import math
 import numpy as np
 from numba import njit
 
+from .jit import INLINE
+
 ZERO = np.float32(0.0)
 HALF = np.float32(0.5)
 ONE = np.float32(1.0)
 TWO = np.float32(2.0)
 TINY = np.float32(1e-30)  # guards 1/|v| at rest; a normal float32
 
-_JIT = dict(cache=True, error_model="numpy", inline="always", fastmath={"contract"})
+_JIT = INLINE  # every force law is inlined into the loops that call it
 
 
 @njit(**_JIT)

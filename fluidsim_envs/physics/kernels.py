@@ -51,7 +51,7 @@ per pair until something touches). It reads that environment's rows of ``model.s
 External force. ``data.external`` [E, B, 6] holds a world force and torque per body that
 ``_evaluate`` adds to the samples' (``Simulator.set_external_force``: a scene's mooring line).
 
-The data. Kernels take ``(model, data)``, the named tuples of ``model.py``; row layouts are
+The data. Kernels take ``(model, samples, data)``, the named tuples of ``model.py``; row layouts are
 named in ``state.py`` (state, body constants, this scratch) and ``model.py`` (samples).
 Per-environment craft values (mass, inertia, each sample's offset and size) are read per
 environment (``model.body`` is copied into the scratch's BODY rows with the state), so that
@@ -79,7 +79,10 @@ from .forces import (
     rotate_about_axis,
     water_fraction,
 )
+from .jit import INLINE as _INLINE
+from .jit import JIT as _JIT
 from .model import (
+    KINDS,
     S_AREA,
     S_BUOY_AREA,
     S_CYL_AREA,
@@ -124,6 +127,9 @@ from .wake import NSRC, W_ON, wake_at
 # with the row length a compile-time constant the compiler can prove that rows do not
 # overlap, and vectorizes.
 assert ROWS == BODY + NBODY
+# _evaluate has one loop per sample kind, in this order: a kind added to model.KINDS needs
+# its loop there (and its share of _first_sample) before this module imports
+assert tuple(k.name for k in KINDS) == ("plate", "flap", "cyl", "buoy", "thr"), KINDS
 
 # name -> kernel id, evaluations per step and drift share: views of the one table
 INTEGRATORS = {m.name: m.id for m in IT.TABLE}
@@ -151,8 +157,6 @@ POLAR_ITERATIONS = 8  # fit passes from the rigid turn: energy floor ~1e-11 (doc
 SIX = np.float32(6.0)
 EIGHTH, INV48, INV384 = np.float32(1 / 8), np.float32(1 / 48), np.float32(1 / 384)  # series
 T0 = 0.0  # the step's start, as a float64 stage time offset
-_JIT = dict(cache=True, error_model="numpy", fastmath={"contract"})
-_INLINE = dict(cache=True, error_model="numpy", inline="always", fastmath={"contract"})
 
 
 # --------------------------------------------------------------------------------------------
@@ -253,11 +257,18 @@ def _add_force(S, i, rx, ry, rz, fx, fy, fz):
 
 
 @njit(**_INLINE)
-def _first_sample(model, b):
+def _forces(model, data):
+    """What a force evaluation takes of the model and the data besides the samples
+    (``_evaluate``'s arguments): passed as separate arrays, since every array of a compiled
+    call's arguments costs it time."""
+    return model.prm, model.wprm, data.ctrl, data.flap_now, data.external
+
+
+@njit(**_INLINE)
+def _first_sample(samples, b):
     """The number of samples (plates, cylinders, buoyancy, thrusters) of bodies before b."""
-    return (
-        model.plate_at[b] + model.flap_at[b] + model.cyl_at[b] + model.buoy_at[b] + model.thr_at[b]
-    )
+    at = samples.plate_at[b] + samples.flap_at[b] + samples.cyl_at[b]
+    return at + samples.buoy_at[b] + samples.thr_at[b]
 
 
 @njit(**_INLINE)
@@ -408,7 +419,7 @@ def _at_sample(S, n, e0, tab, p, prm, wprm, tau, wake, sea):
 
 
 @njit(**_JIT)
-def _evaluate(S, b, n, e0, model, data, tau, rec):
+def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, rec):
     """Derivative rows DERIV of the state rows STATE: dx = v, dq, dv = F/m + g, dL = torque;
     the surface ``tau`` seconds after the time phases of rows PHASE (the step's start).
 
@@ -422,10 +433,17 @@ def _evaluate(S, b, n, e0, model, data, tau, rec):
     thrusters); the external force is not a sample. ``rec is None`` is resolved when numba
     compiles (a branch on a None argument is pruned), so the step kernels' machine code has
     no recording in it at all, and the forces have one source: these loops."""
-    prm = model.prm
-    j = _first_sample(model, b)  # rec row of this body's first sample
+    e0 = max(e0, 0)  # tells the compiler e0 + i >= 0: no negative-index wraparound per lane
+    # each field taken out of the tuples once: every take costs a reference count per call
+    plate_at, flap_at, cyl_at, buoy_at, thr_at = (
+        samples.plate_at,
+        samples.flap_at,
+        samples.cyl_at,
+        samples.buoy_at,
+        samples.thr_at,
+    )
+    j = _first_sample(samples, b)  # rec row of this body's first sample
     vmax, fmax = prm[P_VMAX], prm[P_FMAX]
-    wprm = model.wprm
     wake = wprm[W_ON] != 0.0
     sea = prm[P_NWAVES] > ZERO
     fluid = _fluid(prm)
@@ -449,13 +467,18 @@ def _evaluate(S, b, n, e0, model, data, tau, rec):
         S[(DERIV + OQ) * BLOCK + i], S[(DERIV + OQ + 1) * BLOCK + i] = dq[0], dq[1]
         S[(DERIV + OQ + 2) * BLOCK + i], S[(DERIV + OQ + 3) * BLOCK + i] = dq[2], dq[3]
 
-    tab, normal = model.plate, model.plate_normal
-    for p in range(model.plate_at[b], model.plate_at[b + 1]):  # fixed plates
-        _at_sample(S, n, e0, tab, p, prm, wprm, tau, wake, sea)
+    tab, normal = samples.plate, samples.plate_normal
+    for p in range(plate_at[b], plate_at[b + 1]):  # fixed plates
+        if wake:
+            _wake_rows(S, n, e0, tab, p, wprm, tau)
+        if sea:
+            _swell_rows(S, n, e0, tab, p, prm, tau)
         bx, by, bz = normal[0, p], normal[1, p], normal[2, p]
         for i in range(n):
             e = e0 + i
-            rx, ry, rz = _offset(S, i, tab, p, e)
+            rx, ry, rz = _rotate(
+                S, i, tab[S_OFFSET, p, e], tab[S_OFFSET + 1, p, e], tab[S_OFFSET + 2, p, e]
+            )
             nx, ny, nz = _rotate(S, i, bx, by, bz)
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
             area, eff = tab[S_AREA, p, e], tab[S_EFFICIENCY, p, e]
@@ -465,12 +488,17 @@ def _evaluate(S, b, n, e0, model, data, tau, rec):
                 _record(rec, j, i, rx, ry, rz, fx, fy, fz)
         j += 1
 
-    tab, normal = model.flap, data.flap_now  # control surfaces: normals deflected per env
-    for p in range(model.flap_at[b], model.flap_at[b + 1]):
-        _at_sample(S, n, e0, tab, p, prm, wprm, tau, wake, sea)
+    tab, normal = samples.flap, flap_now  # control surfaces: normals deflected per env
+    for p in range(flap_at[b], flap_at[b + 1]):
+        if wake:
+            _wake_rows(S, n, e0, tab, p, wprm, tau)
+        if sea:
+            _swell_rows(S, n, e0, tab, p, prm, tau)
         for i in range(n):
             e = e0 + i
-            rx, ry, rz = _offset(S, i, tab, p, e)
+            rx, ry, rz = _rotate(
+                S, i, tab[S_OFFSET, p, e], tab[S_OFFSET + 1, p, e], tab[S_OFFSET + 2, p, e]
+            )
             nx, ny, nz = _rotate(S, i, normal[0, p, e], normal[1, p, e], normal[2, p, e])
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
             area, eff = tab[S_AREA, p, e], tab[S_EFFICIENCY, p, e]
@@ -480,13 +508,18 @@ def _evaluate(S, b, n, e0, model, data, tau, rec):
                 _record(rec, j, i, rx, ry, rz, fx, fy, fz)
         j += 1
 
-    tab, axis = model.cyl, model.cyl_axis
-    for p in range(model.cyl_at[b], model.cyl_at[b + 1]):
-        _at_sample(S, n, e0, tab, p, prm, wprm, tau, wake, sea)
+    tab, axis = samples.cyl, samples.cyl_axis
+    for p in range(cyl_at[b], cyl_at[b + 1]):
+        if wake:
+            _wake_rows(S, n, e0, tab, p, wprm, tau)
+        if sea:
+            _swell_rows(S, n, e0, tab, p, prm, tau)
         bx, by, bz = axis[0, p], axis[1, p], axis[2, p]
         for i in range(n):
             e = e0 + i
-            rx, ry, rz = _offset(S, i, tab, p, e)
+            rx, ry, rz = _rotate(
+                S, i, tab[S_OFFSET, p, e], tab[S_OFFSET + 1, p, e], tab[S_OFFSET + 2, p, e]
+            )
             ax, ay, az = _rotate(S, i, bx, by, bz)
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
             area = tab[S_CYL_AREA, p, e]
@@ -497,12 +530,15 @@ def _evaluate(S, b, n, e0, model, data, tau, rec):
         j += 1
 
     g = prm[P_G]
-    tab = model.buoy
-    for p in range(model.buoy_at[b], model.buoy_at[b + 1]):
-        _at_sample(S, n, e0, tab, p, prm, wprm, tau, False, sea)
+    tab = samples.buoy
+    for p in range(buoy_at[b], buoy_at[b + 1]):
+        if sea:
+            _swell_rows(S, n, e0, tab, p, prm, tau)
         for i in range(n):
             e = e0 + i
-            rx, ry, rz = _offset(S, i, tab, p, e)
+            rx, ry, rz = _rotate(
+                S, i, tab[S_OFFSET, p, e], tab[S_OFFSET + 1, p, e], tab[S_OFFSET + 2, p, e]
+            )
             z = S[HEIGHT * BLOCK + i] + rz  # the sample's height above the surface
             frac = water_fraction(z, water, inv_blend)
             vol, area = tab[S_VOLUME, p, e], tab[S_BUOY_AREA, p, e]
@@ -512,15 +548,17 @@ def _evaluate(S, b, n, e0, model, data, tau, rec):
                 _record(rec, j, i, rx, ry, rz, ZERO, ZERO, fz)
         j += 1
 
-    tab, direction, ctrl = model.thr, model.thr_dir, data.ctrl
-    for p in range(model.thr_at[b], model.thr_at[b + 1]):
-        bx, by, bz, ch = direction[0, p], direction[1, p], direction[2, p], model.thr_channel[p]
+    tab, direction, channel = samples.thr, samples.thr_dir, samples.thr_channel
+    for p in range(thr_at[b], thr_at[b + 1]):
+        bx, by, bz, ch = direction[0, p], direction[1, p], direction[2, p], channel[p]
         for i in range(n):
             e = e0 + i
             a = ctrl[ch, e] if ch >= 0 else ONE
             lo, hi = tab[S_THRUST_MIN, p, e], tab[S_THRUST_MAX, p, e]
             thrust = lo + HALF * (a + ONE) * (hi - lo)
-            rx, ry, rz = _offset(S, i, tab, p, e)
+            rx, ry, rz = _rotate(
+                S, i, tab[S_OFFSET, p, e], tab[S_OFFSET + 1, p, e], tab[S_OFFSET + 2, p, e]
+            )
             dx, dy, dz = _rotate(S, i, bx, by, bz)
             fx, fy, fz = thrust * dx, thrust * dy, thrust * dz
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
@@ -528,7 +566,7 @@ def _evaluate(S, b, n, e0, model, data, tau, rec):
                 _record(rec, j, i, rx, ry, rz, fx, fy, fz)
         j += 1
 
-    ext = data.external  # Simulator.set_external_force: world force and torque, held per call
+    ext = external  # Simulator.set_external_force: world force and torque, held per call
     for k in range(6):
         for i in range(n):
             S[(DERIV + OV + k) * BLOCK + i] += ext[e0 + i, b, k]  # rows OV..OV+2, then OL..OL+2
@@ -727,18 +765,17 @@ def _drift(S, n, h):
 
 
 @njit(**_JIT)
-def _integrate(scr_blk, nb, n, e0, model, data, method):
+def _integrate(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external, method):
     """One time step of every body slot in a block (stage-synchronous across slots, so that
     forces coupling bodies of one environment can be added per stage); each evaluation sees
     the surface at its stage time, the step's start plus ``tau`` (see the module docstring)."""
-    prm = model.prm
     dt = prm[P_DT]
     h2 = HALF * dt
     tdt = np.float64(dt)  # stage time offsets, float64 like the clock
     th = 0.5 * tdt
     if method == EXPLICIT_EULER:  # explicit Euler: everything from the old state
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, model, data, T0, None)
+            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
         for b in range(nb):
             _axpy(scr_blk[b], STATE, STATE, dt, n)
             _normalize_quat(scr_blk[b], STATE + OQ, n)
@@ -746,7 +783,7 @@ def _integrate(scr_blk, nb, n, e0, model, data, method):
         method == SYMPLECTIC_EULER
     ):  # symplectic Euler: velocities first, then positions with new velocities
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, model, data, T0, None)
+            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
         for b in range(nb):
             S = scr_blk[b]
             _kick(S, n, dt)
@@ -754,24 +791,24 @@ def _integrate(scr_blk, nb, n, e0, model, data, method):
             _rotate_by_omega(S, n, dt)
     elif method == VELOCITY_VERLET:  # velocity Verlet: half kick, drift, new forces, half kick
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, model, data, T0, None)
+            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
         for b in range(nb):
             S = scr_blk[b]
             _kick(S, n, h2)
             _drift(S, n, dt)
             _rotate_by_omega(S, n, dt)
         for b in range(nb):  # at the step's end
-            _evaluate(scr_blk[b], b, n, e0, model, data, tdt, None)
+            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tdt, None)
         for b in range(nb):
             _kick(scr_blk[b], n, h2)
     elif method == RK2:  # RK2, explicit midpoint: START keeps the step's start
         for b in range(nb):
             _copy(scr_blk[b], START, STATE, n)
-            _evaluate(scr_blk[b], b, n, e0, model, data, T0, None)
+            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
         for b in range(nb):
             _axpy(scr_blk[b], STATE, START, h2, n)
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, model, data, th, None)
+            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, th, None)
         for b in range(nb):
             _axpy(scr_blk[b], STATE, START, dt, n)
             _normalize_quat(scr_blk[b], STATE + OQ, n)
@@ -779,7 +816,7 @@ def _integrate(scr_blk, nb, n, e0, model, data, method):
         method == VERLET_TETRA
     ):  # verlet_tetra: symplectic kick and drift, the turn as a tetrahedron
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, model, data, T0, None)
+            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
         for b in range(nb):
             S = scr_blk[b]
             _kick(S, n, dt)
@@ -791,7 +828,9 @@ def _integrate(scr_blk, nb, n, e0, model, data, method):
         for stage in range(4):
             tau = T0 if stage == 0 else (th if stage < 3 else tdt)
             for b in range(nb):
-                _evaluate(scr_blk[b], b, n, e0, model, data, tau, None)
+                _evaluate(
+                    scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, None
+                )
             for b in range(nb):
                 S = scr_blk[b]
                 weight = ONE if stage == 0 or stage == 3 else TWO
@@ -816,15 +855,13 @@ def _integrate(scr_blk, nb, n, e0, model, data, method):
 
 
 @njit(**_JIT)
-def _deflect(e0, n, model, data):
+def _deflect(e0, n, samples, ctrl, flap_now):
     """Body-frame normals of the control surfaces for this block's environments."""
-    tab, normal, hinge, mix, ctrl, out = (
-        model.flap,
-        model.flap_normal,
-        model.flap_hinge,
-        model.flap_mix,
-        data.ctrl,
-        data.flap_now,
+    tab, normal, hinge, mix = (
+        samples.flap,
+        samples.flap_normal,
+        samples.flap_hinge,
+        samples.flap_mix,
     )
     for p in range(tab.shape[1]):
         for i in range(n):
@@ -841,13 +878,13 @@ def _deflect(e0, n, model, data):
                 math.cos(theta),
                 math.sin(theta),
             )
-            out[0, p, e0 + i] = nx
-            out[1, p, e0 + i] = ny
-            out[2, p, e0 + i] = nz
+            flap_now[0, p, e0 + i] = nx
+            flap_now[1, p, e0 + i] = ny
+            flap_now[2, p, e0 + i] = nz
 
 
 @njit(**_JIT)
-def _load_block(blk, model, data):
+def _load_block(blk, model, samples, data):
     """Copy a block's state, body constants and fluid (and wake source) into its scratch and
     deflect its control surfaces; returns (first environment, environments in the block)."""
     st, flow, src, scr = data.st, data.flow, data.src, data.scr
@@ -855,7 +892,7 @@ def _load_block(blk, model, data):
     e0 = blk * BLOCK
     n = min(BLOCK, ne - e0)
     scr_blk = scr[blk]
-    _deflect(e0, n, model, data)
+    _deflect(e0, n, samples, data.ctrl, data.flap_now)
     for b in range(nb):
         for k in range(NSTATE):
             for i in range(n):
@@ -892,8 +929,8 @@ def _contact(scr_blk, nb, e0, n, model, data, work):
 
 
 @njit(**_JIT)
-def _advance_block(blk, model, data, method, steps):
-    e0, n = _load_block(blk, model, data)
+def _advance_block(blk, model, samples, data, method, steps):
+    e0, n = _load_block(blk, model, samples, data)
     st, src, clock, diverged = data.st, data.src, data.clock, data.diverged
     nb = st.shape[1]
     scr_blk = data.scr[blk]
@@ -902,6 +939,7 @@ def _advance_block(blk, model, data, method, steps):
     tdt = np.float64(dt)
     sea = model.swell.shape[0] > 0
     touching = model.cprm[C_ON] != 0.0
+    prm, wprm, ctrl, flap_now, external = _forces(model, data)
     work = np.empty((num_pairs(nb) if touching else 0, NW), dtype=data.scr.dtype)  # contact.py
     if touching:  # the contacts' impulses over this call
         for i in range(n):
@@ -911,7 +949,7 @@ def _advance_block(blk, model, data, method, steps):
         if sea:  # the waves' time phases at the step's start
             for b in range(nb):
                 _phase_rows(scr_blk[b], n, e0, model.swell, clock)
-        _integrate(scr_blk, nb, n, e0, model, data, method)
+        _integrate(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external, method)
         if touching:
             _contact(scr_blk, nb, e0, n, model, data, work)
         for i in range(n):  # each environment's clock: its own slots only
@@ -957,37 +995,38 @@ def _check_method(method):
 
 
 @njit(**_JIT)
-def step_serial(model, data, method, steps):
-    """Advance every environment ``steps`` steps on the calling thread (``model``, ``data``:
-    :class:`~fluidsim_envs.physics.model.Model`, :class:`~fluidsim_envs.physics.model.Data`;
+def step_serial(model, samples, data, method, steps):
+    """Advance every environment ``steps`` steps on the calling thread (``model``, ``samples``,
+    ``data``: ``model.py``'s :class:`Model`, :class:`Samples`, :class:`Data`;
     ``method``: an ``integrators.Integrator.id``)."""
     _check_method(method)
     for blk in range(data.scr.shape[0]):
-        _advance_block(blk, model, data, method, steps)
+        _advance_block(blk, model, samples, data, method, steps)
 
 
 @njit(parallel=True, **_JIT)
-def step_parallel(model, data, method, steps):
+def step_parallel(model, samples, data, method, steps):
     """Advance every environment ``steps`` steps, blocks spread over numba's threads."""
     _check_method(method)
     for blk in prange(data.scr.shape[0]):
-        _advance_block(blk, model, data, method, steps)
+        _advance_block(blk, model, samples, data, method, steps)
 
 
 @njit(**_JIT)
-def wrench(model, data, out):
+def wrench(model, samples, data, out):
     """Net force and torque about the center of mass of every body from its samples,
     buoyancy and thrusters (gravity excluded), out[6, B, E], world frame, at each
     environment's clock."""
     g = model.prm[P_G]
     st, scr = data.st, data.scr
+    prm, wprm, ctrl, flap_now, external = _forces(model, data)
     for blk in range(scr.shape[0]):
-        e0, n = _load_block(blk, model, data)
+        e0, n = _load_block(blk, model, samples, data)
         for b in range(st.shape[1]):
             S = scr[blk, b]
             if model.swell.shape[0] > 0:
                 _phase_rows(S, n, e0, model.swell, data.clock)
-            _evaluate(S, b, n, e0, model, data, T0, None)
+            _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
             for i in range(n):
                 m = model.body[e0 + i, b, B_MASS]
                 out[0, b, e0 + i] = m * S[(DERIV + OV) * BLOCK + i]
@@ -998,21 +1037,22 @@ def wrench(model, data, out):
 
 
 @njit(**_JIT)
-def sample_forces(model, data, env, out):
+def sample_forces(model, samples, data, env, out):
     """Each sample's world application point and force in environment ``env`` at its clock,
     ``out[N, 6]`` (point x, y, z, then force), N the samples of every body in ``_evaluate``'s
     order: ``_evaluate`` records them as it adds them up, so they sum to :func:`wrench`."""
     st, scr = data.st, data.scr
+    prm, wprm, ctrl, flap_now, external = _forces(model, data)
     blk = env // BLOCK
-    e0, n = _load_block(blk, model, data)
+    e0, n = _load_block(blk, model, samples, data)
     i = env - e0
     rec = np.zeros((out.shape[0], 6, BLOCK), dtype=scr.dtype)
     for b in range(st.shape[1]):
         S = scr[blk, b]
         if model.swell.shape[0] > 0:
             _phase_rows(S, n, e0, model.swell, data.clock)
-        _evaluate(S, b, n, e0, model, data, T0, rec)
-        for j in range(_first_sample(model, b), _first_sample(model, b + 1)):
+        _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, rec)
+        for j in range(_first_sample(samples, b), _first_sample(samples, b + 1)):
             for k in range(3):
                 out[j, k] = st[OX + k, b, env] + rec[j, k, i]
                 out[j, 3 + k] = rec[j, 3 + k, i]

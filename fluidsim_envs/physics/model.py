@@ -2,9 +2,10 @@
 changes as they move), numba-typed named tuples built once by :class:`Simulator`.
 
 Like MuJoCo's model and data, or Brax's ``System`` and ``State``: a kernel takes ``(model,
-data)`` and reads ``model.plate``, ``data.st``, never a slot number. Every field is an array;
-row layouts are named here (the samples' ``S_*`` rows), in ``state.py`` (the state, the body
-constants, the scratch) and in ``contact.py`` (``SH_*``, ``CB_*``).
+samples, data)`` and reads ``samples.plate``, ``data.st``, never a slot number. Every field is
+an array; row layouts are named here (the
+samples' ``S_*`` rows), in ``state.py`` (the state, the body constants, the scratch) and in
+``contact/tables.py`` (``SH_*``, ``CB_*``, ``C_*``).
 
 Per environment. What ``Simulator.set_mass_properties`` and ``Simulator.set_sample_scale`` can
 change is stored per environment, environments innermost (``[field, sample, E]``), so that
@@ -19,7 +20,8 @@ that craft alone.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -28,47 +30,141 @@ from . import contact as CT
 from .craft import Craft
 from .state import BODY_FIELDS, NBODY
 
-# per-environment sample rows [S_*, n, E]: the offset from the center of mass (body frame, m)
-# first, for every kind, then the kind's sizes
-S_OFFSET = 0
-S_AREA, S_EFFICIENCY = 3, 4  # plates and control surfaces: area (m^2), efficiency
-S_CYL_AREA = 3  # cylinders: side area times drag coefficient (m^2)
-S_VOLUME, S_BUOY_AREA = 3, 4  # buoyancy: volume (m^3) or area (m^2), the other 0
-S_THRUST_MIN, S_THRUST_MAX = 3, 4  # thrusters: thrust (N) at control -1 and +1
-N_PLATE, N_CYL, N_BUOY, N_THR = 5, 4, 5, 5
 
-KINDS = ("plate", "flap", "cyl", "buoy", "thr")  # the order of the samples in every table
+@dataclass(frozen=True)
+class SampleKind:
+    """A kind of sample, as the kernels' tables hold it.
+
+    Attributes:
+        name: the prefix of its :class:`Samples` fields: ``<name>`` (the per-environment rows
+            ``[width, n, E]``), ``<name>_at`` (each body's range) and ``<name>_<suffix>`` for
+            each shared geometry table.
+        of: the craft's samples of this kind, in the craft's order.
+        sizes: the per-environment rows after the offset (rows 0-2): the sample's attributes
+            (None reads as 0).
+        geometry: ``(suffix, attribute)`` of each shared ``[3, n]`` table (a unit vector).
+        area: the sizes that ``set_sample_scale(area=)`` multiplies.
+        efficiency: the sizes that ``set_sample_scale(efficiency=)`` multiplies.
+        thrust: the sizes that ``set_thrust_scale`` multiplies.
+    """
+
+    name: str
+    of: Callable[[Craft], list]
+    sizes: tuple[str, ...]
+    geometry: tuple[tuple[str, str], ...] = ()
+    area: tuple[str, ...] = ()
+    efficiency: tuple[str, ...] = ()
+    thrust: tuple[str, ...] = ()
+
+    @property
+    def width(self) -> int:
+        return 3 + len(self.sizes)
+
+    def row(self, size: str) -> int:
+        """The per-environment row of one of :attr:`sizes`."""
+        return 3 + self.sizes.index(size)
+
+    def rows(self, craft: Craft) -> list[tuple]:
+        """The per-environment rows of the craft's samples of this kind (float64 values)."""
+        return [(*s.offset_m, *(getattr(s, a) or 0.0 for a in self.sizes)) for s in self.of(craft)]
+
+
+def is_flap(craft: Craft) -> set[str]:
+    """The names of a craft's plates that a control channel drives."""
+    return {s.sample for ctl in craft.controls for s in ctl.surfaces}
+
+
+# The kinds, in the order their samples are numbered everywhere (``sample_forces``, the
+# kernel's loops). A new kind: a row here, its Samples fields (tests/physics/test_model.py
+# checks them), its loop in ``kernels._evaluate`` (kernels.py refuses to import until it has
+# one), its part and schema in craft.py.
+KINDS = (
+    SampleKind(
+        "plate",  # plates without a control channel
+        lambda c: [p for p in c.plates if p.name not in is_flap(c)],
+        sizes=("area_m2", "efficiency"),
+        geometry=(("normal", "normal"),),
+        area=("area_m2",),
+        efficiency=("efficiency",),
+    ),
+    SampleKind(
+        "flap",  # control surfaces: normals turned about a hinge by the controls
+        lambda c: [p for p in c.plates if p.name in is_flap(c)],
+        sizes=("area_m2", "efficiency"),
+        geometry=(("normal", "normal"), ("hinge", "hinge_axis")),
+        area=("area_m2",),
+        efficiency=("efficiency",),
+    ),
+    SampleKind(
+        "cyl",
+        lambda c: list(c.cylinders),
+        sizes=("area_m2",),
+        geometry=(("axis", "axis"),),
+        area=("area_m2",),
+    ),
+    SampleKind(
+        "buoy",
+        lambda c: list(c.buoyancy),
+        sizes=("volume_m3", "area_m2"),  # one of them 0, by the sample's kind
+        area=("volume_m3", "area_m2"),
+    ),
+    SampleKind(
+        "thr",
+        lambda c: list(c.thrusters),
+        sizes=("min_thrust_n", "max_thrust_n"),
+        geometry=(("dir", "direction"),),
+        thrust=("min_thrust_n", "max_thrust_n"),
+    ),
+)
+KIND = {k.name: k for k in KINDS}
+
+# the kernels' row numbers, from the kinds' declarations
+S_OFFSET = 0  # rows 0-2 of every kind: the offset from the center of mass (body frame, m)
+S_AREA = KIND["plate"].row("area_m2")  # plates and control surfaces: area (m^2)
+S_EFFICIENCY = KIND["plate"].row("efficiency")
+S_CYL_AREA = KIND["cyl"].row("area_m2")  # side area times drag coefficient (m^2)
+S_VOLUME, S_BUOY_AREA = KIND["buoy"].row("volume_m3"), KIND["buoy"].row("area_m2")
+S_THRUST_MIN, S_THRUST_MAX = KIND["thr"].row("min_thrust_n"), KIND["thr"].row("max_thrust_n")
+assert KIND["flap"].sizes == KIND["plate"].sizes  # the kernel reads both with S_AREA, ...
+
+
+class Samples(NamedTuple):
+    """The crafts' samples, as a force evaluation reads them.
+
+    Samples are numbered per kind (:data:`KINDS`), all bodies' in a row, and
+    ``<kind>_at[b]:<kind>_at[b + 1]`` are body b's. A bundle of its own, beside
+    :class:`Model`, because a force evaluation takes it and not the rest: every array a
+    compiled call takes costs it time, which shows in the one-environment step (and numba's
+    parallel loops take no named tuple nested in another).
+    """
+
+    plate: np.ndarray  # [width, n, E] offset, area, efficiency
+    plate_normal: np.ndarray  # [3, n] body frame
+    plate_at: np.ndarray  # [B + 1] int64
+    flap: np.ndarray  # [width, n, E] offset, area, efficiency
+    flap_normal: np.ndarray  # [3, n] undeflected
+    flap_hinge: np.ndarray  # [3, n] the axis the normal turns about
+    flap_mix: np.ndarray  # [n, C] deflection (rad) per unit of each control channel
+    flap_at: np.ndarray  # [B + 1]
+    cyl: np.ndarray  # [width, n, E] offset, area
+    cyl_axis: np.ndarray  # [3, n]
+    cyl_at: np.ndarray  # [B + 1]
+    buoy: np.ndarray  # [width, n, E] offset, volume, area
+    buoy_at: np.ndarray  # [B + 1]
+    thr: np.ndarray  # [width, n, E] offset, thrust at -1 and +1
+    thr_dir: np.ndarray  # [3, n] unit direction
+    thr_channel: np.ndarray  # [n] int64 control channel (-1: none, full thrust)
+    thr_at: np.ndarray  # [B + 1]
 
 
 class Model(NamedTuple):
-    """What the kernels know of the crafts and the world (read-only during a step).
-
-    E environments of B bodies; samples are numbered per kind, all bodies' in a row, and
-    ``<kind>_at[b]:<kind>_at[b + 1]`` are body b's. Kinds: ``plate`` (a plate without a
-    control), ``flap`` (a control surface), ``cyl``, ``buoy``, ``thr`` (thrusters).
-    """
+    """What the kernels know of the crafts and the world (read-only during a step), for E
+    environments of B bodies."""
 
     prm: np.ndarray  # [NPRM] world and step parameters (kernels.P_*), simulation dtype
     wprm: np.ndarray  # [NWPRM] the wake's parameters (wake.W_*; W_ON = 0: no wake)
     swell: np.ndarray  # [n_waves, 5] float64 (a, kx, ky, omega, phase); empty: calm water
     body: np.ndarray  # [E, B, NBODY] mass and inertia (state.BODY_FIELDS), per environment
-    plate: np.ndarray  # [N_PLATE, n, E] offset, area, efficiency
-    plate_normal: np.ndarray  # [3, n] body frame
-    plate_at: np.ndarray  # [B + 1] int64
-    flap: np.ndarray  # [N_PLATE, n, E] offset, area, efficiency
-    flap_normal: np.ndarray  # [3, n] undeflected
-    flap_hinge: np.ndarray  # [3, n] the axis the normal turns about
-    flap_mix: np.ndarray  # [n, C] deflection (rad) per unit of each control channel
-    flap_at: np.ndarray  # [B + 1]
-    cyl: np.ndarray  # [N_CYL, n, E] offset, area
-    cyl_axis: np.ndarray  # [3, n]
-    cyl_at: np.ndarray  # [B + 1]
-    buoy: np.ndarray  # [N_BUOY, n, E] offset, volume, area
-    buoy_at: np.ndarray  # [B + 1]
-    thr: np.ndarray  # [N_THR, n, E] offset, thrust at -1 and +1
-    thr_dir: np.ndarray  # [3, n] unit direction
-    thr_channel: np.ndarray  # [n] int64 control channel (-1: none, full thrust)
-    thr_at: np.ndarray  # [B + 1]
     shape: np.ndarray  # [E, NSHAPE, n] collision shapes (contact.SH_*), per environment
     shape_at: np.ndarray  # [B + 1]
     contact_body: np.ndarray  # [E, B, NCBODY] restitution, friction, reach (contact.CB_*)
@@ -109,33 +205,14 @@ def body_rows(mass_kg: np.ndarray, inertia: np.ndarray) -> np.ndarray:
     return rows
 
 
-def is_flap(craft: Craft) -> set[str]:
-    """The names of a craft's plates that a control channel drives."""
-    return {s.sample for ctl in craft.controls for s in ctl.surfaces}
-
-
 def sample_rows(craft: Craft) -> dict[str, list[tuple]]:
-    """A craft's per-environment sample rows by kind (``S_*`` layout, float64)."""
-    flaps = is_flap(craft)
-    rows = {k: [] for k in KINDS}
-    for p in craft.plates:
-        rows["flap" if p.name in flaps else "plate"].append((*p.offset_m, p.area_m2, p.efficiency))
-    rows["cyl"] = [(*s.offset_m, s.area_m2) for s in craft.cylinders]
-    rows["buoy"] = [(*s.offset_m, s.volume_m3 or 0.0, s.area_m2 or 0.0) for s in craft.buoyancy]
-    rows["thr"] = [(*t.offset_m, t.min_thrust_n, t.max_thrust_n) for t in craft.thrusters]
-    return rows
+    """A craft's per-environment sample rows by kind (float64)."""
+    return {k.name: k.rows(craft) for k in KINDS}
 
 
 def sample_names(craft: Craft) -> dict[str, list[str]]:
     """A craft's sample names by kind, in :func:`sample_rows`' order."""
-    flaps = is_flap(craft)
-    return {
-        "plate": [p.name for p in craft.plates if p.name not in flaps],
-        "flap": [p.name for p in craft.plates if p.name in flaps],
-        "cyl": [s.name for s in craft.cylinders],
-        "buoy": [s.name for s in craft.buoyancy],
-        "thr": [t.name for t in craft.thrusters],
-    }
+    return {k.name: [s.name for s in k.of(craft)] for k in KINDS}
 
 
 def control_names(crafts: Sequence[Craft]) -> list[str]:
@@ -168,72 +245,52 @@ def pack(
     swell: np.ndarray,
     cprm: np.ndarray,
     grid: np.ndarray,
-) -> Model:
-    """The :class:`Model` of E environments of ``crafts`` (every environment at the crafts'
-    own values)."""
+) -> tuple[Model, Samples]:
+    """The :class:`Model` and :class:`Samples` of E environments of ``crafts`` (every
+    environment at the crafts' own values)."""
     E, dtype = num_envs, np.dtype(dtype)
+    fields = {}
+    for kind in KINDS:  # per-environment rows, shared geometry, each body's range
+        fields[kind.name] = _field_major(
+            [r for c in crafts for r in kind.rows(c)], kind.width, E, dtype
+        )
+        for suffix, attr in kind.geometry:
+            vectors = [getattr(s, attr) for c in crafts for s in kind.of(c)]
+            fields[f"{kind.name}_{suffix}"] = _once(vectors, 3, dtype)
+        fields[f"{kind.name}_at"] = _ranges([len(kind.of(c)) for c in crafts])
+    # the control wiring: each control surface's deflection per channel, each thruster's
     offsets = np.cumsum([0] + [len(c.control_names) for c in crafts])
-    n_ch = int(offsets[-1])
-    rows = {k: [] for k in KINDS}
-    counts = {k: [] for k in KINDS}
-    plate_normal, flap_normal, flap_hinge, mix, cyl_axis, thr_dir, thr_ch = ([] for _ in range(7))
-    shapes, shape_counts = [], []
+    mix, thr_ch = [], []
     for b, c in enumerate(crafts):
-        for kind, r in sample_rows(c).items():
-            rows[kind].extend(r)
-            counts[kind].append(len(r))
-        drive: dict[str, np.ndarray] = {}
+        drive = {}
         for j, ctl in enumerate(c.controls):
             for s in ctl.surfaces:
-                row = drive.setdefault(s.sample, np.zeros(n_ch))
+                row = drive.setdefault(s.sample, np.zeros(offsets[-1]))
                 row[offsets[b] + j] += s.gain * math.radians(ctl.max_deflection_deg)
-        for p in c.plates:
-            if p.name in drive:
-                flap_normal.append(p.normal)
-                flap_hinge.append(p.hinge_axis)
-                mix.append(drive[p.name])
-            else:
-                plate_normal.append(p.normal)
-        cyl_axis.extend(s.axis for s in c.cylinders)
-        thr_dir.extend(t.direction for t in c.thrusters)
+        mix.extend(drive[p.name] for p in KIND["flap"].of(c))
         thr_ch.extend(
             -1 if t.control is None else offsets[b] + c.control_names.index(t.control)
             for t in c.thrusters
         )
-        shapes.extend(CT.shape_rows(c))
-        shape_counts.append(len(c.shapes))
     bodies = body_rows(
         np.array([c.mass_kg for c in crafts]), np.stack([c.inertia_tensor for c in crafts])
     ).astype(dtype)
     materials = np.asarray([CT.material_row(c) for c in crafts], dtype=np.float64)
-    shape_table = _once(shapes, CT.NSHAPE, dtype)
+    shape_table = _once([r for c in crafts for r in CT.shape_rows(c)], CT.NSHAPE, dtype)
     return Model(
         prm=prm.astype(dtype),
         wprm=wprm.astype(dtype),
         swell=np.ascontiguousarray(swell, dtype=np.float64),
         body=np.ascontiguousarray(np.broadcast_to(bodies, (E, *bodies.shape))),
-        plate=_field_major(rows["plate"], N_PLATE, E, dtype),
-        plate_normal=_once(plate_normal, 3, dtype),
-        plate_at=_ranges(counts["plate"]),
-        flap=_field_major(rows["flap"], N_PLATE, E, dtype),
-        flap_normal=_once(flap_normal, 3, dtype),
-        flap_hinge=_once(flap_hinge, 3, dtype),
-        flap_mix=np.asarray(mix, dtype=dtype).reshape(len(mix), n_ch),
-        flap_at=_ranges(counts["flap"]),
-        cyl=_field_major(rows["cyl"], N_CYL, E, dtype),
-        cyl_axis=_once(cyl_axis, 3, dtype),
-        cyl_at=_ranges(counts["cyl"]),
-        buoy=_field_major(rows["buoy"], N_BUOY, E, dtype),
-        buoy_at=_ranges(counts["buoy"]),
-        thr=_field_major(rows["thr"], N_THR, E, dtype),
-        thr_dir=_once(thr_dir, 3, dtype),
-        thr_channel=np.asarray(thr_ch, dtype=np.int64),
-        thr_at=_ranges(counts["thr"]),
+        shape_at=_ranges([len(c.shapes) for c in crafts]),
         shape=np.ascontiguousarray(np.broadcast_to(shape_table, (E, *shape_table.shape))),
-        shape_at=_ranges(shape_counts),
         contact_body=np.ascontiguousarray(
             np.broadcast_to(materials.astype(dtype), (E, len(crafts), CT.NCBODY))
         ),
         cprm=cprm.astype(dtype),
         grid=np.ascontiguousarray(grid, dtype=dtype),
+    ), Samples(
+        flap_mix=np.asarray(mix, dtype=dtype).reshape(len(mix), int(offsets[-1])),
+        thr_channel=np.asarray(thr_ch, dtype=np.int64),
+        **fields,
     )

@@ -11,9 +11,8 @@ from __future__ import annotations
 from numba import njit
 
 from .forces import HALF, ONE, TWO
+from .jit import INLINE as _INLINE
 from .state import B_INV_INERTIA, NSTATE, OL, OQ, OV, OX  # noqa: F401  (re-exported)
-
-_INLINE = dict(cache=True, error_model="numpy", inline="always", fastmath={"contract"})
 
 
 @njit(**_INLINE)

@@ -7,6 +7,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from . import checks as CK
 from . import contact as CT
 from . import integrators as IT
 from . import kernels as K
@@ -19,26 +20,6 @@ from .world import World
 _BATCH_PARALLEL_MIN = 1024  # below this many bodies the serial kernel wins (thread start-up)
 # groups every craft has for Simulator.set_sample_scale, beside its samples' names and its own
 BUILTIN_GROUPS = ("all", "plates", "control_surfaces", "cylinders", "buoyancy")
-
-
-def _values(what: str, name: str, value, shape) -> np.ndarray:
-    """``value`` as float64 broadcast to ``shape`` (None: as it is), finite; else a
-    ValueError naming ``what``, ``name`` and the value: the simulator's one input check."""
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{what}: {name} must be numbers, got {value!r}") from None
-    if shape is not None:
-        try:
-            arr = np.broadcast_to(arr, shape)
-        except ValueError:
-            dims = ", ".join(map(str, shape))
-            raise ValueError(
-                f"{what}: {name} of shape {arr.shape} does not broadcast to [{dims}]"
-            ) from None
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{what}: {name} has non-finite values: {value!r}")
-    return arr
 
 
 def _world_params(world: World, dt: float, swell: np.ndarray) -> np.ndarray:
@@ -77,12 +58,16 @@ class _Body:
         self.area = {k: np.ones((num_envs, len(n))) for k, n in self.names.items()}
         self.efficiency = {k: np.ones((num_envs, len(n))) for k, n in self.names.items()}
         self.thrust = np.ones(num_envs)
+
+        def of(*kinds):
+            return [(k, i) for k in kinds for i in range(len(self.names[k]))]
+
         groups = {
-            "all": [(k, i) for k, n in self.names.items() for i in range(len(n))],
-            "plates": [(k, i) for k in ("plate", "flap") for i in range(len(self.names[k]))],
-            "control_surfaces": [("flap", i) for i in range(len(self.names["flap"]))],
-            "cylinders": [("cyl", i) for i in range(len(self.names["cyl"]))],
-            "buoyancy": [("buoy", i) for i in range(len(self.names["buoy"]))],
+            "all": of(*self.names),
+            "plates": of("plate", "flap"),
+            "control_surfaces": of("flap"),
+            "cylinders": of("cyl"),
+            "buoyancy": of("buoy"),
         }
         where = {n: (k, i) for k, names in self.names.items() for i, n in enumerate(names)}
         groups.update({n: [ki] for n, ki in where.items()})
@@ -209,7 +194,7 @@ class Simulator:
         cprm, grid = CT.params(
             crafts, world.ground, dt, world.gravity_mps2, world.contact_passes, method.drift_share
         )
-        self._model = M.pack(
+        self._model, self._samples = M.pack(
             crafts,
             E,
             dtype,
@@ -236,7 +221,7 @@ class Simulator:
             # float64 whatever the dtype: wave phases omega t stay exact over long episodes
             clock=np.zeros(E, dtype=np.float64),
             ctrl=np.zeros((len(self.control_names), E), dtype=dtype),
-            flap_now=np.zeros((3, self._model.flap.shape[1], E), dtype=dtype),
+            flap_now=np.zeros((3, self._samples.flap.shape[1], E), dtype=dtype),
             external=np.zeros((E, B, 6), dtype=dtype),
             warm=np.zeros((E if n_pairs else 0, n_pairs, CT.NWARM), dtype=dtype),
             touch=np.zeros((E if n_pairs else 0, n_pairs), dtype=dtype),
@@ -378,17 +363,8 @@ class Simulator:
         self._data.external[ids, :, 3:] = t
 
     def _set_flow(self, name: str, rows: slice, value, env_ids) -> None:
-        ids = self._env_ids(name, env_ids)
-        arr = np.asarray(value, dtype=np.float64)
-        try:
-            arr = np.broadcast_to(arr, (ids.size, 3))
-        except ValueError:
-            raise ValueError(
-                f"{name} of shape {arr.shape} does not broadcast to [{ids.size}, 3]"
-            ) from None
-        if not np.all(np.isfinite(arr)):
-            raise ValueError(f"{name} has non-finite values: {value!r}")
-        self._data.flow[rows, ids] = arr.T
+        ids = self._env_ids(f"set_{name[:-4]}", env_ids)
+        self._data.flow[rows, ids] = CK.array(f"set_{name[:-4]}", name, value, (ids.size, 3)).T
 
     @property
     def clock(self) -> np.ndarray:
@@ -403,16 +379,7 @@ class Simulator:
         ``[n]``. The swell's surface at a point is a function of the clock, so a random clock
         offset randomizes the phase of every wave at once."""
         ids = self._env_ids("set_clock", env_ids)
-        arr = np.asarray(t, dtype=np.float64)
-        try:
-            arr = np.broadcast_to(arr, (ids.size,))
-        except ValueError:
-            raise ValueError(
-                f"set_clock: t of shape {arr.shape} does not broadcast to [{ids.size}]"
-            ) from None
-        if not np.all(np.isfinite(arr)):
-            raise ValueError(f"set_clock: t has non-finite values: {t!r}")
-        self._data.clock[ids] = arr
+        self._data.clock[ids] = CK.array("set_clock", "t", t, (ids.size,))
 
     def surface_height(self, x, y) -> np.ndarray:
         """Height of the water surface (m) above z = 0 in every environment at its own clock:
@@ -441,25 +408,15 @@ class Simulator:
             raise ValueError("set_wake_source: this Simulator has no wake (pass wake=)")
         ids = self._env_ids("set_wake_source", env_ids)
         n = ids.size
-        parts = []
-        for name, value, width in (
-            ("pos", pos, 3),
-            ("quat", quat, 4),
-            ("lin_vel", lin_vel, 3),
-            ("noise_offset", noise_offset, 3),
-        ):
-            arr = np.asarray(value, dtype=np.float64)
-            try:
-                arr = np.broadcast_to(arr, (n, width))
-            except ValueError:
-                raise ValueError(
-                    f"set_wake_source: {name} of shape {arr.shape} does not broadcast to "
-                    f"[{n}, {width}]"
-                ) from None
-            if not np.all(np.isfinite(arr)):
-                raise ValueError(f"set_wake_source: {name} has non-finite values: {value!r}")
-            parts.append(arr)
-        p, q, v, o = parts
+        p, q, v, o = (
+            CK.array("set_wake_source", name, value, (n, width))
+            for name, value, width in (
+                ("pos", pos, 3),
+                ("quat", quat, 4),
+                ("lin_vel", lin_vel, 3),
+                ("noise_offset", noise_offset, 3),
+            )
+        )
         norm = np.linalg.norm(q, axis=1, keepdims=True)
         if np.any(norm < 1e-12):
             raise ValueError("set_wake_source: quat must be non-zero")
@@ -487,7 +444,7 @@ class Simulator:
         fluid samples, buoyancy and thrusters (not gravity) at the current state, world frame,
         each ``[E, B, 3]``. ``controls`` as in :meth:`step` (None: all channels at 0)."""
         self._set_controls(controls)
-        K.wrench(self._model, self._data, self._wrench)
+        K.wrench(self._model, self._samples, self._data, self._wrench)
         out = self._wrench.transpose(2, 1, 0)
         return out[..., :3].copy(), out[..., 3:].copy()
 
@@ -526,7 +483,7 @@ class Simulator:
         self._set_controls(controls)
         counts = [c.num_samples for c in self.crafts]
         out = np.zeros((sum(counts), 6))
-        K.sample_forces(self._model, self._data, int(e), out)
+        K.sample_forces(self._model, self._samples, self._data, int(e), out)
         return out[:, :3], out[:, 3:], np.repeat(np.arange(self.num_bodies), counts)
 
     def _env_ids(self, what: str, env_ids) -> np.ndarray:
@@ -582,22 +539,22 @@ class Simulator:
         ids, bd = self._env_ids(what, env_ids), self._body(what, body)
         n = ids.size
         if mass_kg is not None:
-            m = _values(what, "mass_kg", mass_kg, (n,))
+            m = CK.array(what, "mass_kg", mass_kg, (n,))
             if np.any(m <= 0.0):
                 raise ValueError(f"{what}: mass_kg must be positive, got {mass_kg!r}")
         if inertia_kgm2 is not None:
-            arr = _values(what, "inertia_kgm2", inertia_kgm2, None)
+            arr = CK.array(what, "inertia_kgm2", inertia_kgm2, None)
             tensor = arr.ndim >= 2 and arr.shape[-2:] == (3, 3)
             if tensor:
-                inertia = _values(what, "inertia_kgm2", arr, (n, 3, 3))
+                inertia = CK.array(what, "inertia_kgm2", arr, (n, 3, 3))
             else:
-                inertia = _values(what, "inertia_kgm2", arr, (n, 3))[:, :, None] * np.eye(3)
+                inertia = CK.array(what, "inertia_kgm2", arr, (n, 3))[:, :, None] * np.eye(3)
             try:
                 check_inertia(what, inertia, inertia_kgm2)
             except CraftError as err:
                 raise ValueError(str(err)) from None
         if center_of_mass_m is not None:
-            com = _values(what, "center_of_mass_m", center_of_mass_m, (n, 3))
+            com = CK.array(what, "center_of_mass_m", center_of_mass_m, (n, 3))
         if mass_kg is not None:
             bd.mass_kg[ids] = m
         if inertia_kgm2 is not None:
@@ -628,16 +585,16 @@ class Simulator:
                 f"{what}: unknown group {group!r} for craft {bd.craft.name!r}; groups are "
                 f"{BUILTIN_GROUPS + tuple(g for g, _ in bd.craft.groups)} and its samples"
             )
-        members = [(k, i) for k, i in bd.groups[group] if k != "thr"]
+        members = [(k, i) for k, i in bd.groups[group] if M.KIND[k].area]
         if area is not None:
-            a = _values(what, "area", area, (ids.size,))
+            a = CK.array(what, "area", area, (ids.size,))
             if np.any(a <= 0.0):
                 raise ValueError(f"{what}: area must be a positive factor, got {area!r}")
             if not members:
                 raise ValueError(f"{what}: group {group!r} has no sample with an area")
-        plates = [(k, i) for k, i in members if k in ("plate", "flap")]
+        plates = [(k, i) for k, i in members if M.KIND[k].efficiency]
         if efficiency is not None:
-            f = _values(what, "efficiency", efficiency, (ids.size,))
+            f = CK.array(what, "efficiency", efficiency, (ids.size,))
             if not plates:
                 raise ValueError(f"{what}: group {group!r} has no plate (efficiency is a plate's)")
             top = max(bd.rows[k][i, M.S_EFFICIENCY] for k, i in plates)
@@ -649,7 +606,7 @@ class Simulator:
         for k, i in members:
             if area is not None:
                 bd.area[k][ids, i] = a
-            if efficiency is not None and k in ("plate", "flap"):
+            if efficiency is not None and M.KIND[k].efficiency:
                 bd.efficiency[k][ids, i] = f
         self._write(body, ids)
 
@@ -658,7 +615,7 @@ class Simulator:
         environments ``env_ids``; ``scale`` >= 0 broadcasts to ``[n]``; until changed."""
         what = "set_thrust_scale"
         ids, bd = self._env_ids(what, env_ids), self._body(what, body)
-        s = _values(what, "scale", scale, (ids.size,))
+        s = CK.array(what, "scale", scale, (ids.size,))
         if np.any(s < 0.0):
             raise ValueError(f"{what}: scale must be >= 0, got {scale!r}")
         if not bd.names["thr"]:
@@ -679,22 +636,22 @@ class Simulator:
         bd, model, dtype = self._bodies[b], self._model, self.dtype
         model.body[ids, b] = M.body_rows(bd.mass_kg[ids], bd.inertia[ids]).astype(dtype)
         com = bd.com_m[ids][:, None, :]  # [n, 1, 3]
-        for kind, nominal in bd.rows.items():
+        for kind in M.KINDS:
+            nominal = bd.rows[kind.name]
             if not len(nominal):
                 continue
             rows = np.repeat(nominal[None], ids.size, axis=0)  # [n, m, width]
             rows[..., :3] = shift_offsets(nominal[None, :, :3], com)
-            if kind in ("plate", "flap"):
-                rows[..., M.S_AREA] *= bd.area[kind][ids]
-                rows[..., M.S_EFFICIENCY] *= bd.efficiency[kind][ids]
-            elif kind == "cyl":
-                rows[..., M.S_CYL_AREA] *= bd.area[kind][ids]
-            elif kind == "buoy":
-                rows[..., [M.S_VOLUME, M.S_BUOY_AREA]] *= bd.area[kind][ids][..., None]
-            else:
-                rows[..., [M.S_THRUST_MIN, M.S_THRUST_MAX]] *= bd.thrust[ids][:, None, None]
-            at = getattr(model, f"{kind}_at")
-            getattr(model, kind)[:, at[b] : at[b + 1], ids] = rows.transpose(2, 1, 0).astype(dtype)
+            for scaled, factor in (
+                (kind.area, bd.area[kind.name][ids]),
+                (kind.efficiency, bd.efficiency[kind.name][ids]),
+                (kind.thrust, bd.thrust[ids][:, None]),
+            ):
+                for size in scaled:
+                    rows[..., kind.row(size)] *= factor
+            at = getattr(self._samples, f"{kind.name}_at")
+            table = getattr(self._samples, kind.name)
+            table[:, at[b] : at[b + 1], ids] = rows.transpose(2, 1, 0).astype(dtype)
         shapes = bd.craft.shapes
         if shapes:
             table = np.repeat(np.asarray(CT.shape_rows(bd.craft))[None], ids.size, axis=0)
@@ -710,17 +667,21 @@ class Simulator:
     # ---- reset and step -------------------------------------------------------------------
 
     def _broadcast(self, name: str, value, width: int, n: int, what="reset") -> np.ndarray:
-        arr = np.asarray(value, dtype=np.float64)
-        try:
-            arr = np.broadcast_to(arr, (n, self.num_bodies, width))
-        except ValueError:
-            raise ValueError(
-                f"{what}: {name} of shape {arr.shape} does not broadcast to "
-                f"[{n}, {self.num_bodies}, {width}]"
-            ) from None
-        if not np.all(np.isfinite(arr)):
-            raise ValueError(f"{what}: {name} has non-finite values: {value!r}")
-        return arr
+        """``value`` as ``[n, B, width]``. With one body a 2-D ``[n, width]`` is one row per
+        environment; with several, a 2-D ``[B, width]`` is one row per body, and refused
+        where n == B (it could be either)."""
+        arr = CK.array(what, name, value, None)
+        B = self.num_bodies
+        if arr.ndim == 2 and arr.shape[-1] == width:
+            if B == 1:
+                arr = arr[:, None, :]
+            elif arr.shape[0] == n == B:
+                raise ValueError(
+                    f"{what}: {name} of shape {arr.shape} is ambiguous with {n} environments "
+                    f"of {B} bodies: pass [{n}, {B}, {width}] (or [1, {B}, {width}] for one "
+                    "row per body in every environment)"
+                )
+        return CK.array(what, name, arr, (n, B, width))
 
     def reset(
         self,
@@ -733,7 +694,8 @@ class Simulator:
         """Set the state of all environments, or of ``env_ids`` only.
 
         Each argument broadcasts to ``[n, B, 3]`` (``[n, B, 4]`` for quat), n the number of
-        environments being reset. Quaternions are normalized; ``ang_vel`` is in the world frame.
+        environments being reset; for a one-body craft ``[n, 3]`` (``[n, 4]``) gives each
+        environment its own. Quaternions are normalized; ``ang_vel`` is in the world frame.
         """
         ids = self._env_ids("reset", env_ids)
         n = ids.size
@@ -774,7 +736,7 @@ class Simulator:
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise ValueError(f"steps must be a positive integer, got {steps!r}")
         self._set_controls(controls)
-        self._kernel(self._model, self._data, self._method, int(steps))
+        self._kernel(self._model, self._samples, self._data, self._method, int(steps))
 
     def _set_controls(self, controls) -> None:
         if controls is None:

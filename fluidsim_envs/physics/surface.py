@@ -33,6 +33,8 @@ from dataclasses import dataclass, fields
 import numpy as np
 from numba import njit
 
+from . import checks as CK
+
 MAX_WAVES = 4
 # a k at most 0.3: there Stokes' second-order correction already raises crests (and flattens
 # troughs) by a k / 2 = 15% of the amplitude; steeper, linear theory is no fair model, and
@@ -69,16 +71,9 @@ class SwellWave:
 
     def __post_init__(self) -> None:
         for f in fields(self):
-            v = getattr(self, f.name)
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)):
-                raise ValueError(f"SwellWave: {f.name} must be a number, got {v!r}")
-            if not math.isfinite(v):
-                raise ValueError(f"SwellWave: {f.name} must be finite, got {v!r}")
-            object.__setattr__(self, f.name, float(v))
-        if self.amplitude_m < 0.0:
-            raise ValueError(f"SwellWave: amplitude_m must be >= 0, got {self.amplitude_m!r}")
-        if self.wavelength_m <= 0.0:
-            raise ValueError(f"SwellWave: wavelength_m must be > 0, got {self.wavelength_m!r}")
+            object.__setattr__(self, f.name, CK.number("SwellWave", f.name, getattr(self, f.name)))
+        CK.number("SwellWave", "amplitude_m", self.amplitude_m, ge=0.0)
+        CK.number("SwellWave", "wavelength_m", self.wavelength_m, gt=0.0)
         if self.steepness > MAX_STEEPNESS * (1.0 + 1e-12):  # a = 0.3 wavelength / 2 pi passes
             raise ValueError(
                 f"SwellWave: steepness 2 pi amplitude / wavelength = {self.steepness:.4g} "

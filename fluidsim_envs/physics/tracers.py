@@ -38,6 +38,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, prange
 
+from . import checks as CK
 from .wake import WakeField, source_row, source_tuple, wake_at, wake_velocity_batch
 
 _JIT = dict(cache=True, error_model="numpy", fastmath={"contract"})
@@ -199,11 +200,7 @@ def _points(name, value) -> np.ndarray:
 
 
 def _positive(name, value, integer=False) -> float:
-    ok = isinstance(value, (int, np.integer) if integer else (int, float, np.integer, np.floating))
-    if not ok or isinstance(value, bool) or not math.isfinite(value) or value <= 0:
-        kind = "a positive integer" if integer else "a finite number > 0"
-        raise ValueError(f"{name} must be {kind}, got {value!r}")
-    return int(value) if integer else float(value)
+    return CK.number("Tracers", name, value, gt=0, integer=integer)
 
 
 class SpatialHash:

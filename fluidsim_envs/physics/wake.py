@@ -38,6 +38,8 @@ from dataclasses import dataclass, fields
 import numpy as np
 from numba import njit
 
+from . import checks as CK
+
 _INLINE = dict(cache=True, error_model="numpy", inline="always", fastmath={"contract"})
 _JIT = dict(cache=True, error_model="numpy", fastmath={"contract"})
 
@@ -129,44 +131,32 @@ class WakeField:
     vortices: bool = True
 
     def __post_init__(self) -> None:
-        def number(key, lo=0.0, strict=False, optional=False):
-            v = getattr(self, key)
-            if v is None and optional:
-                return
-            ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
-            if not ok or (v <= lo if strict else v < lo):
-                rel = ">" if strict else ">="
-                raise ValueError(f"WakeField: {key} must be a finite number {rel} {lo}, got {v!r}")
+        def number(key, **bound):
+            if getattr(self, key) is not None or key in ("length_m", "radius_m"):
+                CK.number("WakeField", key, getattr(self, key), **bound)
 
-        number("length_m", strict=True)
-        number("radius_m", strict=True)
+        number("length_m", gt=0.0)
+        number("radius_m", gt=0.0)
         if self.length_m < 2.0 * self.radius_m:
             raise ValueError(
                 f"WakeField: length_m ({self.length_m!r}) must be at least twice radius_m "
                 f"({self.radius_m!r}): the hull is a prolate spheroid"
             )
-        for key in ("screw_spacing_m", "core_radius_m", "noise_scale_m"):
-            number(key, strict=True, optional=True)
-        for key in ("decay_length_m", "noise_decay_m"):
-            number(key, strict=True, optional=True)
-        if self.screw_x_m is not None:
-            number("screw_x_m", lo=-math.inf, optional=True)
+        for key in (
+            "screw_spacing_m", "core_radius_m", "noise_scale_m", "decay_length_m",
+            "noise_decay_m",
+        ):  # fmt: skip
+            number(key, gt=0.0)  # None: derived from the hull's size
+        number("screw_x_m")
         for key in ("circulation", "core_growth", "noise", "wake_growth"):
-            number(key)
-        if self.screws not in (1, 2) or isinstance(self.screws, bool):
-            raise ValueError(f"WakeField: screws must be 1 or 2, got {self.screws!r}")
-        if self.pair_sense not in (1, -1) or isinstance(self.pair_sense, bool):
+            number(key, ge=0.0)
+        CK.number("WakeField", "screws", self.screws, ge=1, le=2, integer=True)
+        CK.choice("WakeField", "pair_sense", self.pair_sense, (1, -1))
+        if isinstance(self.pair_sense, bool):
             raise ValueError(f"WakeField: pair_sense must be +1 or -1, got {self.pair_sense!r}")
-        d = self.dipoles
-        if isinstance(d, bool) or not isinstance(d, int) or not 1 <= d <= MAX_DIPOLES:
-            raise ValueError(
-                f"WakeField: dipoles must be an integer in [1, {MAX_DIPOLES}], got {d!r}"
-            )
+        CK.number("WakeField", "dipoles", self.dipoles, ge=1, le=MAX_DIPOLES, integer=True)
         for key in ("displacement", "vortices"):
-            if not isinstance(getattr(self, key), bool):
-                raise ValueError(
-                    f"WakeField: {key} must be True or False, got {getattr(self, key)!r}"
-                )
+            CK.flag("WakeField", key, getattr(self, key))
 
     # ---- derived quantities ----------------------------------------------------------------
 

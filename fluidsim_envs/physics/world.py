@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from . import checks as CK
 from .contact import Ground
 from .craft import Vec3
 from .surface import SwellWave, coerce_swell, surface_heights, swell_table
@@ -78,40 +78,28 @@ class World:
     contact_passes: int = 1
 
     def __post_init__(self) -> None:
-        def check(key: str, lo: float, strict: bool) -> None:
-            value = getattr(self, key)
-            ok = isinstance(value, (int, float)) and math.isfinite(value)
-            ok = ok and (value > lo if strict else value >= lo)
-            if not ok:
-                rel = ">" if strict else ">="
-                raise ValueError(f"World: {key} must be a finite number {rel} {lo}, got {value!r}")
-
-        check("gravity_mps2", 0.0, strict=False)
-        check("central_gravity_m3s2", 0.0, strict=False)
-        check("air_density_kgm3", 0.0, strict=True)
-        check("water_density_kgm3", 0.0, strict=True)
-        check("surface_blend_m", 0.0, strict=False)
-        check("max_fluid_speed_mps", 0.0, strict=True)
-        check("max_sample_force_n", 0.0, strict=True)
-        spin = self.tetra_rigid_spin_rad
-        if not (isinstance(spin, (int, float)) and spin > 0.0):  # inf allowed: never switch
-            raise ValueError(f"World: tetra_rigid_spin_rad must be > 0, got {spin!r}")
-        if not isinstance(self.water, bool):
-            raise ValueError(f"World: water must be True or False, got {self.water!r}")
+        for key, bound in (
+            ("gravity_mps2", "ge"),
+            ("central_gravity_m3s2", "ge"),
+            ("air_density_kgm3", "gt"),
+            ("water_density_kgm3", "gt"),
+            ("surface_blend_m", "ge"),
+            ("max_fluid_speed_mps", "gt"),
+            ("max_sample_force_n", "gt"),
+        ):
+            CK.number("World", key, getattr(self, key), **{bound: 0.0})
+        # inf allowed: never switch
+        CK.number("World", "tetra_rigid_spin_rad", self.tetra_rigid_spin_rad, gt=0, finite=False)
+        CK.flag("World", "water", self.water)
         for key in ("wind_mps", "current_mps"):
-            v = getattr(self, key)
-            if len(v) != 3 or not all(isinstance(c, (int, float)) and math.isfinite(c) for c in v):
-                raise ValueError(f"World: {key} must be 3 finite numbers, got {v!r}")
-            object.__setattr__(self, key, tuple(float(c) for c in v))
+            object.__setattr__(self, key, CK.vector("World", key, getattr(self, key)))
         swell = coerce_swell(self.swell)
         if swell and not self.water:
             raise ValueError(
                 f"World: swell needs water=True (got water={self.water!r} with swell {swell!r})"
             )
         object.__setattr__(self, "swell", swell)
-        passes = self.contact_passes
-        if isinstance(passes, bool) or not isinstance(passes, int) or passes < 1:
-            raise ValueError(f"World: contact_passes must be an integer >= 1, got {passes!r}")
+        CK.number("World", "contact_passes", self.contact_passes, ge=1, integer=True)
         if self.ground is not None and not isinstance(self.ground, Ground):
             raise ValueError(f"World: ground must be a Ground or None, got {self.ground!r}")
 

@@ -25,6 +25,8 @@ from typing import Any, Literal
 
 import yaml
 
+from ..physics import checks as CK
+
 #: activation functions a config may name, and their ``torch.nn`` classes
 ACTIVATIONS = {
     "tanh": "Tanh",
@@ -170,7 +172,7 @@ class TrainConfig:
     env_kwargs: dict[str, Any] = field(default_factory=dict)  # the env's parameters
     n_envs: int = 16
     total_timesteps: int = 1_000_000
-    seed: int = 0  # training env i is seeded seed + i (SB3's VecEnv.seed), the model seed
+    seed: int = 0  # the model's seed; env i gets SeedSequence(seed).spawn(n_envs)[i]
     device: str = "cpu"
     policy: PolicyConfig = PolicyConfig()
     normalize: NormalizeConfig = NormalizeConfig()
@@ -383,14 +385,12 @@ def _type_error(value: Any, tp: Any, where: str) -> ConfigError:
 
 def _positive(obj: Any, *keys: str) -> None:
     for key in keys:
-        if not getattr(obj, key) > 0:
-            raise ConfigError(f"algorithm.{key} must be positive, got {getattr(obj, key)!r}")
+        CK.number("algorithm", key, getattr(obj, key), gt=0, error=ConfigError)
 
 
 def _unit(obj: Any, *keys: str) -> None:
     for key in keys:
-        if not 0.0 < getattr(obj, key) <= 1.0:
-            raise ConfigError(f"algorithm.{key} must be in (0, 1], got {getattr(obj, key)!r}")
+        CK.number("algorithm", key, getattr(obj, key), gt=0.0, le=1.0, error=ConfigError)
 
 
 def _check(cfg: TrainConfig) -> None:

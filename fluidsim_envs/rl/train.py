@@ -367,15 +367,16 @@ def train(
         }
     dump_config(cfg, run_dir / "config.yaml")
 
-    # seeding, in one place: training env i gets seed + i at its first reset (SB3's
-    # VecEnv.seed); a resumed run reseeds with seed + timesteps done, so it does not replay
-    # the episodes it began with; the eval env is reseeded before every evaluation
+    # seeding, in one place: training env i gets SeedSequence(seed).spawn(n_envs)[i] at its
+    # first reset (SB3VecEnv.seed, as the env's own reset(seed=...)); a resumed run reseeds
+    # with seed + timesteps done, so it does not replay the episodes it began with; the eval
+    # env is reseeded before every evaluation
     done_steps = checkpoint[0] if checkpoint else 0
     env_seed = cfg.seed + done_steps
     seeds = {
         "model": cfg.seed,
-        "train_envs": f"{env_seed} + i for env i < {cfg.n_envs}",
-        "eval_envs": f"{cfg.eval.seed} + i for env i < {cfg.eval.n_episodes}",
+        "train_envs": f"SeedSequence({env_seed}).spawn({cfg.n_envs})[i] for env i",
+        "eval_envs": f"SeedSequence({cfg.eval.seed}).spawn({cfg.eval.n_episodes})[i] for env i",
     }
     stats = None
     if checkpoint is not None and cfg.normalize.enabled:
@@ -404,7 +405,7 @@ def train(
     else:
         model = algo_cls.load(checkpoint[1], env=venv, device=cfg.device)
         model.tensorboard_log = str(run_dir / "tb")
-        model.set_random_seed(env_seed)  # torch, the action space and env i: env_seed + i
+        model.set_random_seed(env_seed)  # torch, the action space and the envs (SeedSequence)
         replay = checkpoint[1].with_name(
             f"{CHECKPOINT_PREFIX}_replay_buffer_{done_steps}_steps.pkl"
         )

@@ -19,7 +19,6 @@ generator, so its episodes do not depend on the others.
 from __future__ import annotations
 
 import dataclasses
-import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -27,6 +26,8 @@ import gymnasium as gym
 import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
+
+from ..physics import checks as CK
 
 # --------------------------------------------------------------------------------------------
 # parameters
@@ -45,29 +46,16 @@ def make_params(cls: type, kwargs: dict[str, Any]):
 def check_number(owner: str, key: str, value, lo=None, hi=None, integer=False) -> None:
     """Raise ValueError naming ``key`` unless ``value`` is a finite number in [lo, hi]
     (``integer``: an int; 4.0 would fail later, where the error could not name ``key``)."""
-    ok = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
-    ok = ok and math.isfinite(value) and (not integer or isinstance(value, (int, np.integer)))
-    ok = ok and (lo is None or value >= lo) and (hi is None or value <= hi)
-    if not ok:
-        kind = "an integer" if integer else "a finite number"
-        bounds = f" in [{lo}, {hi}]" if lo is not None or hi is not None else ""
-        raise ValueError(f"{owner}: {key} must be {kind}{bounds}, got {value!r}")
+    CK.number(owner, key, value, ge=lo, le=hi, integer=integer)
 
 
 def check_range(owner: str, key: str, value, lo=None, hi=None) -> tuple[float, float]:
     """A (low, high) pair with lo <= low <= high <= hi."""
-    if not isinstance(value, (tuple, list)) or len(value) != 2:
-        raise ValueError(f"{owner}: {key} must be a (low, high) pair, got {value!r}")
-    for v in value:
-        check_number(owner, key, v, lo, hi)
-    if value[0] > value[1]:
-        raise ValueError(f"{owner}: {key} must have low <= high, got {value!r}")
-    return float(value[0]), float(value[1])
+    return CK.value_range(owner, key, value, ge=lo, le=hi)
 
 
 def check_choice(owner: str, key: str, value, choices: Sequence[str]) -> None:
-    if value not in choices:
-        raise ValueError(f"{owner}: {key} must be one of {list(choices)}, got {value!r}")
+    CK.choice(owner, key, value, choices)
 
 
 # --------------------------------------------------------------------------------------------

@@ -379,8 +379,11 @@ def test_bodies_without_shapes_pass_through_everything():
 @pytest.mark.parametrize(
     "spec, message",
     [
-        (dict(name="s", kind="sphere", radius_m=-0.1), "radius_m must be > 0, got -0.1"),
-        (dict(name="s", kind="sphere", radius_m=0.0), "radius_m must be > 0"),
+        (
+            dict(name="s", kind="sphere", radius_m=-0.1),
+            "radius_m must be a finite number > 0, got -0.1",
+        ),
+        (dict(name="s", kind="sphere", radius_m=0.0), "radius_m must be a finite number > 0"),
         (dict(name="b", kind="box", half_extents_m=(0.1, -0.2, 0.1)), "half_extents_m\\[1\\]"),
         (dict(name="b", kind="box", radius_m=0.1), "kind 'box' needs half_extents_m"),
         (dict(name="c", kind="cone", radius_m=0.1), "kind must be 'sphere' or 'box'"),

@@ -43,7 +43,10 @@ def test_directions_are_normalized():
     "text, message",
     [
         ('name = "x"\nmass_kg = 1.0\n', "missing required key(s) ['inertia_kgm2']"),
-        ('name = "x"\nmass_kg = -1.0\ninertia_kgm2 = [1, 1, 1]\n', "mass_kg must be > 0, got -1.0"),
+        (
+            'name = "x"\nmass_kg = -1.0\ninertia_kgm2 = [1, 1, 1]\n',
+            "mass_kg must be a finite number > 0, got -1.0",
+        ),
         (
             'name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\ncolour = "red"\n',
             "unknown key(s) ['colour']",
@@ -53,7 +56,7 @@ def test_directions_are_normalized():
         (
             'name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[plates]]\nname = "w"\n'
             "offset_m = [0, 0, 0]\nnormal = [0, 0, 1]\narea_m2 = -0.5\n",
-            "area_m2 must be > 0, got -0.5",
+            "area_m2 must be a finite number > 0, got -0.5",
         ),
         (
             'name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[plates]]\nname = "w"\n'

@@ -46,3 +46,9 @@ def test_the_kernel_refuses_an_id_without_a_branch():
     sim._method = len(IT.TABLE)  # what a new row without a kernel branch would pass
     with pytest.raises(ValueError, match="unknown integrator id"):
         sim.step()
+
+
+def test_every_method_is_described_for_users():
+    doc = Simulator.__doc__
+    for m in IT.TABLE:
+        assert f"``{m.name}`` [{m.evals_per_step}]" in doc, m.name

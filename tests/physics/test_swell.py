@@ -430,11 +430,11 @@ def test_calm_water_is_unchanged(integrator):
 @pytest.mark.parametrize(
     "swell,match",
     [
-        ([(-0.1, 10.0)], r"amplitude_m must be >= 0, got -0\.1"),
-        ([(0.1, 0.0)], r"wavelength_m must be > 0, got 0\.0"),
-        ([(0.1, -3.0)], r"wavelength_m must be > 0, got -3\.0"),
-        ([(float("nan"), 10.0)], r"amplitude_m must be finite, got nan"),
-        ([(0.1, 10.0, float("inf"))], r"direction_deg must be finite, got inf"),
+        ([(-0.1, 10.0)], r"amplitude_m must be a finite number >= 0, got -0\.1"),
+        ([(0.1, 0.0)], r"wavelength_m must be a finite number > 0, got 0\.0"),
+        ([(0.1, -3.0)], r"wavelength_m must be a finite number > 0, got -3\.0"),
+        ([(float("nan"), 10.0)], r"amplitude_m must be a finite number, got nan"),
+        ([(0.1, 10.0, float("inf"))], r"direction_deg must be a finite number, got inf"),
         ([(1.0, 10.0)], r"steepness .* = 0\.6283 \(amplitude_m=1\.0, wavelength_m=10\.0\)"),
         ([(0.1, 10.0)] * 5, r"swell has 5 waves; at most 4"),
         ([{"amplitude_m": 0.1, "wavelength": 10.0}], r"unknown key\(s\) \['wavelength'\]"),
@@ -442,7 +442,7 @@ def test_calm_water_is_unchanged(integrator):
         (["big"], r"swell\[0\] must be a SwellWave.*'big'"),
         ([(0.1,)], r"swell\[0\] must be a SwellWave"),
         (0.5, r"swell must be a sequence of waves, got 0\.5"),
-        ([("0.1", 10.0)], r"amplitude_m must be a number, got '0\.1'"),
+        ([("0.1", 10.0)], r"amplitude_m must be a finite number, got '0\.1'"),
     ],
 )
 def test_bad_swell_is_rejected_by_name(swell, match):

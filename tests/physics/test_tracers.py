@@ -272,7 +272,7 @@ def test_same_seed_same_tracers_any_thread_count(macro):
 def test_bad_inputs_are_named():
     wake = WakeField()
     for count in (0, -3, 2.5, True):
-        with pytest.raises(ValueError, match="count must be a positive integer"):
+        with pytest.raises(ValueError, match="count must be an integer > 0"):
             Tracers(wake, count=count)
     with pytest.raises(ValueError, match="macro must be an integer >= 0"):
         Tracers(wake, macro=-1)
@@ -296,7 +296,7 @@ def test_bad_inputs_are_named():
     for dt in (math.nan, math.inf, 0.0, -0.1):
         with pytest.raises(ValueError, match="dt must be a finite number > 0"):
             tr.advance(dt, (0, 0, 0), IDENTITY, (1, 0, 0))
-    with pytest.raises(ValueError, match="substeps must be a positive integer"):
+    with pytest.raises(ValueError, match="substeps must be an integer > 0"):
         tr.advance(0.1, (0, 0, 0), IDENTITY, (1, 0, 0), substeps=0)
     with pytest.raises(ValueError, match="sub_lin_vel has non-finite"):
         tr.advance(0.1, (0, 0, 0), IDENTITY, (np.nan, 0, 0))
