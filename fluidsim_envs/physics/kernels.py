@@ -661,8 +661,8 @@ def _midpoint_turn(qw, qx, qy, qz, w, lx, ly, lz, inv_inertia, h):
 @njit(**_INLINE)
 def _rotate_tetra(S, n, h, prm):
     """Turn q as a Verlet tetrahedron (``verlet_tetra``): the four particles matched to the
-    body (``tetra.match_inertia``) drift a step along their velocities ``w x r_i`` (plus the
-    center's), the shape is restored by the rotation that best fits the drifted particles
+    body (``reference.tetra.match_inertia``) drift a step along their velocities ``w x r_i``
+    (plus the center's), the shape is restored by the rotation that best fits the drifted particles
     (least squares), and the velocities by the rigid field with the particles' own momentum
     and angular momentum, so L (the state) is untouched. The best fit maximizes
     tr(ROT^T A) with ``A = sum m_i d_i r_i^T = (1 + h [w]x) ROT S``, S the body's second moment:

@@ -198,7 +198,7 @@ def body_rows(mass_kg: np.ndarray, inertia: np.ndarray) -> np.ndarray:
     inertia = np.asarray(inertia, dtype=np.float64)
     inv = np.linalg.inv(inertia)
     trace = inertia[:, 0, 0] + inertia[:, 1, 1] + inertia[:, 2, 2]
-    sec = 0.5 * trace[:, None, None] * np.eye(3) - inertia  # tetra.py
+    sec = 0.5 * trace[:, None, None] * np.eye(3) - inertia  # reference/tetra.py
     i, j = np.array([0, 1, 2, 0, 0, 1]), np.array([0, 1, 2, 1, 2, 2])  # xx yy zz xy xz yz
     rows = np.concatenate([np.asarray(mass_kg, float)[:, None], inv[:, i, j], sec[:, i, j]], 1)
     assert rows.shape[1] == NBODY == sum(w for _, w in BODY_FIELDS)

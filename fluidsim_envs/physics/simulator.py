@@ -104,7 +104,7 @@ class Simulator:
             - ``rk4`` [4]: classic Runge-Kutta. Fourth order; slowly loses energy on
               oscillations; the most accurate per step, the costliest.
             - ``verlet_tetra`` [1]: the body as four particles matched to its mass and
-              inertia (``tetra.match_inertia``): velocities and positions as symplectic
+              inertia (``reference.tetra.match_inertia``): velocities and positions as symplectic
               Euler, the turn as the particles' drift with the shape restored by the
               best-fitting rotation and the momenta kept. Above ``World.tetra_rigid_spin_rad``
               per step a body turns rigidly instead.
@@ -123,6 +123,12 @@ class Simulator:
 
     State (world frame, arrays ``[E, B, ...]``, read-only views): ``pos``, ``quat`` (w, x, y,
     z), ``lin_vel``, ``ang_vel``, and ``diverged`` ``[E]`` (a non-finite state).
+
+    Each environment its own craft: :meth:`set_mass_properties` (mass, inertia, center of
+    mass), :meth:`set_sample_scale` (sample sizes and efficiencies by group) and
+    :meth:`set_thrust_scale` change environments one by one, until changed again; the
+    kernels read every such value per environment (``model.py``). An environment left at
+    the craft's values steps bit-identically to a batch of that craft alone.
 
     Time: every environment has its own clock, ``clock`` ``[E]`` (s, float64, read-only view),
     starting at 0 and advanced by ``dt`` per step; :meth:`set_clock` sets it (a scene sets a

@@ -29,6 +29,17 @@ def test_gym_registry_is_scenes():
         assert spec.entry_point.startswith("fluidsim_envs.scenes.")
 
 
+def test_every_scene_package_is_registered():
+    # a scene package whose SCENE is missing from SCENES would never be registered with gym
+    packages = [p.name for p in (PACKAGE / "scenes").iterdir() if (p / "__init__.py").exists()]
+    assert packages, "no scene packages found"
+    registered = {scene.env_cls.__module__.split(".")[2] for scene in SCENES.values()}
+    assert sorted(packages) == sorted(registered)
+    for name in packages:
+        pkg = importlib.import_module(f"fluidsim_envs.scenes.{name}")
+        assert pkg.SCENE in SCENES.values(), name
+
+
 def test_each_scene_lives_in_its_package():
     for scene in SCENES.values():
         package = scene.env_cls.__module__.rsplit(".", 1)[0]

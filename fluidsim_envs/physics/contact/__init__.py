@@ -1,10 +1,15 @@
 """Contact: bodies against the ground and against each other, built on the seed's idea.
 
-The seed article carries a body as a tetrahedron of four Verlet particles (``tetra.py``). A
-contact pushes the penetrating point out along the contact normal; spread over the particles
-with the point's barycentric weights, the push deforms the tetrahedron locally, and the shape
-is restored by the rigid motion that keeps the particles' momentum and angular momentum;
-kinetic energy is then corrected so that contact invents none.
+The package by concern: ``tables`` (the layouts and packing), ``ground`` (the user's
+:class:`Ground`), ``bodies`` (a body's state in the step kernel's scratch), ``narrow`` (each
+touching pair's patch), ``solver`` (impulses, passes, the energy bound; :func:`collide`).
+
+The seed article carries a body as a tetrahedron of four Verlet particles
+(``reference/tetra.py``). A contact pushes the penetrating point out along the contact
+normal; spread over the particles with the point's barycentric weights, the push deforms
+the tetrahedron locally, and the shape is restored by the rigid motion that keeps the
+particles' momentum and angular momentum; kinetic energy is then corrected so that contact
+invents none.
 
 Restoring the tetrahedron after a push is a linear map with a closed form: particle impulses
 ``beta_i J`` (weights summing to 1 that reproduce the point, ``sum beta_i r_i = r``) carry
