@@ -92,7 +92,7 @@ from .model import (
     S_THRUST_MIN,
     S_VOLUME,
 )
-from .rotation import body_inv_inertia, quat_rate, quat_to_matrix, world_omega
+from .rotation import env_inv_inertia, quat_rate, quat_to_matrix, world_omega
 from .state import (
     B_INV_INERTIA,
     B_MASS,
@@ -920,12 +920,12 @@ def _load_block(blk, model, samples, data):
 @njit(**_JIT)
 def _contact(scr_blk, nb, e0, n, model, data, work):
     """contact.py: scalar per environment, after a step's integration."""
+    cbody, cprm, warm = model.contact_body, model.cprm, data.warm
     for i in range(n):
         e = e0 + i
-        body, cbody = model.body[e], model.contact_body[e]
-        if may_touch(scr_blk, nb, i, BLOCK, cbody, model.cprm, data.warm[e]):
-            collide(scr_blk, nb, i, BLOCK, body, model.shape[e], model.shape_at, model.grid,
-                    cbody, model.cprm, work, data.warm[e], data.touch[e])  # fmt: skip
+        if may_touch(scr_blk, nb, i, BLOCK, e, cbody, cprm, warm):
+            collide(scr_blk, nb, i, BLOCK, model.body[e], model.shape[e], model.shape_at,
+                    model.grid, cbody[e], cprm, work, warm[e], data.touch[e])  # fmt: skip
 
 
 @njit(**_JIT)
@@ -1064,7 +1064,7 @@ def body_omega(st, body, out):
     constants body[E, B, NBODY]."""
     for b in range(st.shape[1]):
         for e in range(st.shape[2]):
-            w = body_state(st, b, e, body_inv_inertia(body[e], b))[3]
+            w = body_state(st, b, e, env_inv_inertia(body, e, b))[3]
             out[0, b, e] = w[0]
             out[1, b, e] = w[1]
             out[2, b, e] = w[2]

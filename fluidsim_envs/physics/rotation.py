@@ -83,3 +83,19 @@ def body_inv_inertia(body, b):
         body[b, k + 4],
         body[b, k + 5],
     )
+
+
+@njit(**_INLINE)
+def env_inv_inertia(body, e, b):
+    """:func:`body_inv_inertia` of environment e straight from ``body[E, B, NBODY]`` (no
+    view of the environment's rows: a view per environment costs a reference count in the
+    scene kernels' loops)."""
+    k = B_INV_INERTIA
+    return (
+        body[e, b, k],
+        body[e, b, k + 1],
+        body[e, b, k + 2],
+        body[e, b, k + 3],
+        body[e, b, k + 4],
+        body[e, b, k + 5],
+    )

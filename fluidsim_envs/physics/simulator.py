@@ -22,6 +22,17 @@ _BATCH_PARALLEL_MIN = 1024  # below this many bodies the serial kernel wins (thr
 BUILTIN_GROUPS = ("all", "plates", "control_surfaces", "cylinders", "buoyancy")
 
 
+def _entry_point(kernel, args):
+    """The compiled function ``kernel`` runs for ``args``, called without the dispatcher's
+    typing of every argument: half of a one-environment step's round trip through Python
+    (``benchmarks/compare_revisions.py``). The Simulator's buffers keep their types for its
+    life, so the types resolved once hold; None falls back to the dispatcher."""
+    import numba
+
+    overload = kernel.overloads.get(tuple(numba.typeof(a) for a in args))
+    return overload.entry_point if overload is not None else kernel
+
+
 def _world_params(world: World, dt: float, swell: np.ndarray) -> np.ndarray:
     """The kernels' ``prm[NPRM]`` (float64): the world and the step (``kernels.P_*``)."""
     prm = np.zeros(K.NPRM)
@@ -234,8 +245,13 @@ class Simulator:
             scr=np.zeros((-(-E // BLOCK), B, ROWS * BLOCK), dtype=dtype),
             diverged=np.zeros(E, dtype=np.bool_),
         )
+        self._entry = None  # the step kernel's compiled entry, once it has run (step)
         self._omega = np.zeros((3, B, E), dtype=dtype)
         self._wrench = np.zeros((6, B, E), dtype=dtype)
+
+    def __getstate__(self) -> dict:
+        """Pickled without the compiled entry point (found again at the first step)."""
+        return {**self.__dict__, "_entry": None}
 
     # ---- state ----------------------------------------------------------------------------
 
@@ -742,7 +758,12 @@ class Simulator:
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise ValueError(f"steps must be a positive integer, got {steps!r}")
         self._set_controls(controls)
-        self._kernel(self._model, self._samples, self._data, self._method, int(steps))
+        args = (self._model, self._samples, self._data, self._method, int(steps))
+        if self._entry is None:  # the first call compiles (or loads) through the dispatcher
+            self._kernel(*args)
+            self._entry = _entry_point(self._kernel, args)
+        else:
+            self._entry(*args)
 
     def _set_controls(self, controls) -> None:
         if controls is None:

@@ -13,7 +13,7 @@ import math
 from numba import njit
 
 from ...physics.kernels import body_state
-from ...physics.rotation import body_inv_inertia, quat_to_matrix, to_body
+from ...physics.rotation import env_inv_inertia, quat_to_matrix, to_body
 from ...physics.state import OQ, OV, OX
 from ...physics.surface import surface_height
 from ..layout import index
@@ -198,7 +198,7 @@ def observe(st, body, course, task, swell, clock, cfg, out):
     env's clock)."""
     last = course.shape[1] - 1
     for e in range(st.shape[2]):
-        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, body_inv_inertia(body[e], 0))
+        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, env_inv_inertia(body, e, 0))
         r0, r3 = rot[0], rot[3]
         out[e, O_U], out[e, O_V], out[e, O_W] = to_body(rot, vx, vy, vz)
         out[e, O_P], out[e, O_Q], out[e, O_R] = to_body(rot, omega[0], omega[1], omega[2])

@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from ...physics.kernels import body_state
-from ...physics.rotation import body_inv_inertia, quat_to_matrix, to_body
+from ...physics.rotation import env_inv_inertia, quat_to_matrix, to_body
 from ...physics.state import OQ, OV, OX
 from ..layout import index
 
@@ -91,7 +91,7 @@ _JIT = dict(cache=True, error_model="numpy")
 def observe(st, body, flow, target, out):
     """Observation rows out[E, len(OBSERVATION)] (float32) from the state st[13, 1, E]."""
     for e in range(st.shape[2]):
-        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, body_inv_inertia(body[e], 0))
+        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, env_inv_inertia(body, e, 0))
         r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
         # airspeed: R^T (v - wind)
         out[e, O_U], out[e, O_V], out[e, O_W] = to_body(

@@ -14,7 +14,7 @@ import math
 from numba import njit
 
 from ...physics.kernels import body_state
-from ...physics.rotation import body_inv_inertia, quat_to_matrix, to_body
+from ...physics.rotation import env_inv_inertia, quat_to_matrix, to_body
 from ...physics.state import OQ, OX
 from ...physics.wake import source_tuple, wake_at
 from ..layout import index
@@ -162,7 +162,7 @@ def _station(lead, station, e):
 def observe(st, body, lead, station, src, wprm, cfg, out):
     """Observation rows out[E, len(OBSERVATION)] (float32) from the vehicle's state st[13, 1, E]."""
     for e in range(st.shape[2]):
-        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, body_inv_inertia(body[e], 0))
+        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, env_inv_inertia(body, e, 0))
         r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
         out[e, O_U], out[e, O_V], out[e, O_W] = to_body(rot, vx, vy, vz)
         out[e, O_P], out[e, O_Q], out[e, O_R] = to_body(rot, omega[0], omega[1], omega[2])
