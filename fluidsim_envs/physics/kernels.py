@@ -272,13 +272,6 @@ def _first_sample(samples, b):
 
 
 @njit(**_INLINE)
-def _offset(S, i, tab, p, e):
-    """World offset from the center of mass of sample p (a per-environment table's S_OFFSET
-    rows, environment e) for body i of the block."""
-    return _rotate(S, i, tab[S_OFFSET, p, e], tab[S_OFFSET + 1, p, e], tab[S_OFFSET + 2, p, e])
-
-
-@njit(**_INLINE)
 def _record(rec, j, i, rx, ry, rz, fx, fy, fz):
     """Sample j's world offset r and force F for body i of the block (``sample_forces``)."""
     rec[j, 0, i], rec[j, 1, i], rec[j, 2, i] = rx, ry, rz
@@ -359,7 +352,13 @@ def _wake_rows(S, n, e0, tab, p, wprm, tau):
     so this loop stays scalar, and the force loop that follows keeps its vectorized form
     whether or not there is a wake."""
     for i in range(n):
-        rx, ry, rz = _offset(S, i, tab, p, e0 + i)
+        rx, ry, rz = _rotate(
+            S,
+            i,
+            tab[S_OFFSET, p, e0 + i],
+            tab[S_OFFSET + 1, p, e0 + i],
+            tab[S_OFFSET + 2, p, e0 + i],
+        )
         # the source has moved on by tau u since the step's start (rows SOURCE hold it there;
         # the wake moves rigidly with it): the field at p then is the field at p - tau u now.
         # A source frozen over the step made rk2 and rk4 first order behind a moving wake.
@@ -391,7 +390,13 @@ def _swell_rows(S, n, e0, tab, p, prm, tau):
     the time phases of rows PHASE and the waves outside the loops over environments, so that
     they vectorize (``wave_cos`` is branch-free); HEIGHT accumulates eta, then becomes z - eta."""
     for i in range(n):
-        rx, ry, _ = _offset(S, i, tab, p, e0 + i)
+        rx, ry, _ = _rotate(
+            S,
+            i,
+            tab[S_OFFSET, p, e0 + i],
+            tab[S_OFFSET + 1, p, e0 + i],
+            tab[S_OFFSET + 2, p, e0 + i],
+        )
         S[SAMPLE_X * BLOCK + i] = S[(STATE + OX) * BLOCK + i] + rx
         S[SAMPLE_Y * BLOCK + i] = S[(STATE + OX + 1) * BLOCK + i] + ry
         S[HEIGHT * BLOCK + i] = ZERO
@@ -405,27 +410,18 @@ def _swell_rows(S, n, e0, tab, p, prm, tau):
         S[HEIGHT * BLOCK + i] = S[(STATE + OX + 2) * BLOCK + i] - S[HEIGHT * BLOCK + i]
 
 
-@njit(**_INLINE)
-def _at_sample(S, n, e0, tab, p, prm, wprm, tau, wake, sea):
-    """The prelude every sample kind shares, before its loop over environments: the rows that
-    depend on where sample p is (row p of the per-environment table ``tab``): the wake's flow
-    there (``wake``: there is one and the kind feels the flow) and the surface's height under
-    it (``sea``: there is swell). Called outside the loops over environments, so its
-    branches cost nothing per body."""
-    if wake:
-        _wake_rows(S, n, e0, tab, p, wprm, tau)
-    if sea:
-        _swell_rows(S, n, e0, tab, p, prm, tau)
-
-
 @njit(**_JIT)
 def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, rec):
     """Derivative rows DERIV of the state rows STATE: dx = v, dq, dv = F/m + g, dL = torque;
     the surface ``tau`` seconds after the time phases of rows PHASE (the step's start).
 
-    Each sample kind is one loop: the shared prelude :func:`_at_sample`, then per
-    environment the sample's world offset (:func:`_offset`), its force law
-    (``forces.py``) and :func:`_add_force`.
+    Each sample kind is one loop: the rows that depend on where the sample is (the wake's
+    flow there, with a wake; the surface's height under it, with swell: ``_wake_rows``,
+    ``_swell_rows``), then per environment the sample's world offset, its force law
+    (``forces.py``) and :func:`_add_force`. The offset's three loads and the two calls
+    before each loop are written out in every kind's loop: an inlined helper that takes the
+    sample table costs reference counts per call: 10-30% of a one-environment step,
+    measured against this written-out form.
 
     ``rec``: None in the step path, or ``rec[N, 6, BLOCK]`` (``sample_forces``) that gets each
     sample's world offset from the center of mass and force, ``rec[j, :, i]``, j counting the

@@ -13,8 +13,8 @@ the force loops read it as they read the state: ``body`` (mass, inertia), and ea
 offset from the center of mass and size (area, volume, efficiency, thrust). What no
 environment can change (normals, hinge and cylinder axes, thrust directions, control wiring)
 is stored once per sample. An environment left at the craft's values holds the numbers
-:func:`craft_rows` packs from the ``Craft``, so it steps bit-identically to a batch built from
-that craft alone.
+:func:`pack` writes from the ``Craft`` (``SampleKind.rows``, :func:`body_rows`), so it steps
+bit-identically to a batch built from that craft alone.
 """
 
 from __future__ import annotations

@@ -458,7 +458,7 @@ class Simulator:
         """The arrays env kernels read the state from, without copies: ``(state [13, B, E]``
         (rows ``state.STATE_FIELDS``), ``flow [6, E]`` (air then water velocity),
         ``body [E, B, NBODY]`` (each environment's mass and inertia, ``state.BODY_FIELDS``;
-        ``rotation.body_inv_inertia(body[e], b)``)). Treat them as read-only."""
+        ``rotation.env_inv_inertia(body, e, b)``)). Treat them as read-only."""
         return self._data.st, self._data.flow, self._model.body
 
     def wrench(self, controls=None) -> tuple[np.ndarray, np.ndarray]:
