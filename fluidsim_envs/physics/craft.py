@@ -271,12 +271,10 @@ def shape_reach(center_m: np.ndarray, extent_m):
 
 def shift_offsets(offsets_m: np.ndarray, shift_m) -> np.ndarray:
     """Offsets ``[..., 3]`` from a center of mass moved by ``shift_m`` (body frame): ``offset -
-    shift`` rounded to 1e-12 m (so that a shift and its undoing give back the file's numbers);
-    a component with no shift is left untouched. The one rule for
-    :meth:`Craft.with_center_of_mass` and ``Simulator.set_mass_properties``."""
-    offsets_m = np.asarray(offsets_m, dtype=np.float64)
-    shift_m = np.asarray(shift_m, dtype=np.float64)
-    return np.where(shift_m == 0.0, offsets_m, np.round(offsets_m - shift_m, 12))
+    shift``, in float64. The one rule for :meth:`Craft.with_center_of_mass` and the collision
+    shapes of ``Simulator.set_mass_properties``; the force loops take the same difference
+    per sample (``state.B_COM_SHIFT``), so both give the same numbers, bit for bit."""
+    return np.asarray(offsets_m, dtype=np.float64) - np.asarray(shift_m, dtype=np.float64)
 
 
 def check_inertia(where: str, tensors: np.ndarray, value: Any) -> None:

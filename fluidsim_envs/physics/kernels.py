@@ -53,9 +53,12 @@ External force. ``data.external`` [E, B, 6] holds a world force and torque per b
 
 The data. Kernels take ``(model, samples, data)``, the named tuples of ``model.py``; row layouts are
 named in ``state.py`` (state, body constants, this scratch) and ``model.py`` (samples).
-Per-environment craft values (mass, inertia, each sample's offset and size) are read per
-environment (``model.body`` is copied into the scratch's BODY rows with the state), so that
-environments of one batch can fly different crafts at the cost of a load per value.
+Each environment's craft: mass, inertia and center-of-mass shift are read per environment
+(``model.body``, copied into the scratch's BODY rows with the state); a sample's offset is the
+craft's minus the shift (``_arm``), and its sizes the craft's times the environment's factors
+(``samples.factor``, one row per distinct set: ``factors.py``). The craft's own sample table
+is read once per sample, whatever E: per-environment copies of it (a boat's is 3.6 kB per
+environment) made the E = 4096 step 10-20% slower. Shift and factors cost it 2-5%.
 """
 
 from __future__ import annotations
@@ -82,6 +85,9 @@ from .forces import (
 from .jit import INLINE as _INLINE
 from .jit import JIT as _JIT
 from .model import (
+    F_AREA,
+    F_EFFICIENCY,
+    F_THRUST,
     KINDS,
     S_AREA,
     S_BUOY_AREA,
@@ -94,6 +100,7 @@ from .model import (
 )
 from .rotation import env_inv_inertia, quat_rate, quat_to_matrix, world_omega
 from .state import (
+    B_COM_SHIFT,
     B_INV_INERTIA,
     B_MASS,
     B_SECOND_MOMENT,
@@ -289,6 +296,14 @@ def _rotate(S, i, x, y, z):
 
 
 @njit(**_INLINE)
+def _arm(S, i, ox, oy, oz):
+    """World offset from the center of mass of the sample at (ox, oy, oz) from the craft's:
+    the environment's center of mass is shifted by rows BODY + B_COM_SHIFT (0: the craft's)."""
+    c = (BODY + B_COM_SHIFT) * BLOCK + i
+    return _rotate(S, i, ox - S[c], oy - S[c + BLOCK], oz - S[c + 2 * BLOCK])
+
+
+@njit(**_INLINE)
 def _fluid(prm):
     """Fluid parameters as scalars (read once, outside the loops): water flag, 1/blend,
     densities."""
@@ -346,19 +361,13 @@ def _source(S, i):
 
 
 @njit(**_JIT)
-def _wake_rows(S, n, e0, tab, p, wprm, tau):
+def _wake_rows(S, n, ox, oy, oz, wprm, tau):
     """Water-minus-air rows FLUID + 3.. at one sample's point: the environment's own (rows
     OWN_WATER) plus the wake there, ``tau`` after the step's start. Not inlined: the field branches,
     so this loop stays scalar, and the force loop that follows keeps its vectorized form
     whether or not there is a wake."""
     for i in range(n):
-        rx, ry, rz = _rotate(
-            S,
-            i,
-            tab[S_OFFSET, p, e0 + i],
-            tab[S_OFFSET + 1, p, e0 + i],
-            tab[S_OFFSET + 2, p, e0 + i],
-        )
+        rx, ry, rz = _arm(S, i, ox, oy, oz)
         # the source has moved on by tau u since the step's start (rows SOURCE hold it there;
         # the wake moves rigidly with it): the field at p then is the field at p - tau u now.
         # A source frozen over the step made rk2 and rk4 first order behind a moving wake.
@@ -383,20 +392,14 @@ def _phase_rows(S, n, e0, swell, clock):
 
 
 @njit(**_JIT)
-def _swell_rows(S, n, e0, tab, p, prm, tau):
+def _swell_rows(S, n, ox, oy, oz, prm, tau):
     """Row HEIGHT at one sample's point: the body's z minus the surface height under the sample,
     at the step's start plus ``tau``. Not inlined, like ``_wake_rows``: it runs only with
     swell, and the force loops keep their vectorized form. ``surface.surface_height`` with
     the time phases of rows PHASE and the waves outside the loops over environments, so that
     they vectorize (``wave_cos`` is branch-free); HEIGHT accumulates eta, then becomes z - eta."""
     for i in range(n):
-        rx, ry, _ = _rotate(
-            S,
-            i,
-            tab[S_OFFSET, p, e0 + i],
-            tab[S_OFFSET + 1, p, e0 + i],
-            tab[S_OFFSET + 2, p, e0 + i],
-        )
+        rx, ry, _ = _arm(S, i, ox, oy, oz)
         S[SAMPLE_X * BLOCK + i] = S[(STATE + OX) * BLOCK + i] + rx
         S[SAMPLE_Y * BLOCK + i] = S[(STATE + OX + 1) * BLOCK + i] + ry
         S[HEIGHT * BLOCK + i] = ZERO
@@ -411,17 +414,26 @@ def _swell_rows(S, n, e0, tab, p, prm, tau):
 
 
 @njit(**_JIT)
+def _where_rows(S, n, ox, oy, oz, wake, sea, wprm, prm, tau):
+    """The rows that depend on where the sample at (ox, oy, oz) is, those that are on: the
+    wake's flow there, the surface's height under it. Every kind's loop calls it first,
+    only when one is on (a call per sample and evaluation costs a calm one-environment step
+    20%; so does an inlined helper with these branches)."""
+    if wake:
+        _wake_rows(S, n, ox, oy, oz, wprm, tau)
+    if sea:
+        _swell_rows(S, n, ox, oy, oz, prm, tau)
+
+
+@njit(**_JIT)
 def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, rec):
     """Derivative rows DERIV of the state rows STATE: dx = v, dq, dv = F/m + g, dL = torque;
     the surface ``tau`` seconds after the time phases of rows PHASE (the step's start).
 
-    Each sample kind is one loop: the rows that depend on where the sample is (the wake's
-    flow there, with a wake; the surface's height under it, with swell: ``_wake_rows``,
-    ``_swell_rows``), then per environment the sample's world offset, its force law
-    (``forces.py``) and :func:`_add_force`. The offset's three loads and the two calls
-    before each loop are written out in every kind's loop: an inlined helper that takes the
-    sample table costs reference counts per call: 10-30% of a one-environment step,
-    measured against this written-out form.
+    Each sample kind is one loop: the sample's offset, and :func:`_where_rows` (the rows that
+    depend on where it is), then per environment the sample's world offset (:func:`_arm`:
+    from the environment's center of mass), its sizes times the environment's factors
+    (``Samples.factor``), its force law (``forces.py``) and :func:`_add_force`.
 
     ``rec``: None in the step path, or ``rec[N, 6, BLOCK]`` (``sample_forces``) that gets each
     sample's world offset from the center of mass and force, ``rec[j, :, i]``, j counting the
@@ -463,22 +475,26 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
         S[(DERIV + OQ) * BLOCK + i], S[(DERIV + OQ + 1) * BLOCK + i] = dq[0], dq[1]
         S[(DERIV + OQ + 2) * BLOCK + i], S[(DERIV + OQ + 3) * BLOCK + i] = dq[2], dq[3]
 
+    factor, frow = samples.factor, samples.factor_row  # sizes times factor[row, e]
     tab, normal = samples.plate, samples.plate_normal
     for p in range(plate_at[b], plate_at[b + 1]):  # fixed plates
-        if wake:
-            _wake_rows(S, n, e0, tab, p, wprm, tau)
-        if sea:
-            _swell_rows(S, n, e0, tab, p, prm, tau)
+        ox, oy, oz = tab[S_OFFSET, p], tab[S_OFFSET + 1, p], tab[S_OFFSET + 2, p]
+        if wake or sea:
+            _where_rows(S, n, ox, oy, oz, wake, sea, wprm, prm, tau)
         bx, by, bz = normal[0, p], normal[1, p], normal[2, p]
+        area, eff, ra, re = (
+            tab[S_AREA, p],
+            tab[S_EFFICIENCY, p],
+            frow[F_AREA, j],
+            frow[F_EFFICIENCY, j],
+        )
         for i in range(n):
             e = e0 + i
-            rx, ry, rz = _rotate(
-                S, i, tab[S_OFFSET, p, e], tab[S_OFFSET + 1, p, e], tab[S_OFFSET + 2, p, e]
-            )
+            rx, ry, rz = _arm(S, i, ox, oy, oz)
             nx, ny, nz = _rotate(S, i, bx, by, bz)
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
-            area, eff = tab[S_AREA, p, e], tab[S_EFFICIENCY, p, e]
-            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, area, eff, vmax, fmax)
+            a, f = area * factor[ra, e], eff * factor[re, e]
+            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, a, f, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
             if rec is not None:
                 _record(rec, j, i, rx, ry, rz, fx, fy, fz)
@@ -486,19 +502,22 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
 
     tab, normal = samples.flap, flap_now  # control surfaces: normals deflected per env
     for p in range(flap_at[b], flap_at[b + 1]):
-        if wake:
-            _wake_rows(S, n, e0, tab, p, wprm, tau)
-        if sea:
-            _swell_rows(S, n, e0, tab, p, prm, tau)
+        ox, oy, oz = tab[S_OFFSET, p], tab[S_OFFSET + 1, p], tab[S_OFFSET + 2, p]
+        if wake or sea:
+            _where_rows(S, n, ox, oy, oz, wake, sea, wprm, prm, tau)
+        area, eff, ra, re = (
+            tab[S_AREA, p],
+            tab[S_EFFICIENCY, p],
+            frow[F_AREA, j],
+            frow[F_EFFICIENCY, j],
+        )
         for i in range(n):
             e = e0 + i
-            rx, ry, rz = _rotate(
-                S, i, tab[S_OFFSET, p, e], tab[S_OFFSET + 1, p, e], tab[S_OFFSET + 2, p, e]
-            )
+            rx, ry, rz = _arm(S, i, ox, oy, oz)
             nx, ny, nz = _rotate(S, i, normal[0, p, e], normal[1, p, e], normal[2, p, e])
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
-            area, eff = tab[S_AREA, p, e], tab[S_EFFICIENCY, p, e]
-            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, area, eff, vmax, fmax)
+            a, f = area * factor[ra, e], eff * factor[re, e]
+            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, a, f, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
             if rec is not None:
                 _record(rec, j, i, rx, ry, rz, fx, fy, fz)
@@ -506,20 +525,18 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
 
     tab, axis = samples.cyl, samples.cyl_axis
     for p in range(cyl_at[b], cyl_at[b + 1]):
-        if wake:
-            _wake_rows(S, n, e0, tab, p, wprm, tau)
-        if sea:
-            _swell_rows(S, n, e0, tab, p, prm, tau)
+        ox, oy, oz = tab[S_OFFSET, p], tab[S_OFFSET + 1, p], tab[S_OFFSET + 2, p]
+        if wake or sea:
+            _where_rows(S, n, ox, oy, oz, wake, sea, wprm, prm, tau)
         bx, by, bz = axis[0, p], axis[1, p], axis[2, p]
+        area, ra = tab[S_CYL_AREA, p], frow[F_AREA, j]
         for i in range(n):
             e = e0 + i
-            rx, ry, rz = _rotate(
-                S, i, tab[S_OFFSET, p, e], tab[S_OFFSET + 1, p, e], tab[S_OFFSET + 2, p, e]
-            )
+            rx, ry, rz = _arm(S, i, ox, oy, oz)
             ax, ay, az = _rotate(S, i, bx, by, bz)
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
-            area = tab[S_CYL_AREA, p, e]
-            fx, fy, fz = cylinder_force(vx, vy, vz, ax, ay, az, rho, area, vmax, fmax)
+            a = area * factor[ra, e]
+            fx, fy, fz = cylinder_force(vx, vy, vz, ax, ay, az, rho, a, vmax, fmax)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
             if rec is not None:
                 _record(rec, j, i, rx, ry, rz, fx, fy, fz)
@@ -527,34 +544,33 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
 
     g = prm[P_G]
     tab = samples.buoy
-    for p in range(buoy_at[b], buoy_at[b + 1]):
+    for p in range(buoy_at[b], buoy_at[b + 1]):  # the water's, never the wake's: no flow
+        ox, oy, oz = tab[S_OFFSET, p], tab[S_OFFSET + 1, p], tab[S_OFFSET + 2, p]
         if sea:
-            _swell_rows(S, n, e0, tab, p, prm, tau)
+            _where_rows(S, n, ox, oy, oz, False, sea, wprm, prm, tau)
+        vol, area, ra = tab[S_VOLUME, p], tab[S_BUOY_AREA, p], frow[F_AREA, j]
         for i in range(n):
             e = e0 + i
-            rx, ry, rz = _rotate(
-                S, i, tab[S_OFFSET, p, e], tab[S_OFFSET + 1, p, e], tab[S_OFFSET + 2, p, e]
-            )
+            rx, ry, rz = _arm(S, i, ox, oy, oz)
             z = S[HEIGHT * BLOCK + i] + rz  # the sample's height above the surface
             frac = water_fraction(z, water, inv_blend)
-            vol, area = tab[S_VOLUME, p, e], tab[S_BUOY_AREA, p, e]
-            fz = buoyancy_force(z, frac, water, rho_w, g, vol, area)
+            k = factor[ra, e]
+            fz = buoyancy_force(z, frac, water, rho_w, g, vol * k, area * k)
             _add_force(S, i, rx, ry, rz, ZERO, ZERO, fz)
             if rec is not None:
                 _record(rec, j, i, rx, ry, rz, ZERO, ZERO, fz)
         j += 1
 
     tab, direction, channel = samples.thr, samples.thr_dir, samples.thr_channel
-    for p in range(thr_at[b], thr_at[b + 1]):
+    for p in range(thr_at[b], thr_at[b + 1]):  # a point force: no flow, no surface
+        ox, oy, oz = tab[S_OFFSET, p], tab[S_OFFSET + 1, p], tab[S_OFFSET + 2, p]
         bx, by, bz, ch = direction[0, p], direction[1, p], direction[2, p], channel[p]
+        lo, hi, rt = tab[S_THRUST_MIN, p], tab[S_THRUST_MAX, p], frow[F_THRUST, j]
         for i in range(n):
             e = e0 + i
             a = ctrl[ch, e] if ch >= 0 else ONE
-            lo, hi = tab[S_THRUST_MIN, p, e], tab[S_THRUST_MAX, p, e]
-            thrust = lo + HALF * (a + ONE) * (hi - lo)
-            rx, ry, rz = _rotate(
-                S, i, tab[S_OFFSET, p, e], tab[S_OFFSET + 1, p, e], tab[S_OFFSET + 2, p, e]
-            )
+            thrust = (lo + HALF * (a + ONE) * (hi - lo)) * factor[rt, e]
+            rx, ry, rz = _arm(S, i, ox, oy, oz)
             dx, dy, dz = _rotate(S, i, bx, by, bz)
             fx, fy, fz = thrust * dx, thrust * dy, thrust * dz
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
@@ -861,7 +877,7 @@ def _deflect(e0, n, samples, ctrl, flap_now):
     )
     for p in range(tab.shape[1]):
         for i in range(n):
-            theta = ZERO * tab[S_OFFSET, p, e0 + i]  # zero in the simulation dtype
+            theta = ZERO * tab[S_OFFSET, p]  # zero in the simulation dtype
             for c in range(mix.shape[1]):
                 theta += mix[p, c] * ctrl[c, e0 + i]
             nx, ny, nz = rotate_about_axis(

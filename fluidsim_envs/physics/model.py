@@ -8,13 +8,14 @@ samples' ``S_*`` rows), in ``state.py`` (the state, the body constants, the scra
 ``contact/tables.py`` (``SH_*``, ``CB_*``, ``C_*``).
 
 Per environment. What ``Simulator.set_mass_properties`` and ``Simulator.set_sample_scale`` can
-change is stored per environment, environments innermost (``[field, sample, E]``), so that
-the force loops read it as they read the state: ``body`` (mass, inertia), and each sample's
-offset from the center of mass and size (area, volume, efficiency, thrust). What no
-environment can change (normals, hinge and cylinder axes, thrust directions, control wiring)
-is stored once per sample. An environment left at the craft's values holds the numbers
-:func:`pack` writes from the ``Craft`` (``SampleKind.rows``, :func:`body_rows`), so it steps
-bit-identically to a batch built from that craft alone.
+change is stored per environment, environments innermost, so that the force loops read it
+as they read the state: ``body`` (mass, inertia, the center of mass's shift, which every
+sample's offset is taken from), and one factor per sample on its area, its efficiency and
+its thrust (``Samples.factor``, rows shared by the samples that have the same factors in
+every environment: :mod:`factors`). The craft's own numbers (offsets, sizes, normals, axes,
+control wiring) are stored once per sample: a batch reads a few kilobytes of them however
+many environments it has. An environment left at the craft's values has factors of exactly
+1 and a shift of exactly 0, so it steps bit-identically to a batch built from that craft.
 """
 
 from __future__ import annotations
@@ -36,12 +37,11 @@ class SampleKind:
     """A kind of sample, as the kernels' tables hold it.
 
     Attributes:
-        name: the prefix of its :class:`Samples` fields: ``<name>`` (the per-environment rows
-            ``[width, n, E]``), ``<name>_at`` (each body's range) and ``<name>_<suffix>`` for
-            each shared geometry table.
+        name: the prefix of its :class:`Samples` fields: ``<name>`` (the rows ``[width, n]``),
+            ``<name>_at`` (each body's range) and ``<name>_<suffix>`` for each geometry table.
         of: the craft's samples of this kind, in the craft's order.
-        sizes: the per-environment rows after the offset (rows 0-2): the sample's attributes
-            (None reads as 0).
+        sizes: the rows after the offset (rows 0-2): the sample's attributes (None reads as
+            0).
         geometry: ``(suffix, attribute)`` of each shared ``[3, n]`` table (a unit vector).
         area: the sizes that ``set_sample_scale(area=)`` multiplies.
         efficiency: the sizes that ``set_sample_scale(efficiency=)`` multiplies.
@@ -65,7 +65,7 @@ class SampleKind:
         return 3 + self.sizes.index(size)
 
     def rows(self, craft: Craft) -> list[tuple]:
-        """The per-environment rows of the craft's samples of this kind (float64 values)."""
+        """The rows of the craft's samples of this kind (float64 values)."""
         return [(*s.offset_m, *(getattr(s, a) or 0.0 for a in self.sizes)) for s in self.of(craft)]
 
 
@@ -126,6 +126,10 @@ S_CYL_AREA = KIND["cyl"].row("area_m2")  # side area times drag coefficient (m^2
 S_VOLUME, S_BUOY_AREA = KIND["buoy"].row("volume_m3"), KIND["buoy"].row("area_m2")
 S_THRUST_MIN, S_THRUST_MAX = KIND["thr"].row("min_thrust_n"), KIND["thr"].row("max_thrust_n")
 assert KIND["flap"].sizes == KIND["plate"].sizes  # the kernel reads both with S_AREA, ...
+# the rows of Samples.factor_row: which row of Samples.factor holds a sample's factor on its
+# area, efficiency, thrust (SampleKind.area, .efficiency, .thrust say what each multiplies)
+FACTORS = ("area", "efficiency", "thrust")
+F_AREA, F_EFFICIENCY, F_THRUST = range(len(FACTORS))
 
 
 class Samples(NamedTuple):
@@ -138,23 +142,27 @@ class Samples(NamedTuple):
     parallel loops take no named tuple nested in another).
     """
 
-    plate: np.ndarray  # [width, n, E] offset, area, efficiency
+    plate: np.ndarray  # [width, n] offset, area, efficiency
     plate_normal: np.ndarray  # [3, n] body frame
     plate_at: np.ndarray  # [B + 1] int64
-    flap: np.ndarray  # [width, n, E] offset, area, efficiency
+    flap: np.ndarray  # [width, n] offset, area, efficiency
     flap_normal: np.ndarray  # [3, n] undeflected
     flap_hinge: np.ndarray  # [3, n] the axis the normal turns about
     flap_mix: np.ndarray  # [n, C] deflection (rad) per unit of each control channel
     flap_at: np.ndarray  # [B + 1]
-    cyl: np.ndarray  # [width, n, E] offset, area
+    cyl: np.ndarray  # [width, n] offset, area
     cyl_axis: np.ndarray  # [3, n]
     cyl_at: np.ndarray  # [B + 1]
-    buoy: np.ndarray  # [width, n, E] offset, volume, area
+    buoy: np.ndarray  # [width, n] offset, volume, area
     buoy_at: np.ndarray  # [B + 1]
-    thr: np.ndarray  # [width, n, E] offset, thrust at -1 and +1
+    thr: np.ndarray  # [width, n] offset, thrust at -1 and +1
     thr_dir: np.ndarray  # [3, n] unit direction
     thr_channel: np.ndarray  # [n] int64 control channel (-1: none, full thrust)
     thr_at: np.ndarray  # [B + 1]
+    # each sample's factors: sample j (all bodies' samples in _evaluate's order) has its
+    # area times factor[factor_row[F_AREA, j], e] in environment e, and so on
+    factor_row: np.ndarray  # [len(FACTORS), N] int64
+    factor: np.ndarray  # [rows, E]; row 0 is all ones
 
 
 class Model(NamedTuple):
@@ -164,7 +172,7 @@ class Model(NamedTuple):
     prm: np.ndarray  # [NPRM] world and step parameters (kernels.P_*), simulation dtype
     wprm: np.ndarray  # [NWPRM] the wake's parameters (wake.W_*; W_ON = 0: no wake)
     swell: np.ndarray  # [n_waves, 5] float64 (a, kx, ky, omega, phase); empty: calm water
-    body: np.ndarray  # [E, B, NBODY] mass and inertia (state.BODY_FIELDS), per environment
+    body: np.ndarray  # [E, B, NBODY] mass, inertia, CoM shift (state.BODY_FIELDS)
     shape: np.ndarray  # [E, NSHAPE, n] collision shapes (contact.SH_*), per environment
     shape_at: np.ndarray  # [B + 1]
     contact_body: np.ndarray  # [E, B, NCBODY] restitution, friction, reach (contact.CB_*)
@@ -192,21 +200,24 @@ class Data(NamedTuple):
 # packing a craft
 
 
-def body_rows(mass_kg: np.ndarray, inertia: np.ndarray) -> np.ndarray:
-    """``BODY_FIELDS`` rows ``[n, NBODY]`` (float64) of masses ``[n]`` and body inertia
-    tensors ``[n, 3, 3]``: mass, inverse inertia, second moment."""
+def body_rows(mass_kg: np.ndarray, inertia: np.ndarray, com_shift_m=None) -> np.ndarray:
+    """``BODY_FIELDS`` rows ``[n, NBODY]`` (float64) of masses ``[n]``, body inertia tensors
+    ``[n, 3, 3]`` and center-of-mass shifts ``[n, 3]`` (None: none): mass, inverse inertia,
+    second moment, shift."""
     inertia = np.asarray(inertia, dtype=np.float64)
     inv = np.linalg.inv(inertia)
     trace = inertia[:, 0, 0] + inertia[:, 1, 1] + inertia[:, 2, 2]
     sec = 0.5 * trace[:, None, None] * np.eye(3) - inertia  # reference/tetra.py
     i, j = np.array([0, 1, 2, 0, 0, 1]), np.array([0, 1, 2, 1, 2, 2])  # xx yy zz xy xz yz
-    rows = np.concatenate([np.asarray(mass_kg, float)[:, None], inv[:, i, j], sec[:, i, j]], 1)
+    mass = np.asarray(mass_kg, float)[:, None]
+    shift = np.zeros((len(mass), 3)) if com_shift_m is None else com_shift_m
+    rows = np.concatenate([mass, inv[:, i, j], sec[:, i, j], shift], 1)
     assert rows.shape[1] == NBODY == sum(w for _, w in BODY_FIELDS)
     return rows
 
 
 def sample_rows(craft: Craft) -> dict[str, list[tuple]]:
-    """A craft's per-environment sample rows by kind (float64)."""
+    """A craft's sample rows by kind (float64)."""
     return {k.name: k.rows(craft) for k in KINDS}
 
 
@@ -220,12 +231,6 @@ def control_names(crafts: Sequence[Craft]) -> list[str]:
     if len(crafts) == 1:
         return list(crafts[0].control_names)
     return [f"{c.name}.{n}" for c in crafts for n in c.control_names]
-
-
-def _field_major(rows: list[tuple], width: int, num_envs: int, dtype) -> np.ndarray:
-    """``[width, n, E]``: the rows repeated for every environment."""
-    table = np.asarray(rows, dtype=np.float64).reshape(-1, width).T.astype(dtype)
-    return np.ascontiguousarray(np.repeat(table[:, :, None], num_envs, axis=2))
 
 
 def _once(rows: list[tuple], width: int, dtype) -> np.ndarray:
@@ -250,10 +255,8 @@ def pack(
     environment at the crafts' own values)."""
     E, dtype = num_envs, np.dtype(dtype)
     fields = {}
-    for kind in KINDS:  # per-environment rows, shared geometry, each body's range
-        fields[kind.name] = _field_major(
-            [r for c in crafts for r in kind.rows(c)], kind.width, E, dtype
-        )
+    for kind in KINDS:  # the samples' rows, geometry, each body's range
+        fields[kind.name] = _once([r for c in crafts for r in kind.rows(c)], kind.width, dtype)
         for suffix, attr in kind.geometry:
             vectors = [getattr(s, attr) for c in crafts for s in kind.of(c)]
             fields[f"{kind.name}_{suffix}"] = _once(vectors, 3, dtype)
@@ -292,5 +295,7 @@ def pack(
     ), Samples(
         flap_mix=np.asarray(mix, dtype=dtype).reshape(len(mix), int(offsets[-1])),
         thr_channel=np.asarray(thr_ch, dtype=np.int64),
+        factor_row=np.zeros((len(FACTORS), sum(c.num_samples for c in crafts)), np.int64),
+        factor=np.ones((1, E), dtype=dtype),
         **fields,
     )

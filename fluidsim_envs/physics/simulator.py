@@ -14,6 +14,7 @@ from . import kernels as K
 from . import model as M
 from . import wake as WK
 from .craft import Craft, CraftError, check_inertia, shape_reach, shift_offsets
+from .factors import FactorTable
 from .state import BLOCK, NSTATE, OL, OQ, OV, OX, ROWS
 from .world import World
 
@@ -56,19 +57,21 @@ def _world_params(world: World, dt: float, swell: np.ndarray) -> np.ndarray:
 
 
 class _Body:
-    """One body slot's nominal craft, its samples by kind, and each environment's parameters
-    (what ``set_mass_properties`` and ``set_sample_scale`` hold until changed)."""
+    """One body slot's nominal craft, its samples and groups, and each environment's mass
+    properties (what ``set_mass_properties`` holds until changed; the sample factors are in
+    the simulator's :class:`FactorTable`)."""
 
-    def __init__(self, craft: Craft, num_envs: int) -> None:
+    def __init__(self, craft: Craft, num_envs: int, first: int) -> None:
         self.craft = craft
         self.names = M.sample_names(craft)
         self.rows = {k: np.asarray(r, dtype=np.float64) for k, r in M.sample_rows(craft).items()}
         self.mass_kg = np.full(num_envs, craft.mass_kg)
         self.inertia = np.repeat(craft.inertia_tensor[None], num_envs, axis=0)
         self.com_m = np.zeros((num_envs, 3))  # shift of the center of mass from the craft's
-        self.area = {k: np.ones((num_envs, len(n))) for k, n in self.names.items()}
-        self.efficiency = {k: np.ones((num_envs, len(n))) for k, n in self.names.items()}
-        self.thrust = np.ones(num_envs)
+        self.index = {}  # each kind's samples' numbers among all bodies' (Samples.factor_row)
+        for kind, names in self.names.items():
+            self.index[kind] = first + np.arange(len(names))
+            first += len(names)
 
         def of(*kinds):
             return [(k, i) for k in kinds for i in range(len(self.names[k]))]
@@ -84,6 +87,10 @@ class _Body:
         groups.update({n: [ki] for n, ki in where.items()})
         groups.update({g: [where[n] for n in members] for g, members in craft.groups})
         self.groups = groups
+
+    def numbers(self, members) -> np.ndarray:
+        """The sample numbers (``Samples.factor_row``'s columns) of ``(kind, i)`` pairs."""
+        return np.asarray([self.index[k][i] for k, i in members], dtype=np.int64)
 
 
 class Simulator:
@@ -221,7 +228,9 @@ class Simulator:
             cprm,
             grid,
         )
-        self._bodies = [_Body(c, E) for c in crafts]
+        first = np.cumsum([0] + [c.num_samples for c in crafts])
+        self._bodies = [_Body(c, E, int(first[b])) for b, c in enumerate(crafts)]
+        self._factors = FactorTable(self._samples.factor_row, self._samples.factor)
         n_pairs = CT.num_pairs(B) if cprm[CT.C_ON] else 0
         flow = np.zeros((6, E), dtype=dtype)  # air velocity, water velocity per env
         flow[:3] = np.asarray(world.wind_mps)[:, None]
@@ -625,12 +634,10 @@ class Simulator:
                     f"{what}: efficiency {efficiency!r} takes a plate of group {group!r} "
                     f"(efficiency up to {top}) outside [0, 1]"
                 )
-        for k, i in members:
-            if area is not None:
-                bd.area[k][ids, i] = a
-            if efficiency is not None and M.KIND[k].efficiency:
-                bd.efficiency[k][ids, i] = f
-        self._write(body, ids)
+        if area is not None:
+            self._set_factor(M.F_AREA, bd.numbers(members), ids, a)
+        if efficiency is not None:
+            self._set_factor(M.F_EFFICIENCY, bd.numbers(plates), ids, f)
 
     def set_thrust_scale(self, scale, env_ids=None, body=0) -> None:
         """Scale every thruster of body slot ``body`` (its thrust at every control value) in
@@ -642,8 +649,12 @@ class Simulator:
             raise ValueError(f"{what}: scale must be >= 0, got {scale!r}")
         if not bd.names["thr"]:
             raise ValueError(f"{what}: craft {bd.craft.name!r} has no thruster")
-        bd.thrust[ids] = s
-        self._write(body, ids)
+        self._set_factor(M.F_THRUST, bd.index["thr"], ids, s)
+
+    def _set_factor(self, which: int, samples: np.ndarray, ids: np.ndarray, values) -> None:
+        self._factors.set(which, samples, ids, values)
+        if self._factors.factor is not self._samples.factor:  # the table grew
+            self._samples = self._samples._replace(factor=self._factors.factor)
 
     def _body(self, what: str, body) -> _Body:
         if isinstance(body, bool) or not isinstance(body, (int, np.integer)):
@@ -653,27 +664,13 @@ class Simulator:
         return self._bodies[body]
 
     def _write(self, b: int, ids: np.ndarray) -> None:
-        """Pack body slot b's parameters of environments ``ids`` into the kernels' model: the
-        same numbers the craft itself packs where a parameter is at the craft's value."""
+        """Pack body slot b's mass properties of environments ``ids`` into the kernels' model
+        (the body rows, the collision shapes): the same numbers the craft itself packs where a
+        property is at the craft's value."""
         bd, model, dtype = self._bodies[b], self._model, self.dtype
-        model.body[ids, b] = M.body_rows(bd.mass_kg[ids], bd.inertia[ids]).astype(dtype)
-        com = bd.com_m[ids][:, None, :]  # [n, 1, 3]
-        for kind in M.KINDS:
-            nominal = bd.rows[kind.name]
-            if not len(nominal):
-                continue
-            rows = np.repeat(nominal[None], ids.size, axis=0)  # [n, m, width]
-            rows[..., :3] = shift_offsets(nominal[None, :, :3], com)
-            for scaled, factor in (
-                (kind.area, bd.area[kind.name][ids]),
-                (kind.efficiency, bd.efficiency[kind.name][ids]),
-                (kind.thrust, bd.thrust[ids][:, None]),
-            ):
-                for size in scaled:
-                    rows[..., kind.row(size)] *= factor
-            at = getattr(self._samples, f"{kind.name}_at")
-            table = getattr(self._samples, kind.name)
-            table[:, at[b] : at[b + 1], ids] = rows.transpose(2, 1, 0).astype(dtype)
+        com = bd.com_m[ids]
+        model.body[ids, b] = M.body_rows(bd.mass_kg[ids], bd.inertia[ids], com).astype(dtype)
+        com = com[:, None, :]  # [n, 1, 3]
         shapes = bd.craft.shapes
         if shapes:
             table = np.repeat(np.asarray(CT.shape_rows(bd.craft))[None], ids.size, axis=0)

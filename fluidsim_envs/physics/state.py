@@ -12,7 +12,8 @@ Two layouts, both declared here as (name, width) lists and turned into row numbe
   over environments innermost and vectorize. The state rows come first; ``STATE + OX`` is
   where contact and the integrators find a body's position.
 - ``BODY_FIELDS``: the per-environment body constants ``body[E, B, NBODY]`` (mass, inverse
-  inertia, second moment), which ``Simulator.set_mass_properties`` sets per environment.
+  inertia, second moment, center-of-mass shift), which ``Simulator.set_mass_properties`` sets
+  per environment.
 """
 
 from __future__ import annotations
@@ -39,9 +40,12 @@ BODY_FIELDS = (
     ("inv_inertia", 6),  # inverse body inertia tensor (xx, yy, zz, xy, xz, yz), 1/(kg m^2)
     # S = tr(I)/2 1 - I (xx, yy, zz, xy, xz, yz): a matched tetrahedron's sum m_i r_i r_i^T
     ("second_moment", 6),
+    # the center of mass's shift from the craft's (body frame, m): the force loops take each
+    # sample's offset as the craft's offset minus this (0 for the craft's own balance)
+    ("com_shift", 3),
 )
 _BODY, NBODY = rows(BODY_FIELDS)
-B_MASS, B_INV_INERTIA, B_SECOND_MOMENT = (_BODY[n] for n, _ in BODY_FIELDS)
+B_MASS, B_INV_INERTIA, B_SECOND_MOMENT, B_COM_SHIFT = (_BODY[n] for n, _ in BODY_FIELDS)
 
 BLOCK = 64  # environments per block: a multiple of the SIMD width, scratch fits in L1/L2
 SCRATCH_FIELDS = (

@@ -45,6 +45,7 @@ from .tables import (
     C_UNDRIFT,
     CB_FRICTION,
     CB_REACH,
+    CB_RESTITUTION,
     GROUND_NONE,
     TWO_THIRDS,
 )
@@ -134,9 +135,9 @@ def _open(S, W, k, a, b, i, n, body, cbody, cprm, acc):
     p = (px, py, pz)
     nrm = (nx, ny, nz)
     # materials: geometric means
-    eb = cprm[C_GE] if ground else cbody[b, B_MASS]
+    eb = cprm[C_GE] if ground else cbody[b, CB_RESTITUTION]
     mub = cprm[C_GMU] if ground else cbody[b, CB_FRICTION]
-    e = math.sqrt(cbody[a, B_MASS] * eb)
+    e = math.sqrt(cbody[a, CB_RESTITUTION] * eb)
     un = _dot(_relative(S, a, b, i, n, body, p)[0], nrm)
     impact = -un > cprm[C_REST_SPEED]
     # 1. projection: out by the depth, mass-weighted between two bodies. A resting contact

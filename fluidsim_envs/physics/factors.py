@@ -1,0 +1,66 @@
+"""Each environment's factors on its samples' sizes, stored once per distinct set of values.
+
+``Simulator.set_sample_scale`` and ``set_thrust_scale`` give a group of samples a factor per
+environment. Stored per sample and environment, a boat's 91 samples at E = 4096 would be
+megabytes that every force evaluation streams through (the env step was 10-20% slower so).
+Samples scaled together share their factors, so the kernels read them through one more
+index: sample j's area in environment e is ``area_j * factor[row[F_AREA, j], e]``, where
+``row`` (``Samples.factor_row``) is small and ``factor`` has one row per distinct set of
+factors in use (row 0, all ones, for everything left at the craft's values). A batch in which
+nothing was scaled reads one row of ones: the craft's own numbers, bit for bit.
+
+:class:`FactorTable` keeps the rows: a write to the samples that alone use a row changes that
+row in place; a write to some of a row's users gives them a fresh copy; a row nobody uses is
+free for the next copy; a row that becomes all ones hands its users back to row 0.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+class FactorTable:
+    """``factor [rows, E]`` and ``row [len(FACTORS), N]`` (``model.Samples``' fields) with
+    their bookkeeping.
+
+    Args:
+        row: the samples' rows, ``[len(FACTORS), N]`` int64 (all 0: nothing scaled).
+        factor: the table, ``[rows, E]`` in the simulation dtype, row 0 all ones.
+    """
+
+    def __init__(self, row: np.ndarray, factor: np.ndarray) -> None:
+        self.row, self.factor = row, factor
+
+    def get(self, which: int, samples: np.ndarray) -> np.ndarray:
+        """``[E, n]`` the factors ``which`` (``model.F_*``) of samples ``samples``."""
+        return self.factor[self.row[which, samples]].T
+
+    def set(self, which: int, samples: np.ndarray, env_ids: np.ndarray, values) -> None:
+        """Factor ``which`` of ``samples`` becomes ``values`` (``[len(env_ids)]``) in
+        environments ``env_ids``; other environments and samples keep theirs. May replace
+        :attr:`factor` by a larger array."""
+        values = np.asarray(values).astype(self.factor.dtype)
+        samples = np.asarray(samples, dtype=np.int64)
+        for r in np.unique(self.row[which, samples]):
+            users = samples[self.row[which, samples] == r]
+            if r != 0 and np.count_nonzero(self.row == r) == users.size:
+                target = r  # the row is theirs alone
+            else:
+                target = self._free_row()
+                self.factor[target] = self.factor[r]
+                self.row[which, users] = target
+            self.factor[target, env_ids] = values
+            if np.all(self.factor[target] == 1.0):
+                self.row[which, users] = 0
+
+    def _free_row(self) -> int:
+        used = np.zeros(len(self.factor), dtype=bool)
+        used[self.row.ravel()] = True
+        used[0] = True
+        free = np.flatnonzero(~used)
+        if free.size:
+            return int(free[0])
+        grown = np.ones((2 * len(self.factor), self.factor.shape[1]), dtype=self.factor.dtype)
+        grown[: len(self.factor)] = self.factor
+        at, self.factor = len(self.factor), grown
+        return at
