@@ -17,9 +17,9 @@ from its control channel, which stays, so the control array keeps its shape):
   height and trim (``hydrostatics.static_float``) for 10 s at dt = 1/100 s. Groups: bottom
   plates, skin-friction plates, topsides, skeg/stem/windscreen, control surfaces (rudder, trim
   tabs), buoyancy columns. Scene quantities: top speed (horizontal) and trim at the end.
-- ``uuv`` in ``World(water=True)``: thrust 0.6, rudder 0.3, dive planes -0.2 from rest 10 m
-  down, for 10 s at dt = 1/20 s. Groups: hull cylinders, nose plate, rudder fins, dive planes,
-  buoyancy volumes. Scene quantities: depth change and heading change.
+- ``uuv`` in ``World(water=True)``: thrust 0.7 (84 N ahead), rudder 0.3, dive planes -0.2 from
+  rest 10 m down, for 10 s at dt = 1/20 s. Groups: hull cylinders, nose plate, rudder fins,
+  dive planes, buoyancy volumes. Scene quantities: depth change and heading change.
 - ``buoy`` (BoatOnStep-v0's buoy body) in ``World(water=True)``: released 0.1 m below its
   floating height and moving sideways at 0.5 m/s (as a hull's knock leaves it), for 4 s at
   dt = 1/100 s. Groups: damping plates, drag cylinder, waterplane (buoyancy) samples. Scene
@@ -250,7 +250,7 @@ def cases() -> list[Case]:
             1 / 20,
             10.0,
             dict(pos=(0.0, 0.0, -10.0)),
-            (0.6, 0.3, -0.2),
+            (0.7, 0.3, -0.2),  # 84 N: what 0.6 gave before control 0 was no thrust
             {
                 "hull cylinders": ("hull",),
                 "nose plate": ("nose",),

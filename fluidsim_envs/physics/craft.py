@@ -161,8 +161,9 @@ class Buoyancy:
 
 @dataclass(frozen=True)
 class Thruster:
-    """A force ``thrust * direction`` at a point; thrust maps the channel's [-1, 1] linearly
-    onto ``[min_thrust_n, max_thrust_n]`` (a thruster without a channel runs at max)."""
+    """A force ``thrust * direction`` at a point. The channel's value c in [-1, 1] gives no
+    thrust at 0, ``c * max_thrust_n`` ahead and ``-c * min_thrust_n`` astern
+    (``forces.thrust_of``); a thruster without a channel runs at max."""
 
     name: str
     offset_m: Vec3
@@ -177,8 +178,12 @@ class Thruster:
         object.__setattr__(self, "direction", _unit(where, "direction", self.direction))
         hi = _finite(where, "max_thrust_n", self.max_thrust_n)
         lo = _finite(where, "min_thrust_n", self.min_thrust_n)
-        if hi < lo:
-            raise CraftError(f"{where}: max_thrust_n ({hi}) must be >= min_thrust_n ({lo})")
+        if hi < 0.0:
+            raise CraftError(f"{where}: max_thrust_n must be >= 0 (ahead), got {hi}")
+        if lo > 0.0:
+            raise CraftError(
+                f"{where}: min_thrust_n must be <= 0 (astern; control 0 is no thrust), got {lo}"
+            )
         object.__setattr__(self, "max_thrust_n", hi)
         object.__setattr__(self, "min_thrust_n", lo)
 

@@ -91,6 +91,22 @@ def buoyancy_force(z, frac, water, rho_water, g, volume, area):
 
 
 @njit(**_JIT)
+def thrust_of(c, lo, hi):
+    """A thruster's thrust (N) at control value c in [-1, 1]: none at 0, linear to ``hi``
+    (``max_thrust_n`` >= 0) at +1 and to ``lo`` (``min_thrust_n`` <= 0, astern) at -1."""
+    return hi * max(c, ZERO) - lo * min(c, ZERO)
+
+
+@njit(**_JIT)
+def thrust_control(thrust, lo, hi):
+    """The control value that gives ``thrust`` (N), :func:`thrust_of`'s inverse for a thrust
+    in [lo, hi]: ``thrust / hi`` ahead, ``thrust / -lo`` astern. Scalars or arrays (a scene
+    that maps its own action onto thrust, and then onto the craft's channel)."""
+    ahead, astern = np.maximum(thrust, ZERO), np.minimum(thrust, ZERO)
+    return ahead / max(hi, TINY) + astern / max(-lo, TINY)
+
+
+@njit(**_JIT)
 def rotate_about_axis(nx, ny, nz, hx, hy, hz, c, s):
     """Rodrigues' rotation of n about the unit axis h by the angle with cosine c and sine s."""
     hn = hx * nx + hy * ny + hz * nz

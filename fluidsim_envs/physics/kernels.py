@@ -80,6 +80,7 @@ from .forces import (
     cylinder_force,
     plate_force,
     rotate_about_axis,
+    thrust_of,
     water_fraction,
 )
 from .jit import INLINE as _INLINE
@@ -569,7 +570,7 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
         for i in range(n):
             e = e0 + i
             a = ctrl[ch, e] if ch >= 0 else ONE
-            thrust = (lo + HALF * (a + ONE) * (hi - lo)) * factor[rt, e]
+            thrust = thrust_of(a, lo, hi) * factor[rt, e]
             rx, ry, rz = _arm(S, i, ox, oy, oz)
             dx, dy, dz = _rotate(S, i, bx, by, bz)
             fx, fy, fz = thrust * dx, thrust * dy, thrust * dz

@@ -23,6 +23,7 @@ import pytest
 
 from fluidsim_envs.craft.hull import VHull, speedboat_toml
 from fluidsim_envs.physics import Craft, Simulator, World
+from fluidsim_envs.physics.forces import thrust_control
 from fluidsim_envs.physics.hydrostatics import static_float
 from fluidsim_envs.physics.kernels import quat_matrices
 from fluidsim_envs.physics.reference.savitsky import PrismaticHull, savitsky
@@ -37,16 +38,13 @@ FNV_SCALE = math.sqrt(WORLD.gravity_mps2 * (CRAFT.mass_kg / WORLD.water_density_
 
 
 def channel(thrust_n):
-    """The throttle channel value for a thrust (the craft maps [-1, 1] onto min..max)."""
-    lo, hi = PROP.min_thrust_n, PROP.max_thrust_n
-    return 2 * (np.asarray(thrust_n, dtype=float) - lo) / (hi - lo) - 1
+    """The throttle channel value for a thrust."""
+    return thrust_control(np.asarray(thrust_n, dtype=float), PROP.min_thrust_n, PROP.max_thrust_n)
 
 
 def idle(E=1):
-    """Controls with the engine at zero thrust (the channel's 0 is 1.5 kN ahead), rudder
-    amidships, tabs flush."""
+    """Controls with the engine at zero thrust, rudder amidships, tabs flush."""
     ctrl = np.zeros((E, 3))
-    ctrl[:, 0] = channel(0.0)
     ctrl[:, 2] = -1.0
     return ctrl
 

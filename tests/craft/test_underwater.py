@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from fluidsim_envs.physics import Craft, Simulator, World
+from fluidsim_envs.physics.forces import thrust_control
 from fluidsim_envs.physics.kernels import quat_matrices
 
 WORLD = World(water=True)
@@ -108,6 +109,9 @@ def test_control_signs(name):
     sim = Simulator(craft, WORLD, num_envs=3, dt=0.02)
     sim.reset(pos=(0.0, 0.0, DEPTH), lin_vel=(v, 0.0, 0.0))
     controls = np.array([[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    prop = craft.thrusters[0]  # a quarter ahead: what the channel's 0 gave before control 0
+    lo, hi = prop.min_thrust_n, prop.max_thrust_n  # meant no thrust
+    controls[:, craft.control_names.index(prop.control)] = thrust_control((lo + hi) / 2, lo, hi)
     sim.step(controls, steps=int(MANEUVER_S[name] / 0.02))
     roll, pitch, heading = euler(sim)
     assert heading[1] < -math.radians(1) and abs(heading[1]) > 10 * abs(heading[0])

@@ -88,6 +88,16 @@ def test_directions_are_normalized():
             'offset_m = [0, 0, 0]\ndirection = [1, 0, 0]\nmax_thrust_n = 5\ncontrol = "gas"\n',
             "bound to unknown control 'gas'",
         ),
+        (  # control 0 is no thrust: a range that does not hold 0 has no meaning
+            'name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[thrusters]]\nname = "p"\n'
+            "offset_m = [0, 0, 0]\ndirection = [1, 0, 0]\nmax_thrust_n = 5\nmin_thrust_n = 1\n",
+            "min_thrust_n must be <= 0 (astern; control 0 is no thrust), got 1.0",
+        ),
+        (
+            'name = "x"\nmass_kg = 1.0\ninertia_kgm2 = [1, 1, 1]\n[[thrusters]]\nname = "p"\n'
+            "offset_m = [0, 0, 0]\ndirection = [1, 0, 0]\nmax_thrust_n = -5\n",
+            "max_thrust_n must be >= 0 (ahead), got -5.0",
+        ),
     ],
 )
 def test_bad_craft_file_is_refused_with_a_clear_message(tmp_path, text, message):

@@ -18,7 +18,7 @@ from fluidsim_envs.physics import (
     Thruster,
     World,
 )
-from fluidsim_envs.physics.forces import cylinder_force, plate_force
+from fluidsim_envs.physics.forces import cylinder_force, plate_force, thrust_control
 
 RHO, AREA, VMAX, FMAX = 1.225, 0.5, 1e3, 1e12
 
@@ -120,16 +120,21 @@ def test_buoyancy_volume_and_thrust():
     )
     world = World(water=True, surface_blend_m=0.1)
     # deep: full buoyancy 1025 * 9.81 * 0.2 at x = 1 m (a pitching torque), and throttle 0.5
-    # gives -100 + 0.75 * 400 = 200 N
+    # gives half the 300 N ahead
     force, torque = one_step_force(craft, world, [[0.5]], pos=(0.0, 0.0, -5.0))
     lift = 1025.0 * 9.81 * 0.2
-    np.testing.assert_allclose(force, (200.0, 0.0, lift - 100.0 * 9.81), rtol=1e-12)
+    np.testing.assert_allclose(force, (150.0, 0.0, lift - 100.0 * 9.81), rtol=1e-12)
     np.testing.assert_allclose(
         torque,
-        np.cross((1, 0, 0), (0, 0, lift)) + np.cross((0, 0, -0.5), (200.0, 0, 0)),
+        np.cross((1, 0, 0), (0, 0, lift)) + np.cross((0, 0, -0.5), (150.0, 0, 0)),
         rtol=1e-12,
         atol=1e-9,
     )
+    # throttle 0: no thrust; -1: the 100 N astern; -0.25 a quarter of it
+    for c, thrust in ((0.0, 0.0), (-1.0, -100.0), (-0.25, -25.0)):
+        force, _ = one_step_force(craft, world, [[c]], pos=(0.0, 0.0, -5.0))
+        assert force[0] == thrust
+        assert thrust_control(thrust, -100.0, 300.0) == c
     # half in the surface layer: half the buoyancy; in the air: none
     assert one_step_force(craft, world, [[-1.0]])[0][2] == pytest.approx(lift / 2 - 981.0)
     assert one_step_force(craft, world, [[-1.0]], pos=(0, 0, 1))[0][2] == pytest.approx(-981.0)

@@ -12,6 +12,7 @@ import math
 
 from numba import njit
 
+from ...physics.forces import thrust_control
 from ...physics.kernels import body_state
 from ...physics.rotation import env_inv_inertia, quat_to_matrix, to_body
 from ...physics.state import OQ, OV, OX
@@ -170,7 +171,7 @@ def controls(st, actions, cfg, ctrl):
         rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
         u = rot[0] * st[OV, 0, e] + rot[3] * st[OV + 1, 0, e] + rot[6] * st[OV + 2, 0, e]
         thrust = thrust_command(u, actions[e, 0], cfg)
-        ctrl[e, 0] = 2.0 * (thrust - lo) / (hi - lo) - 1.0
+        ctrl[e, 0] = thrust_control(thrust, lo, hi)
         ctrl[e, 1] = actions[e, 1]
         ctrl[e, 2] = actions[e, 2]
 

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...physics import Craft, Simulator, WakeField, World
+from ...physics.forces import thrust_control
 from ...physics.kernels import INTEGRATORS
 from ...physics.wake import NSRC as WAKE_SOURCE_ROWS
 from ..base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
@@ -156,6 +157,12 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
             wake=self.wake if p.wake else None,
         )
         self._wprm = self.wake.params() if p.wake else np.zeros_like(self.wake.params())
+        (prop,) = self.craft.thrusters
+        self._thrust_range = (prop.min_thrust_n, prop.max_thrust_n)
+        # the actions are the craft's channels in order, the propeller's first
+        assert self.sim.control_names[: len(self.action_names)] == self.action_names
+        assert prop.control == self.action_names[0]
+        self._ctrl = np.zeros((E, len(self.sim.control_names)))
         self.lead = np.zeros((TK.NLEAD, E))
         # segment end time, speed, turn rate; the route repeats after its last segment (a fixed
         # count, so that an episode's draws do not depend on the time limit)
@@ -236,10 +243,20 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
 
     # ---- step -----------------------------------------------------------------------------
 
+    def _controls(self, actions):
+        """The craft's channels for the agent's actions: the thrust action maps linearly
+        from full astern (-1) to full ahead (+1), as v0 always has (0: a third ahead); the
+        craft's thrust channel gives no thrust at 0, so it gets that thrust's value."""
+        lo, hi = self._thrust_range
+        self._ctrl[:] = actions
+        thrust = lo + 0.5 * (self._ctrl[:, 0] + 1.0) * (hi - lo)
+        self._ctrl[:, 0] = thrust_control(thrust, lo, hi)
+        return self._ctrl
+
     def _advance(self, actions):
         p = self.params
         TK.lead_source(self.lead, self.noise_offset, self._src)  # the kernel moves it on
-        self.sim.step(actions, steps=p.substeps)
+        self.sim.step(self._controls(actions), steps=p.substeps)
         TK.advance_lead(self.lead, self.route, p.dt * p.substeps, p.route_lag_s)
         TK.lead_source(self.lead, self.noise_offset, self._src)
         diverged = self.sim.diverged.copy()

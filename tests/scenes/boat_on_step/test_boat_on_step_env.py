@@ -414,8 +414,8 @@ def test_thrust_follows_the_power_curve():
         assert TK.thrust_command(u, 0.0, cfg) == 0.0
     # the power limit binds above power / max_thrust (17.8 m/s)
     assert TK.thrust_command(25.0, 1.0, cfg) < prop.max_thrust_n
-    # at rest the only horizontal force is the propeller's (the craft's channel is linear
-    # from min_thrust_n at -1 to max_thrust_n at +1)
+    # at rest the only horizontal force is the propeller's (the craft's channel: none at 0,
+    # linear to max_thrust_n at +1 and to min_thrust_n at -1)
     venv.reset(seed=0)
     st, _, _ = venv.sim.kernel_arrays()
     ctrl = np.zeros((1, 3))
