@@ -32,6 +32,31 @@ from .craft import Craft
 from .state import BODY_FIELDS, NBODY
 
 
+class Glyph(NamedTuple):
+    """How a viewer draws one sample, in the body frame and without naming a renderer.
+
+    ``form`` is one of :data:`GLYPH_FORMS`: a ``square`` (a flat plate: side ``size`` m,
+    normal ``axis``), a ``rod`` (length ``size`` m along ``axis``, centered), a ``ball``
+    (radius ``size`` m) or an ``arrow`` (a force of ``size`` N along ``axis``, from
+    ``center_m``, drawn at the viewer's force scale). A glyph shows where a sample acts and how
+    big it is, not the craft's shape: a cylinder's rod is as long as the square root of its
+    area.
+    """
+
+    form: str
+    center_m: tuple[float, float, float]
+    axis: tuple[float, float, float]
+    size: float
+
+
+GLYPH_FORMS = ("square", "rod", "ball", "arrow")
+UP = (0.0, 0.0, 1.0)
+
+
+def _ball_radius(volume_m3: float) -> float:
+    return (3.0 * volume_m3 / (4.0 * math.pi)) ** (1.0 / 3.0)
+
+
 @dataclass(frozen=True)
 class SampleKind:
     """A kind of sample, as the kernels' tables hold it.
@@ -46,11 +71,13 @@ class SampleKind:
         area: the sizes that ``set_sample_scale(area=)`` multiplies.
         efficiency: the sizes that ``set_sample_scale(efficiency=)`` multiplies.
         thrust: the sizes that ``set_thrust_scale`` multiplies.
+        glyph: how a viewer draws one sample of this kind (:class:`Glyph`).
     """
 
     name: str
     of: Callable[[Craft], list]
     sizes: tuple[str, ...]
+    glyph: Callable[[object], Glyph]
     geometry: tuple[tuple[str, str], ...] = ()
     area: tuple[str, ...] = ()
     efficiency: tuple[str, ...] = ()
@@ -75,14 +102,16 @@ def is_flap(craft: Craft) -> set[str]:
 
 
 # The kinds, in the order their samples are numbered everywhere (``sample_forces``, the
-# kernel's loops). A new kind: a row here, its Samples fields (tests/physics/test_model.py
-# checks them), its loop in ``kernels._evaluate`` (kernels.py refuses to import until it has
-# one), its part and schema in craft.py.
+# kernel's loops). A new kind: a row here (with its glyph: a new form needs a drawing in
+# wrappers/rerun_logger.py, which tests/wrappers checks), its Samples fields
+# (tests/physics/test_model.py checks them), its loop in ``kernels._evaluate`` (kernels.py
+# refuses to import until it has one), its part and schema in craft.py.
 KINDS = (
     SampleKind(
         "plate",  # plates without a control channel
         lambda c: [p for p in c.plates if p.name not in is_flap(c)],
         sizes=("area_m2", "efficiency"),
+        glyph=lambda p: Glyph("square", p.offset_m, p.normal, math.sqrt(p.area_m2)),
         geometry=(("normal", "normal"),),
         area=("area_m2",),
         efficiency=("efficiency",),
@@ -91,6 +120,7 @@ KINDS = (
         "flap",  # control surfaces: normals turned about a hinge by the controls
         lambda c: [p for p in c.plates if p.name in is_flap(c)],
         sizes=("area_m2", "efficiency"),
+        glyph=lambda p: Glyph("square", p.offset_m, p.normal, math.sqrt(p.area_m2)),
         geometry=(("normal", "normal"), ("hinge", "hinge_axis")),
         area=("area_m2",),
         efficiency=("efficiency",),
@@ -99,6 +129,7 @@ KINDS = (
         "cyl",
         lambda c: list(c.cylinders),
         sizes=("area_m2",),
+        glyph=lambda c: Glyph("rod", c.offset_m, c.axis, math.sqrt(c.area_m2)),
         geometry=(("axis", "axis"),),
         area=("area_m2",),
     ),
@@ -106,12 +137,18 @@ KINDS = (
         "buoy",
         lambda c: list(c.buoyancy),
         sizes=("volume_m3", "area_m2"),  # one of them 0, by the sample's kind
+        glyph=lambda b: (
+            Glyph("ball", b.offset_m, UP, _ball_radius(b.volume_m3))
+            if b.kind == "volume"
+            else Glyph("square", b.offset_m, UP, math.sqrt(b.area_m2))
+        ),
         area=("volume_m3", "area_m2"),
     ),
     SampleKind(
         "thr",
         lambda c: list(c.thrusters),
         sizes=("min_thrust_n", "max_thrust_n"),
+        glyph=lambda t: Glyph("arrow", t.offset_m, t.direction, t.max_thrust_n),
         geometry=(("dir", "direction"),),
         thrust=("min_thrust_n", "max_thrust_n"),
     ),
@@ -219,6 +256,11 @@ def body_rows(mass_kg: np.ndarray, inertia: np.ndarray, com_shift_m=None) -> np.
 def sample_rows(craft: Craft) -> dict[str, list[tuple]]:
     """A craft's sample rows by kind (float64)."""
     return {k.name: k.rows(craft) for k in KINDS}
+
+
+def glyphs(craft: Craft) -> list[Glyph]:
+    """Every sample's glyph, in the kernels' order (``Simulator.sample_forces``')."""
+    return [kind.glyph(s) for kind in KINDS for s in kind.of(craft)]
 
 
 def sample_names(craft: Craft) -> dict[str, list[str]]:

@@ -4,7 +4,9 @@ Each logged sub-env i has its own entity root ``env/i`` (world frame: x, y level
 
 - ``env/i/body/b``: body b's pose (``Transform3D``); below it, in the body's frame, its
   collision shapes (``boxes``, ``spheres``; static), or a box around its samples if it has
-  none.
+  none, and its samples (``samples/<form>``, static): each drawn as its kind's glyph
+  declares (``physics.model.Glyph``: plates as squares, cylinders as rods, buoyancy as
+  balls or squares, thrusters as arrows at full thrust).
 - ``env/i/forces``: every sample's force (plates, cylinders, buoyancy, thrusters; from
   ``Simulator.sample_forces``) as an arrow from its world point, scaled by the static
   ``scale_m_per_n`` on the same entity.
@@ -34,12 +36,14 @@ import numpy as np
 from gymnasium.vector import VectorEnv, VectorWrapper
 
 from ..physics import Craft
+from ..physics.model import GLYPH_FORMS, glyphs
 from ..scenes import SCENES, Scene
 from ..scenes.base import FluidVectorEnv
 from ..scenes.rerun import BUOY
 
 INSTALL_HINT = 'pip install "fluidsim-envs[rerun]"'
-BODY, FORCE = (235, 235, 240), (255, 120, 40)
+BODY, FORCE, SAMPLE = (235, 235, 240), (255, 120, 40), (60, 130, 220)
+PLATE_THICKNESS_M = 0.002
 
 
 def import_rerun():
@@ -149,6 +153,7 @@ class RerunLogger(VectorWrapper):
         for e in self.env_ids:
             for b, craft in enumerate(self.base.sim.crafts):
                 _log_shapes(self, e, f"body/{b}", craft)
+                _log_samples(self, e, f"body/{b}/samples", craft)
             self.log(e, "forces", rr.AnyValues(scale_m_per_n=self.scale_m_per_n[e]), static=True)
             self.hooks.world(e)
 
@@ -238,6 +243,60 @@ def _log_shapes(lg: RerunLogger, e: int, path: str, craft: Craft) -> None:
             ),
             static=True,
         )
+
+
+def _turn_from_z(axis: np.ndarray) -> np.ndarray:
+    """Quaternions ``[n, 4]`` (x, y, z, w) that turn +z onto each unit ``axis [n, 3]``."""
+    q = np.stack([-axis[:, 1], axis[:, 0], 0.0 * axis[:, 0], 1.0 + axis[:, 2]], axis=1)
+    q[axis[:, 2] < -1.0 + 1e-12] = (1.0, 0.0, 0.0, 0.0)  # -z: half a turn about x
+    return q / np.linalg.norm(q, axis=1, keepdims=True)
+
+
+def _squares(rr, center, axis, size, scale_m_per_n):
+    return rr.Boxes3D(
+        centers=center,
+        half_sizes=np.stack([size / 2, size / 2, np.full_like(size, PLATE_THICKNESS_M / 2)], 1),
+        quaternions=_turn_from_z(axis),
+        colors=SAMPLE,
+        fill_mode="solid",
+    )
+
+
+def _rods(rr, center, axis, size, scale_m_per_n):
+    return rr.Capsules3D(
+        lengths=size,
+        radii=0.05 * size,
+        translations=center - 0.5 * size[:, None] * axis,  # a capsule starts at its origin
+        quaternions=_turn_from_z(axis),
+        colors=SAMPLE,
+    )
+
+
+def _balls(rr, center, axis, size, scale_m_per_n):
+    half = np.repeat(size[:, None], 3, axis=1)
+    return rr.Ellipsoids3D(centers=center, half_sizes=half, colors=SAMPLE, fill_mode="solid")
+
+
+def _arrows(rr, center, axis, size, scale_m_per_n):
+    # a thruster's arrow is its full thrust at the force arrows' scale
+    return rr.Arrows3D(origins=center, vectors=axis * size[:, None] * scale_m_per_n, colors=FORCE)
+
+
+# each glyph form's drawing (physics.model.GLYPH_FORMS; tests check that none is missing)
+DRAW = {"square": _squares, "rod": _rods, "ball": _balls, "arrow": _arrows}
+
+
+def _log_samples(lg: RerunLogger, e: int, path: str, craft: Craft) -> None:
+    """A body's samples in its own frame, static: one entity per glyph form."""
+    marks = glyphs(craft)
+    for form in GLYPH_FORMS:
+        mine = [g for g in marks if g.form == form]
+        if mine:
+            center = np.array([g.center_m for g in mine], dtype=np.float64)
+            axis = np.array([g.axis for g in mine], dtype=np.float64)
+            size = np.array([g.size for g in mine], dtype=np.float64)
+            drawing = DRAW[form](lg.rr, center, axis, size, lg.scale_m_per_n[e])
+            lg.log(e, f"{path}/{form}", drawing, static=True)
 
 
 def _scene_of(base: FluidVectorEnv) -> Scene | None:

@@ -7,6 +7,7 @@ import sys
 import gymnasium as gym
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 import fluidsim_envs  # noqa: F401  (registers the envs)
 
@@ -14,8 +15,11 @@ rr = pytest.importorskip("rerun")
 import pyarrow as pa  # noqa: E402  (rerun's dependency)
 from rerun.chunk import RrdReader  # noqa: E402
 
+from fluidsim_envs.physics import Craft  # noqa: E402
+from fluidsim_envs.physics.craft import available  # noqa: E402
+from fluidsim_envs.physics.model import GLYPH_FORMS, glyphs  # noqa: E402
 from fluidsim_envs.scenes.boat_on_step.rerun import SWELL_EVERY  # noqa: E402
-from fluidsim_envs.wrappers.rerun_logger import RerunLogger  # noqa: E402
+from fluidsim_envs.wrappers.rerun_logger import DRAW, RerunLogger, _turn_from_z  # noqa: E402
 
 E, LOGGED, STEPS, EPISODE = 3, 1, 8, 5  # the episodes end (truncated) at step 5
 
@@ -90,8 +94,52 @@ def run(env_id: str, path, watch=None, **kwargs) -> tuple[dict, list[dict]]:
     return read_rrd(path), seen, env
 
 
+FIRST_COLUMN = {  # where each glyph form's drawing keeps its positions
+    "square": "Boxes3D:centers",
+    "rod": "Capsules3D:translations",
+    "ball": "Ellipsoids3D:centers",
+    "arrow": "Arrows3D:origins",
+}
+
+
+def check_samples(rows, root, craft) -> None:
+    """Every sample drawn once, static, as its kind's glyph, where the glyph says."""
+    marks = glyphs(craft)
+    drawn = 0
+    for form in GLYPH_FORMS:
+        mine = [g for g in marks if g.form == form]
+        entity = f"{root}/body/0/samples/{form}"
+        if not mine:
+            assert entity not in rows
+            continue
+        where = np.array(static(rows, entity, FIRST_COLUMN[form]))
+        if form == "rod":  # a capsule is placed by its end
+            ends = [np.subtract(g.center_m, 0.5 * g.size * np.array(g.axis)) for g in mine]
+            np.testing.assert_allclose(where, ends, rtol=1e-6, atol=1e-6)
+        else:
+            np.testing.assert_allclose(where, [g.center_m for g in mine], rtol=1e-6, atol=1e-6)
+        drawn += len(where)
+    assert drawn == craft.num_samples
+
+
+def test_every_glyph_form_has_a_drawing_and_every_kind_a_form():
+    assert set(DRAW) == set(GLYPH_FORMS)
+    for name in available():
+        assert {g.form for g in glyphs(Craft.load(name))} <= set(GLYPH_FORMS), name
+
+
+def test_glyphs_turn_up_onto_their_axis():
+    rng = np.random.default_rng(0)
+    axes = np.concatenate([[[0, 0, 1.0], [0, 0, -1.0], [1.0, 0, 0]], rng.normal(size=(20, 3))])
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    for (x, y, z, w), axis in zip(_turn_from_z(axes), axes, strict=True):
+        turned = Rotation.from_quat([x, y, z, w]).apply([0.0, 0.0, 1.0])
+        np.testing.assert_allclose(turned, axis, atol=1e-12)
+
+
 def check_common(rows, seen, env) -> None:
     root = f"/env/{LOGGED}"
+    check_samples(rows, root, env.sim.crafts[0])
     assert static(rows, "/", "ViewCoordinates:xyz") == [[3, 5, 1]]  # right-handed, z up
     assert "/env/0/body/0" not in rows  # only the chosen sub-env
     steps = list(range(STEPS + 1))
