@@ -2,6 +2,7 @@
 
     git worktree add ../old <commit>          # the revision to compare with
     python -m benchmarks.compare_revisions ../old . --out docs/compare_revisions.csv
+    python -m benchmarks.compare_revisions ../old . --only env --rounds 5 --out envs.csv
 
 Absolute times drift on shared machines; a ratio between two trees measured in alternation
 does not. Each round runs every case in a fresh interpreter that imports the package from
@@ -9,7 +10,8 @@ one tree, then the same in the other tree (A B A B ...); a tree's figure for a c
 best over ``--rounds`` rounds. The cases: the dart's kernel (rk2, float32 and float64,
 E = 1, 64, 1024, 16384, serial on one thread and parallel on two), every other integrator
 at E = 16384, one step call at E = 1 (the round trip through Python), the three envs'
-vector step with random actions at E = 64 and 4096. Only the public API is used
+vector step with random actions at E = 64 and 4096 (best of 5 repeats of 0.2-1 s each per
+round: at 2 threads one such step varies by 10-25% here). Only the public API is used
 (``Simulator``, ``gym.make_vec``), so any revision since the envs' rk2 defaults runs the same
 child code. Cold compile time (the first step with an empty numba cache) is measured once
 per tree, first.
@@ -84,8 +86,8 @@ def env(env_id, num_envs):
     k = [0]
     def step():
         venv.step(acts[k[0] % 16]); k[0] += 1
-    calls = max(1, 100_000 // E)
-    out = E / best(step, calls, 3)
+    calls = max(8, 200_000 // E)  # 0.2-1 s a repeat: a 2-thread step varies 10-25%
+    out = E / best(step, calls, 5)
     venv.close()
     return out
 
@@ -145,18 +147,22 @@ def main() -> None:
     parser.add_argument("new", type=Path, help="the tree measured against it")
     parser.add_argument("--rounds", type=int, default=3, help="A/B alternations")
     parser.add_argument("--quick", action="store_true", help="fewer cases")
+    parser.add_argument(
+        "--only", action="append", default=None, help="cases whose name has this (repeatable); "
+        "no cold compile then",
+    )  # fmt: skip
     parser.add_argument("--out", type=Path, default=Path("docs/compare_revisions.csv"))
     args = parser.parse_args()
     trees = {"old": args.old, "new": args.new}
     machine = describe()
     rows = []
     compile_case = [dict(kind="compile_s", args={})]
-    for label, tree in trees.items():
+    for label, tree in trees.items() if args.only is None else ():
         with tempfile.TemporaryDirectory() as cache:
             (sec,) = run(tree, compile_case, cache=cache)
         rows.append(("cold compile", label, sec, "s"))
         print(f"cold compile {label}: {sec:.1f} s", flush=True)
-    todo = cases(args.quick)
+    todo = [c for c in cases(args.quick) if not args.only or any(k in c["name"] for k in args.only)]
     for tree in trees.values():  # fill each tree's own numba cache
         run(tree, compile_case)
     results = {label: [] for label in trees}
