@@ -31,10 +31,6 @@ class FactorTable:
     def __init__(self, row: np.ndarray, factor: np.ndarray) -> None:
         self.row, self.factor = row, factor
 
-    def get(self, which: int, samples: np.ndarray) -> np.ndarray:
-        """``[E, n]`` the factors ``which`` (``model.F_*``) of samples ``samples``."""
-        return self.factor[self.row[which, samples]].T
-
     def set(self, which: int, samples: np.ndarray, env_ids: np.ndarray, values) -> None:
         """Factor ``which`` of ``samples`` becomes ``values`` (``[len(env_ids)]``) in
         environments ``env_ids``; other environments and samples keep theirs. May replace
