@@ -47,7 +47,7 @@ def variants(craft: Craft) -> dict[str, Craft]:
 def rate(craft: Craft, seconds: float, repeats: int, world: World | None = None) -> float:
     sim = Simulator(craft, world or World(water=True), num_envs=NUM_ENVS, dt=DT)
     controls = np.zeros((NUM_ENVS, len(sim.control_names)))
-    controls[:, 0] = 0.1
+    controls[:, 0] = 0.4  # 1800 N ahead
     controls[:, 2] = -1.0
 
     def reset():

@@ -5,8 +5,9 @@ environment. Stored per sample and environment, a boat's 91 samples at E = 4096 
 megabytes that every force evaluation streams through (the env step was 10-20% slower so).
 Samples scaled together share their factors, so the kernels read them through one more
 index: sample j's area in environment e is ``area_j * factor[row[F_AREA, j], e]``, where
-``row`` (``Samples.factor_row``) is small and ``factor`` has one row per distinct set of
-factors in use (row 0, all ones, for everything left at the craft's values). A batch in which
+``row`` (``Samples.factor_row``) is small and ``factor`` has a row per set of samples scaled
+together (row 0, all ones, for everything left at the craft's values; two groups given equal
+factors by separate calls keep a row each). A batch in which
 nothing was scaled reads one row of ones: the craft's own numbers, bit for bit.
 
 :class:`FactorTable` keeps the rows: a write to the samples that alone use a row changes that
@@ -36,7 +37,8 @@ class FactorTable:
         environments ``env_ids``; other environments and samples keep theirs. May replace
         :attr:`factor` by a larger array."""
         values = np.asarray(values).astype(self.factor.dtype)
-        samples = np.asarray(samples, dtype=np.int64)
+        # each sample once: a group that names one twice must not pass for a row's only users
+        samples = np.unique(np.asarray(samples, dtype=np.int64))
         for r in np.unique(self.row[which, samples]):
             users = samples[self.row[which, samples] == r]
             if r != 0 and np.count_nonzero(self.row == r) == users.size:

@@ -70,7 +70,9 @@ class SampleKind:
         geometry: ``(suffix, attribute)`` of each shared ``[3, n]`` table (a unit vector).
         area: the sizes that ``set_sample_scale(area=)`` multiplies.
         efficiency: the sizes that ``set_sample_scale(efficiency=)`` multiplies.
-        thrust: the sizes that ``set_thrust_scale`` multiplies.
+        thrust: the sizes that ``set_thrust_scale`` multiplies. (``Simulator`` reads these
+            three to know which samples take which factor; the kind's loop in
+            ``kernels._evaluate`` must multiply the same sizes.)
         glyph: how a viewer draws one sample of this kind (:class:`Glyph`).
     """
 

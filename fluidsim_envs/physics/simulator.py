@@ -466,7 +466,8 @@ class Simulator:
     def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The arrays env kernels read the state from, without copies: ``(state [13, B, E]``
         (rows ``state.STATE_FIELDS``), ``flow [6, E]`` (air then water velocity),
-        ``body [E, B, NBODY]`` (each environment's mass and inertia, ``state.BODY_FIELDS``;
+        ``body [E, B, NBODY]`` (each environment's mass, inertia and center-of-mass shift,
+        ``state.BODY_FIELDS``;
         ``rotation.env_inv_inertia(body, e, b)``)). Treat them as read-only."""
         return self._data.st, self._data.flow, self._model.body
 
@@ -559,7 +560,9 @@ class Simulator:
                 or ``[n, 3, 3]``; each symmetric, positive definite, with I1 + I2 >= I3.
             center_of_mass_m: the center of mass's shift from the craft's, body frame,
                 broadcast to ``[n, 3]``: every sample and collision shape keeps its place on
-                the airframe, as :meth:`Craft.with_center_of_mass` gives (bit for bit).
+                the airframe, as :meth:`Craft.with_center_of_mass` gives (bit for bit in
+                float64; in float32 the kernel subtracts the rounded shift, a last-bit
+                difference).
             env_ids: the environments (None: all).
             body: the body slot.
 

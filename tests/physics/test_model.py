@@ -3,7 +3,7 @@ its documented layout, and packing a craft gives the rows its samples declare.""
 
 import numpy as np
 
-from fluidsim_envs.physics import Craft, Simulator, World
+from fluidsim_envs.physics import Craft, Plate, Simulator, World
 from fluidsim_envs.physics import model as M
 from fluidsim_envs.physics.state import NBODY
 
@@ -58,3 +58,14 @@ def test_samples_scaled_together_share_one_row_of_factors():
     sim.set_thrust_scale(0.5, env_ids=[3])
     sim.set_thrust_scale(1.0)
     assert not sim._samples.factor_row.any()
+
+
+def test_a_group_naming_a_sample_twice_scales_only_its_members():
+    plates = tuple(Plate(n, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.1) for n in ("a", "b"))
+    craft = Craft(name="c", mass_kg=1.0, inertia_kgm2=(1, 1, 1), plates=plates,
+                  groups={"g": ["a", "a"]})  # fmt: skip
+    sim = Simulator(craft, World(), num_envs=2)
+    sim.set_sample_scale("all", area=2.0, env_ids=[0])  # a and b share a row
+    sim.set_sample_scale("g", area=3.0, env_ids=[0])  # a alone: b keeps its 2
+    row, factor = sim._samples.factor_row[M.F_AREA], sim._samples.factor
+    np.testing.assert_array_equal(factor[row], [[3.0, 1.0], [2.0, 1.0]])

@@ -159,9 +159,11 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
         self._wprm = self.wake.params() if p.wake else np.zeros_like(self.wake.params())
         (prop,) = self.craft.thrusters
         self._thrust_range = (prop.min_thrust_n, prop.max_thrust_n)
-        # the actions are the craft's channels in order, the propeller's first
-        assert self.sim.control_names[: len(self.action_names)] == self.action_names
-        assert prop.control == self.action_names[0]
+        if self.sim.control_names != self.action_names or prop.control != self.action_names[0]:
+            raise ValueError(  # _controls maps the actions onto the channels one to one
+                f"SubmarineWake: the craft's control channels {self.sim.control_names} must be "
+                f"the actions {self.action_names}, its thruster on {self.action_names[0]!r}"
+            )
         self._ctrl = np.zeros((E, len(self.sim.control_names)))
         self.lead = np.zeros((TK.NLEAD, E))
         # segment end time, speed, turn rate; the route repeats after its last segment (a fixed
