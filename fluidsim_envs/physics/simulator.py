@@ -18,7 +18,7 @@ from .factors import FactorTable
 from .state import BLOCK, NSTATE, OL, OQ, OV, OX, ROWS
 from .world import World
 
-_BATCH_PARALLEL_MIN = 1024  # below this many bodies the serial kernel wins (thread start-up)
+PARALLEL_MIN_BODIES = 1024  # below this many bodies the serial kernel wins (thread start-up)
 # groups every craft has for Simulator.set_sample_scale, beside its samples' names and its own
 BUILTIN_GROUPS = ("all", "plates", "control_surfaces", "cylinders", "buoyancy")
 
@@ -209,7 +209,7 @@ class Simulator:
         self.integrator = integrator
         self.dtype = dtype
         self.wake = wake
-        self.parallel = E * B >= _BATCH_PARALLEL_MIN if parallel is None else bool(parallel)
+        self.parallel = E * B >= PARALLEL_MIN_BODIES if parallel is None else bool(parallel)
         self._method = method.id
         self._kernel = K.step_parallel if self.parallel else K.step_serial
         self.control_names: tuple[str, ...] = tuple(M.control_names(crafts))
