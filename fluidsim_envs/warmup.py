@@ -4,8 +4,9 @@
     python -m fluidsim_envs.warmup fluidsim/BoatOnStep-v0 --no-parallel
 
 numba compiles a kernel at its first call and caches the machine code beside the package
-(``cache=True``), so a fresh install, or a changed kernel, pays for it once: about a minute
-for the first env and tens of seconds for each further one, on 2 cores. This pays it up front,
+(``cache=True``), so a fresh install, or a changed kernel, pays for it once: on 2 cores the
+first env took 169 s here (serial and threaded kernels), each further one about 90 s (kernels
+of its own: the scene's, the wake's). This pays it up front,
 one line per env, for the kernels the env uses at a batch below and at or above the size from
 which the Simulator steps environments on several threads.
 """
@@ -39,7 +40,7 @@ def warm(
     sizes = (2, PARALLEL_MIN_BODIES) if parallel else (2,)
     took = {}
     for env_id in ids:
-        say(f"compiling {env_id} (its first time takes a minute or so; cached afterwards) ...")
+        say(f"compiling {env_id} (the first time takes minutes; cached afterwards) ...")
         t0 = time.perf_counter()
         for n in sizes:
             venv = gym.make_vec(env_id, num_envs=n, vectorization_mode="vector_entry_point")

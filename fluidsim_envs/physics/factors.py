@@ -1,4 +1,4 @@
-"""Each environment's factors on its samples' sizes, stored once per distinct set of values.
+"""Each environment's factors on its samples' sizes, one row for the samples scaled together.
 
 ``Simulator.set_sample_scale`` and ``set_thrust_scale`` give a group of samples a factor per
 environment. Stored per sample and environment, a boat's 91 samples at E = 4096 would be

@@ -56,9 +56,10 @@ named in ``state.py`` (state, body constants, this scratch) and ``model.py`` (sa
 Each environment's craft: mass, inertia and center-of-mass shift are read per environment
 (``model.body``, copied into the scratch's BODY rows with the state); a sample's offset is the
 craft's minus the shift (``_arm``), and its sizes the craft's times the environment's factors
-(``samples.factor``, one row per distinct set: ``factors.py``). The craft's own sample table
-is read once per sample, whatever E: per-environment copies of it (a boat's is 3.6 kB per
-environment) made the E = 4096 step 10-20% slower. Shift and factors cost it 2-5%.
+(``samples.factor``, a row per set of samples scaled together: ``factors.py``). The craft's
+own sample table is read once per sample, whatever E: per-environment copies of it (a boat's
+is 3.6 kB per environment) made the E = 4096 step 10-20% slower. Shift and factors cost it
+2-5%.
 """
 
 from __future__ import annotations
