@@ -1,12 +1,12 @@
-"""Evaluate a training run beside the scripted pilot and a random policy: see
-``fluidsim_envs/rl/evaluate.py``.
+"""Evaluate a run folder: ``fluidsim-evaluate`` from a checkout (see
+``fluidsim_envs/rl/evaluate.py``).
 
-    python training/evaluate.py runs/PaperAirplane-v0-ppo-20250101-120000 --episodes 100
+python training/evaluate.py runs/demo --model best --episodes 256 --rerun runs/demo/episodes.rrd
 """
 
 import sys
 
-from fluidsim_envs.rl.evaluate import main
+from fluidsim_envs.rl.cli import evaluate
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(evaluate())

@@ -1,5 +1,8 @@
-"""Training configs: YAML files (one per env x algorithm, in ``configs/``) loaded with
-``yaml.safe_load`` into frozen dataclasses.
+"""Training configs: YAML files (one per env x algorithm; the shipped ones in
+``fluidsim_envs/configs/``, found by name) loaded with ``yaml.safe_load`` into frozen
+dataclasses. The keys are Stable-Baselines3's own hyperparameter names, grouped in sections;
+rl-zoo3 cannot load these files (its hyperparameter files are keyed by env id, with policy
+kwargs as Python strings).
 
 Every key is checked: an unknown one is an error that names it and lists the valid ones, a
 value of the wrong type an error that names the key and the value. ``--set key=value``
@@ -189,11 +192,35 @@ class TrainConfig:
 # loading
 
 
+#: where the shipped configs live (inside the package, so an installed wheel has them)
+SHIPPED = Path(__file__).resolve().parents[1] / "configs"
+
+
+def shipped_configs() -> dict[str, Path]:
+    """The configs that ship with the package, by name (``paper_airplane_ppo``, ...)."""
+    return {p.stem: p for p in sorted(SHIPPED.glob("*.yaml"))}
+
+
+def find_config(name_or_path: str | Path) -> Path:
+    """A config file: ``name_or_path`` itself if it is a file, else the shipped config of
+    that name (with or without ``.yaml``); an error that lists the shipped ones otherwise."""
+    path = Path(name_or_path)
+    if path.is_file():
+        return path
+    shipped = shipped_configs()
+    name = path.name.removesuffix(".yaml")
+    if path.parent == Path(".") and name in shipped:
+        return shipped[name]
+    raise ConfigError(
+        f"config not found: {str(name_or_path)!r} is neither a file nor a shipped config "
+        f"({', '.join(shipped)})"
+    )
+
+
 def load_config(path: str | Path, overrides: typing.Sequence[str] = ()) -> TrainConfig:
-    """Read the YAML config at ``path``, apply ``key=value`` overrides, and check it."""
-    path = Path(path)
-    if not path.is_file():
-        raise ConfigError(f"config file not found: {path}")
+    """Read the YAML config at ``path`` (a file, or a shipped config's name), apply
+    ``key=value`` overrides, and check it."""
+    path = find_config(path)
     try:
         raw = yaml.safe_load(path.read_text())
     except yaml.YAMLError as e:
@@ -425,20 +452,28 @@ def _check_policy(policy: PolicyConfig, algo: str) -> None:
         raise ConfigError(f"policy.ortho_init applies to ppo only, not {algo}")
 
 
-def _check_env(env_id: str, env_kwargs: dict[str, Any]) -> None:
+def resolved(cfg: TrainConfig) -> TrainConfig:
+    """``cfg`` with ``env_kwargs`` holding every parameter of the env, defaults filled in: a
+    run folder's config then replays the same env whatever the defaults become."""
+    params = _check_env(cfg.env_id, cfg.env_kwargs)
+    kwargs = {f.name: getattr(params, f.name) for f in dataclasses.fields(params)}
+    return dataclasses.replace(cfg, env_kwargs=config_to_dict(kwargs))
+
+
+def _check_env(env_id: str, env_kwargs: dict[str, Any]):
     """The env id is registered and its parameters accept ``env_kwargs`` (built here, so a
-    bad parameter is reported before any training starts)."""
+    bad parameter is reported before any training starts); returns the parameters."""
     import gymnasium as gym
     from gymnasium.envs.registration import load_env_creator
 
     import fluidsim_envs  # noqa: F401  (registers the ids)
-    from fluidsim_envs.envs.base import make_params
+    from fluidsim_envs.scenes.base import make_params
 
     ours = sorted(k for k in gym.registry if k.startswith("fluidsim/"))
     if env_id not in ours:
         raise ConfigError(f"env_id must be one of {ours}, got {env_id!r}")
     vector_cls = load_env_creator(gym.spec(env_id).vector_entry_point)
     try:
-        make_params(vector_cls.Params, env_kwargs)
+        return make_params(vector_cls.Params, env_kwargs)
     except (TypeError, ValueError) as e:
         raise ConfigError(f"env_kwargs: {e}") from None

@@ -1,8 +1,11 @@
 """Evaluate a trained run beside the scripted pilot and a random policy.
 
-    python training/evaluate.py RUN [--episodes N] [--seed S] [--rerun FILE.rrd]
+    fluidsim-evaluate RUN [--model final|best] [--episodes N] [--seed S] [--rerun FILE.rrd]
 
-Each policy flies the same N seeded episodes, one in each sub-env of one native vector env
+(also ``python -m fluidsim_envs.rl.evaluate`` and ``python training/evaluate.py``). ``--model``
+picks the run's final model (``model.zip``) or the best evaluated one (``best/``), each with
+the normalization statistics saved beside it. Each policy flies the same N seeded episodes,
+one in each sub-env of one native vector env
 (:func:`fluidsim_envs.evaluation.first_episodes`); the trained model acts deterministically on
 observations normalized with the run's saved statistics. The table (mean and std of the
 return, success rate, and the mean of every scalar entry of the episodes' final info) is
@@ -24,6 +27,12 @@ import numpy as np
 from .config import ConfigError, TrainConfig, load_config
 from .train import RunError, algorithm_class
 
+#: the models a run folder holds: (model, its normalization statistics), by --model name
+MODELS = {
+    "final": ("model.zip", "vecnormalize.pkl"),
+    "best": ("best/best_model.zip", "best/vecnormalize.pkl"),
+}
+
 RERUN_ENVS = 4  # sub-envs logged with --rerun
 
 
@@ -38,9 +47,10 @@ def _expected_policy(algo: str) -> type:
     return {"ppo": ActorCriticPolicy, "sac": SACPolicy}[algo]
 
 
-def load_run(run_dir: Path) -> tuple[TrainConfig, Any]:
-    """The run's config and model, after checking that they belong together: the model file
-    is a readable SB3 model, of the config's algorithm, for the config's env."""
+def load_run(run_dir: Path, which: str = "final") -> tuple[TrainConfig, Any]:
+    """The run's config and model (``which``: a key of :data:`MODELS`), after checking that
+    they belong together: the model file is a readable SB3 model, of the config's algorithm,
+    for the config's env."""
     import gymnasium as gym
     from gymnasium.envs.registration import load_env_creator
     from stable_baselines3.common.save_util import load_from_zip_file
@@ -50,11 +60,18 @@ def load_run(run_dir: Path) -> tuple[TrainConfig, Any]:
     if not (run_dir / "config.yaml").is_file():
         raise RunError(f"{run_dir}: not a run folder (no config.yaml)")
     cfg = load_config(run_dir / "config.yaml")
-    model_path = run_dir / "model.zip"
+    if which not in MODELS:
+        raise RunError(f"--model must be one of {list(MODELS)}, got {which!r}")
+    model_path = run_dir / MODELS[which][0]
+    if not model_path.is_file() and which == "best":
+        raise RunError(
+            f"{run_dir}: no {MODELS['best'][0]} (the run never evaluated: eval.freq was 0 or "
+            "longer than the run); evaluate the final model with --model final"
+        )
     if not model_path.is_file():
         raise RunError(
             f"{run_dir}: no model.zip (an unfinished run? continue it with "
-            f"training/train.py --resume {run_dir})"
+            f"fluidsim-train --resume {run_dir})"
         )
     try:
         data, _, _ = load_from_zip_file(model_path, device="cpu")
@@ -97,18 +114,18 @@ def load_run(run_dir: Path) -> tuple[TrainConfig, Any]:
     return cfg, model
 
 
-def model_policy(cfg: TrainConfig, model, run_dir: Path, venv) -> Callable:
+def model_policy(cfg: TrainConfig, model, run_dir: Path, venv, which: str = "final") -> Callable:
     """A policy for :func:`first_episodes`: ``model.predict`` (deterministic) on observations
-    normalized with the run's ``vecnormalize.pkl``."""
+    normalized with the statistics saved with that model (``MODELS[which]``)."""
     normalize: Callable[[np.ndarray], np.ndarray] = lambda obs: obs  # noqa: E731
     if cfg.normalize.enabled:
         from stable_baselines3.common.vec_env import VecNormalize
 
         from fluidsim_envs.wrappers.sb3 import SB3VecEnv
 
-        stats = run_dir / "vecnormalize.pkl"
+        stats = run_dir / MODELS[which][1]
         if not stats.is_file():
-            raise RunError(f"{run_dir}: normalization is on but vecnormalize.pkl is missing")
+            raise RunError(f"{run_dir}: normalization is on but {MODELS[which][1]} is missing")
         try:
             # VecNormalize.load needs a VecEnv to hang on: the adapter over the eval env
             vec_normalize = VecNormalize.load(str(stats), SB3VecEnv(venv))
@@ -155,10 +172,11 @@ def summarize(name: str, results: dict[str, np.ndarray]) -> dict[str, Any]:
 
 
 def evaluate(
-    run_dir: Path, episodes: int, seed: int, rerun: Path | None = None
+    run_dir: Path, episodes: int, seed: int, rerun: Path | None = None, which: str = "final"
 ) -> list[dict[str, Any]]:
-    """Evaluate the run's model, the scripted pilot and a random policy on the same
-    ``episodes`` seeded episodes; write ``evaluation.csv`` into the run and return its rows."""
+    """Evaluate the run's model (``which``: final or best), the scripted pilot and a random
+    policy on the same ``episodes`` seeded episodes; write ``evaluation.csv`` (``which`` best:
+    ``evaluation_best.csv``) into the run and return its rows."""
     import gymnasium as gym
 
     import fluidsim_envs  # noqa: F401  (registers the ids)
@@ -166,7 +184,7 @@ def evaluate(
 
     if episodes < 1:
         raise RunError(f"--episodes must be at least 1, got {episodes}")
-    cfg, model = load_run(run_dir)
+    cfg, model = load_run(run_dir, which)
     venv = gym.make_vec(
         cfg.env_id, num_envs=episodes, vectorization_mode="vector_entry_point", **cfg.env_kwargs
     )
@@ -182,9 +200,10 @@ def evaluate(
             raise RunError(f"--rerun needs the Rerun logger and rerun-sdk: {e}") from e
     rows = []
     try:
-        trained = model_policy(cfg, model, run_dir, venv)
+        trained = model_policy(cfg, model, run_dir, venv, which)
         results = first_episodes(trained_env, trained, seed=seed)
-        rows.append(summarize(f"trained {cfg.algorithm.name.upper()}", results))
+        label = f"trained {cfg.algorithm.name.upper()}" + (" (best)" if which == "best" else "")
+        rows.append(summarize(label, results))
     finally:
         if trained_env is not venv:
             trained_env.close()  # closes the recording (and the env under it)
@@ -201,8 +220,13 @@ def evaluate(
     ):
         rows.append(summarize(name, first_episodes(venv, policy, seed=seed)))
     venv.close()
-    write_csv(rows, run_dir / "evaluation.csv", seed)
+    write_csv(rows, run_dir / csv_name(which), seed)
     return rows
+
+
+def csv_name(which: str) -> str:
+    """The table a run's evaluation of its ``which`` model writes."""
+    return "evaluation.csv" if which == "final" else f"evaluation_{which}.csv"
 
 
 def write_csv(rows: list[dict[str, Any]], path: Path, seed: int) -> None:
@@ -234,24 +258,35 @@ def format_table(rows: list[dict[str, Any]]) -> str:
 # the command line
 
 
-def main(argv: list[str] | None = None) -> int:
+def main(argv: list[str] | None = None, prog: str = "fluidsim-evaluate") -> int:
     parser = argparse.ArgumentParser(
-        prog="evaluate.py",
+        prog=prog,
         description="Evaluate a training run beside the scripted pilot and a random policy.",
+        epilog=f"Example: {prog} runs/demo --model best --episodes 256 --rerun runs/demo/ep.rrd",
     )
-    parser.add_argument("run", type=Path, help="the run folder (written by train.py)")
+    parser.add_argument("run", type=Path, help="the run folder (written by fluidsim-train)")
+    parser.add_argument(
+        "--model", choices=list(MODELS), default="final", help="which model (default: final)"
+    )
     parser.add_argument("--episodes", type=int, default=100, help="seeded episodes per policy")
     parser.add_argument("--seed", type=int, default=0, help="seed of the episodes")
     parser.add_argument("--rerun", type=Path, metavar="FILE.rrd", help="log to a Rerun file")
     args = parser.parse_args(argv)
     try:
-        rows = evaluate(args.run, args.episodes, args.seed, args.rerun)
+        rows = evaluate(args.run, args.episodes, args.seed, args.rerun, args.model)
     except (ConfigError, RunError) as e:
-        print(f"evaluate.py: error: {e}", file=sys.stderr)
+        print(f"{prog}: error: {e}", file=sys.stderr)
         return 2
     print(f"{args.run}: {args.episodes} episodes, seed {args.seed}")
     print(format_table(rows))
-    print(f"written: {args.run / 'evaluation.csv'}")
+    print(f"written: {args.run / csv_name(args.model)}")
     if args.rerun is not None:
-        print(f"rerun recording: {args.rerun}")
+        print(
+            f"rerun recording: {args.rerun}  (view it: rerun {args.rerun}; on a machine "
+            f"without a display: rerun --web-viewer {args.rerun})"
+        )
     return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(prog="python -m fluidsim_envs.rl.evaluate"))

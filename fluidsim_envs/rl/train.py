@@ -1,21 +1,26 @@
 """Train a pilot with Stable-Baselines3 from a YAML config, into a self-describing run folder.
 
-    python training/train.py configs/paper_airplane_ppo.yaml [--set key=value ...]
-        [--run-dir DIR] [--resume RUN]
+    fluidsim-train paper_airplane_ppo [--set key=value ...] [--run-dir DIR] [--resume RUN]
 
-The run folder holds everything needed to replay or continue the run:
+(also ``python -m fluidsim_envs.rl.train`` and ``python training/train.py``). The config is a
+YAML file or the name of a shipped one (``fluidsim_envs/configs/``). The run prints what it
+will do, a line per evaluation, and at the end the commands that evaluate, replay and chart
+it. The run folder holds everything needed to replay or continue the run:
 
 ========================  =====================================================================
-``config.yaml``           the resolved config (defaults filled in, overrides applied)
+``config.yaml``           the resolved config: defaults filled in, overrides applied, and
+                          ``env_kwargs`` holding every env parameter (not only those changed)
 ``run.yaml``              the command line, git revision (and whether the tree was dirty),
-                          seeds, package versions, timesteps done, resumes
+                          seeds, package versions (fluidsim_envs included), timesteps done,
+                          resumes, where the time went
 ``model.zip``             the final model; ``vecnormalize.pkl`` its normalization statistics
 ``checkpoints/``          periodic (and on Ctrl-C) model + statistics, for ``--resume``
 ``eval/``                 ``history.csv`` (one row per evaluation), SB3's ``evaluations.npz``
-``best/``                 the best evaluated model (SB3's ``EvalCallback``)
+``best/``                 the best evaluated model, ``best_model.zip``, with the normalization
+                          statistics it was evaluated with, ``vecnormalize.pkl``
 ``monitor.csv``           every training episode (return, length, success)
 ``learning_curve.png``    training and evaluation returns against timesteps
-``tb/``                   TensorBoard logs
+``tb/``                   TensorBoard logs (``rollout/success_rate`` included)
 ========================  =====================================================================
 """
 
@@ -33,15 +38,20 @@ import time
 from pathlib import Path
 from typing import Any
 
-import yaml
+from .extras import require
 
-from .config import (
+require("train", "fluidsim_envs.rl.train")
+
+import yaml  # noqa: E402  (after the check that names the missing extra)
+
+from .config import (  # noqa: E402
     ACTIVATIONS,
     ConfigError,
     TrainConfig,
     config_from_dict,
     dump_config,
     load_config,
+    resolved,
 )
 
 CHECKPOINT_PREFIX = "model"
@@ -107,8 +117,8 @@ def make_env(
     recorded by ``VecMonitor`` (raw returns; into ``monitor_file``, appended to when
     ``append``), then ``VecNormalize`` when enabled (``stats``: a saved ``.pkl`` to load).
 
-    ``evaluation``: frozen statistics, raw rewards, and success reported as ``is_success``
-    (which SB3's ``EvalCallback`` reads).
+    ``evaluation``: frozen statistics and raw rewards. Success is reported as ``is_success``
+    at each episode's end (SB3's ``rollout/success_rate`` and ``EvalCallback`` read it).
     """
     from stable_baselines3.common.monitor import ResultsWriter
     from stable_baselines3.common.vec_env import VecMonitor, VecNormalize
@@ -119,7 +129,7 @@ def make_env(
         cfg.env_id,
         n_envs,
         seed=seed,
-        success_key="success" if evaluation else None,
+        success_key="success",  # SB3 reads is_success: success rates in TensorBoard
         **cfg.env_kwargs,
     )
     venv = VecMonitor(venv, info_keywords=("success",))
@@ -171,13 +181,22 @@ def git_revision() -> dict[str, Any]:
 
 
 def versions() -> dict[str, str]:
+    import importlib.metadata
+
     import gymnasium
+    import numba
     import numpy
     import stable_baselines3
     import torch
 
+    try:
+        ours = importlib.metadata.version("fluidsim-envs")
+    except importlib.metadata.PackageNotFoundError:  # run from a checkout, not installed
+        ours = "not installed"
     return {
+        "fluidsim_envs": ours,
         "python": platform.python_version(),
+        "numba": numba.__version__,
         "numpy": numpy.__version__,
         "gymnasium": gymnasium.__version__,
         "stable_baselines3": stable_baselines3.__version__,
@@ -201,12 +220,55 @@ def checkpoint_stats(model_path: Path) -> Path:
     return model_path.with_name(f"{CHECKPOINT_PREFIX}_vecnormalize_{steps}").with_suffix(".pkl")
 
 
-def _callbacks(cfg: TrainConfig, run_dir: Path, eval_env) -> list:
+def planned_timesteps(cfg: TrainConfig, remaining: int) -> int:
+    """The timesteps that will really run for ``remaining`` asked: SB3 stops only between
+    rollouts (PPO: ``n_steps`` x ``n_envs`` transitions; SAC: ``train_freq`` x ``n_envs``)."""
+    a = cfg.algorithm
+    chunk = cfg.n_envs * (a.n_steps if a.name == "ppo" else a.train_freq)
+    return -(-remaining // chunk) * chunk
+
+
+def _every(freq: int, n_envs: int) -> int:
+    """SB3's callback period in vector steps for ``freq`` env steps (as ours is passed)."""
+    return max(freq // n_envs, 1)
+
+
+def schedule_warnings(cfg: TrainConfig, planned: int) -> list[str]:
+    """What the run will never do: an evaluation or checkpoint interval beyond its length."""
+    calls = planned // cfg.n_envs
+    out = []
+    for what, freq, key, left in (
+        ("evaluation", cfg.eval.freq, "eval.freq", "best/ stays empty"),
+        ("checkpoint", cfg.checkpoint.freq, "checkpoint.freq", "--resume will have nothing"),
+    ):
+        if freq > 0 and calls < _every(freq, cfg.n_envs):
+            out.append(
+                f"warning: no {what} will run: {key} is {freq:,} env steps but the run is "
+                f"{planned:,} ({left}); lower it with --set {key}=N"
+            )
+    return out
+
+
+def _eval_line(timesteps: int, returns, success, steps_per_s: float) -> str:
+    import numpy as np
+
+    rate = f"{100.0 * float(np.mean(success)):5.1f}%" if len(success) else "   n/a"
+    return (
+        f"eval @ {timesteps:>11,} steps: return {float(np.mean(returns)):9.3f} "
+        f"+- {float(np.std(returns)):7.3f}   success {rate}   {steps_per_s:,.0f} env-steps/s"
+    )
+
+
+def _callbacks(cfg: TrainConfig, run_dir: Path, eval_env, say) -> list:
     from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback, EvalCallback
 
+    started = time.perf_counter()
+    news = []  # a new best model since the last evaluation line
+
     class EvalHistory(BaseCallback):
-        """After each evaluation: append its row to ``eval/history.csv`` (kept across
-        resumes) and reseed the eval env so the next evaluation flies the same episodes."""
+        """After each evaluation: a line on the terminal, its row in ``eval/history.csv``
+        (kept across resumes); then reseed the eval env so the next evaluation flies the
+        same episodes."""
 
         def _on_step(self) -> bool:
             import numpy as np
@@ -228,14 +290,28 @@ def _callbacks(cfg: TrainConfig, run_dir: Path, eval_env) -> list:
                 if new:
                     writer.writerow(EVAL_HISTORY_COLUMNS)
                 writer.writerow(row)
+            steps = self.model.get_env().unwrapped.env_steps
+            line = _eval_line(row[0], returns, success, steps / (time.perf_counter() - started))
+            say(line + ("   new best" if news else ""))
+            news.clear()
             eval_env.seed(cfg.eval.seed)
+            return True
+
+    class SaveBestStats(BaseCallback):
+        """With each new best model: the normalization statistics it was evaluated with."""
+
+        def _on_step(self) -> bool:
+            stats = self.model.get_vec_normalize_env()
+            if stats is not None:
+                stats.save(str(run_dir / "best" / "vecnormalize.pkl"))
+            news.append(self.num_timesteps)
             return True
 
     callbacks = []
     if cfg.checkpoint.freq > 0:
         callbacks.append(
             CheckpointCallback(
-                save_freq=max(cfg.checkpoint.freq // cfg.n_envs, 1),
+                save_freq=_every(cfg.checkpoint.freq, cfg.n_envs),
                 save_path=str(run_dir / "checkpoints"),
                 name_prefix=CHECKPOINT_PREFIX,
                 save_replay_buffer=cfg.checkpoint.save_replay_buffer,
@@ -246,13 +322,14 @@ def _callbacks(cfg: TrainConfig, run_dir: Path, eval_env) -> list:
         callbacks.append(
             EvalCallback(
                 eval_env,
+                callback_on_new_best=SaveBestStats(),
                 callback_after_eval=EvalHistory(),
                 n_eval_episodes=cfg.eval.n_episodes,
-                eval_freq=max(cfg.eval.freq // cfg.n_envs, 1),
+                eval_freq=_every(cfg.eval.freq, cfg.n_envs),
                 log_path=str(run_dir / "eval"),
                 best_model_save_path=str(run_dir / "best"),
                 deterministic=True,
-                verbose=1,
+                verbose=0,
             )
         )
     return callbacks
@@ -341,9 +418,12 @@ def train(
     *,
     resume: bool = False,
     progress_bar: bool = True,
+    say=print,
 ) -> Path:
     """Train ``cfg`` into ``run_dir`` (or, with ``resume``, continue the run there from its
-    newest checkpoint) and return the final model's path."""
+    newest checkpoint) and return the final model's path. ``say`` gets the lines that tell
+    the user what happens (the plan, each evaluation, what to do next)."""
+    cfg = resolved(cfg)  # every env parameter written down: the run replays whatever changes
     run_dir.mkdir(parents=True, exist_ok=True)
     meta_path = run_dir / "run.yaml"
     now = datetime.datetime.now().isoformat(timespec="seconds")
@@ -357,6 +437,7 @@ def train(
     else:
         meta = {
             "env_id": cfg.env_id,
+            "env_version": int(cfg.env_id.rsplit("-v", 1)[1]),
             "algorithm": cfg.algorithm.name,
             "command": command,
             "command_line": shlex.join(command),
@@ -418,12 +499,15 @@ def train(
     meta_path.write_text(yaml.safe_dump(meta, sort_keys=False))
 
     remaining = cfg.total_timesteps - model.num_timesteps
+    planned = planned_timesteps(cfg, remaining) if remaining > 0 else 0
+    for line in (_plan(cfg, run_dir, remaining, planned), *schedule_warnings(cfg, planned)):
+        say(line)
     start = time.perf_counter()
     try:
         if remaining > 0:
             model.learn(
-                total_timesteps=remaining,
-                callback=_callbacks(cfg, run_dir, eval_env),
+                total_timesteps=planned,
+                callback=_callbacks(cfg, run_dir, eval_env, say),
                 tb_log_name=cfg.algorithm.name.upper(),
                 reset_num_timesteps=checkpoint is None,
                 progress_bar=progress_bar,
@@ -450,18 +534,61 @@ def train(
     meta["finished"] = datetime.datetime.now().isoformat(timespec="seconds")
     meta_path.write_text(yaml.safe_dump(meta, sort_keys=False))
     plot_learning_curve(run_dir)
+    for line in _next_steps(run_dir, meta["timing"][-1], best=cfg.eval.freq > 0):
+        say(line)
     return run_dir / "model.zip"
+
+
+def _plan(cfg: TrainConfig, run_dir: Path, remaining: int, planned: int) -> str:
+    """The line that opens a run: what it trains, how long, where it writes."""
+    a = cfg.algorithm
+    if remaining <= 0:
+        return f"{run_dir}: already at {cfg.total_timesteps:,} timesteps; nothing to train"
+    chunk = f"rollouts of {a.n_steps} x {cfg.n_envs}" if a.name == "ppo" else "env steps"
+    rounded = f" ({remaining:,} asked, rounded up to whole {chunk})" if planned != remaining else ""
+    evals = (
+        f"evaluation every {cfg.eval.freq:,} steps on {cfg.eval.n_episodes} episodes"
+        if cfg.eval.freq > 0
+        else "no evaluation (eval.freq 0)"
+    )
+    return (
+        f"training {a.name.upper()} on {cfg.env_id} with {cfg.n_envs} envs: {planned:,} env "
+        f"steps{rounded}; {evals}; into {run_dir}"
+    )
+
+
+def _next_steps(run_dir: Path, timing: dict, best: bool) -> list[str]:
+    """The lines that close a run: how it went and the commands that use it."""
+    run = shlex.quote(str(run_dir))
+    lines = [
+        f"done: {timing['env_steps']:,} env steps in {timing['wall_s']:,.0f} s "
+        f"({timing['env_steps_per_s']:,.0f} env-steps/s); final model {run_dir / 'model.zip'}",
+        f"  evaluate:    fluidsim-evaluate {run}" + ("   (best model: --model best)" * best),
+        f"  replay:      fluidsim-evaluate {run} --episodes 8 --rerun {run}/episodes.rrd"
+        f"  then  rerun {run}/episodes.rrd",
+        f"  curves:      {run}/learning_curve.png, or  tensorboard --logdir {run}/tb",
+    ]
+    return lines
 
 
 # --------------------------------------------------------------------------------------------
 # the command line
 
 
-def parse_args(argv: list[str] | None) -> argparse.Namespace:
+def parse_args(argv: list[str] | None, prog: str = "fluidsim-train") -> argparse.Namespace:
+    from .config import shipped_configs
+
     parser = argparse.ArgumentParser(
-        prog="train.py", description="Train a pilot with Stable-Baselines3 from a YAML config."
+        prog=prog,
+        description="Train a pilot with Stable-Baselines3 from a YAML config.",
+        epilog=f"shipped configs: {', '.join(shipped_configs())}. Example: {prog} "
+        "paper_airplane_ppo --set total_timesteps=200000",
     )
-    parser.add_argument("config", nargs="?", help="the config YAML (omit with --resume)")
+    parser.add_argument(
+        "config",
+        nargs="?",
+        help="a config YAML file, or a shipped config's name (omit with --resume)",
+    )
     parser.add_argument(
         "--set",
         dest="overrides",
@@ -479,28 +606,30 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     return parser.parse_args(argv)
 
 
-def main(argv: list[str] | None = None) -> int:
-    args = parse_args(argv)
-    command = [Path(sys.executable).name, "training/train.py", *(argv or sys.argv[1:])]
+def _run_folder(args: argparse.Namespace) -> tuple[TrainConfig, Path]:
+    """The config and run folder the arguments name (checked)."""
+    if args.resume is not None:
+        if args.config is not None or args.run_dir is not None:
+            raise RunError("--resume RUN takes its config and folder from RUN")
+        if not (args.resume / "config.yaml").is_file():
+            raise RunError(f"{args.resume}: not a run folder (no config.yaml)")
+        return load_config(args.resume / "config.yaml", args.overrides), args.resume
+    if args.config is None:
+        raise RunError("a config is required (a file or a shipped config's name), or --resume")
+    cfg = load_config(args.config, args.overrides)
+    stamp = datetime.datetime.now().strftime("%Y%m%d-%H%M%S")
+    run_dir = args.run_dir or Path("runs") / f"{cfg.env_name}-{cfg.algorithm.name}-{stamp}"
+    if (run_dir / "config.yaml").exists():
+        raise RunError(f"{run_dir} already holds a run (use --resume to continue it)")
+    return cfg, run_dir
+
+
+def main(argv: list[str] | None = None, prog: str = "fluidsim-train") -> int:
+    args = parse_args(argv, prog)
+    command = [prog, *(sys.argv[1:] if argv is None else argv)]
     try:
-        if args.resume is not None:
-            if args.config is not None or args.run_dir is not None:
-                raise RunError("--resume RUN takes its config and folder from RUN")
-            if not (args.resume / "config.yaml").is_file():
-                raise RunError(f"{args.resume}: not a run folder (no config.yaml)")
-            cfg = load_config(args.resume / "config.yaml", args.overrides)
-            run_dir = args.resume
-        else:
-            if args.config is None:
-                raise RunError("a config file is required (or --resume RUN)")
-            cfg = load_config(args.config, args.overrides)
-            stamp = datetime.datetime.now().strftime("%Y%m%d-%H%M%S")
-            run_dir = args.run_dir or Path("runs") / (
-                f"{cfg.env_name}-{cfg.algorithm.name}-{stamp}"
-            )
-            if (run_dir / "config.yaml").exists():
-                raise RunError(f"{run_dir} already holds a run (use --resume to continue it)")
-        model = train(
+        cfg, run_dir = _run_folder(args)
+        train(
             cfg,
             run_dir,
             command,
@@ -508,12 +637,14 @@ def main(argv: list[str] | None = None) -> int:
             progress_bar=not args.no_progress_bar,
         )
     except (ConfigError, RunError) as e:
-        print(f"train.py: error: {e}", file=sys.stderr)
+        print(f"{prog}: error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         return 130
-    print(f"model: {model}")
     return 0
 
 
 __all__ = ["config_from_dict", "main", "train"]
+
+if __name__ == "__main__":
+    sys.exit(main(prog="python -m fluidsim_envs.rl.train"))

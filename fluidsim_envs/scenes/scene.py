@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from .base import FluidEnv, FluidVectorEnv
+from .mesh import craft_meshes
 
 
 def nan_state(venv: FluidVectorEnv, env_index: int) -> None:
@@ -44,6 +45,8 @@ class Scene:
     short_episodes: Mapping[str, Any] = field(default_factory=dict)
     # forces a non-finite state in sub-env e of a vector env (the divergence contract test)
     diverge: Callable[[FluidVectorEnv, int], None] = nan_state
+    # the render mesh of each body (scenes/mesh.py): what the frames and recordings draw
+    meshes: Callable[[FluidVectorEnv], tuple[Any, ...]] = craft_meshes
 
     def __post_init__(self) -> None:
         own = f"Scene {self.id!r}"

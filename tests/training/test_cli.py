@@ -1,11 +1,13 @@
-"""The training CLI end to end on a tiny budget: train.py writes a self-describing run folder,
-evaluate.py evaluates it beside the baselines, --resume continues an interrupted run, and bad
-input (a misspelled key, a missing file, a run folder that does not fit together, a corrupt
-model) is a clear error, not a traceback."""
+"""The training CLI end to end on a tiny budget: fluidsim-train writes a self-describing run
+folder (every env parameter, the best model with its statistics) and tells the user what it
+does; fluidsim-evaluate evaluates the final or best model beside the baselines; --resume
+continues an interrupted run; and bad input (a misspelled key, a missing file or extra, a run
+folder that does not fit together, a corrupt model) is a clear error, not a traceback."""
 
 from __future__ import annotations
 
 import csv
+import dataclasses
 import shutil
 import subprocess
 import sys
@@ -16,14 +18,17 @@ import numpy as np
 import pytest
 import yaml
 
+from fluidsim_envs.rl import cli
 from fluidsim_envs.rl import evaluate as evaluate_cli
 from fluidsim_envs.rl import train as train_cli
+from fluidsim_envs.rl.config import shipped_configs
 
 REPO = Path(__file__).resolve().parents[2]
-CONFIG = REPO / "configs" / "paper_airplane_ppo.yaml"
-# 2 PPO rollouts of 8 envs x 128 steps, evaluated (2 episodes) and checkpointed after each
+CONFIG = shipped_configs()["paper_airplane_ppo"]
+# 2 PPO rollouts of 8 envs x 128 steps (2000 asked: rounded up to whole rollouts), evaluated
+# (2 episodes) and checkpointed after each
 TINY = [
-    "total_timesteps=2048",
+    "total_timesteps=2000",
     "n_envs=8",
     "algorithm.n_steps=128",
     "algorithm.batch_size=256",
@@ -44,14 +49,21 @@ def run_script(script: str, *args, cwd: Path) -> subprocess.CompletedProcess:
 
 
 @pytest.fixture(scope="module")
-def run(tmp_path_factory) -> Path:
-    """One tiny training run through the real CLI, shared by the tests below (read-only:
-    tests that change a run work on a copy)."""
+def trained(tmp_path_factory) -> tuple[Path, str]:
+    """One tiny training run through the real CLI (the shipped config found by its name), and
+    what it printed; shared by the tests below (read-only: tests that change a run work on a
+    copy)."""
     where = tmp_path_factory.mktemp("train")
     run_dir = where / "run"
-    done = run_script("train.py", CONFIG, "--set", *TINY, "--run-dir", run_dir, cwd=where)
+    args = ("paper_airplane_ppo", "--set", *TINY, "--run-dir", run_dir, "--no-progress-bar")
+    done = run_script("train.py", *args, cwd=where)
     assert done.returncode == 0, done.stderr[-3000:]
-    return run_dir
+    return run_dir, done.stdout
+
+
+@pytest.fixture(scope="module")
+def run(trained) -> Path:
+    return trained[0]
 
 
 def copy_run(run: Path, tmp_path: Path) -> Path:
@@ -69,6 +81,7 @@ def test_train_writes_a_self_describing_run_folder(run):
         "eval/history.csv",
         "eval/evaluations.npz",
         "best/best_model.zip",
+        "best/vecnormalize.pkl",  # the statistics the best model was evaluated with
     ):
         assert (run / name).is_file(), name
     assert sorted(p.name for p in (run / "checkpoints").iterdir()) == [
@@ -80,13 +93,21 @@ def test_train_writes_a_self_describing_run_folder(run):
     assert any((run / "tb").rglob("events.out.tfevents.*"))
     # the resolved config: the file's values with the overrides applied, all keys present
     cfg = yaml.safe_load((run / "config.yaml").read_text())
-    assert cfg["total_timesteps"] == 2048 and cfg["n_envs"] == 8
+    assert cfg["total_timesteps"] == 2000 and cfg["n_envs"] == 8
     assert cfg["algorithm"]["n_steps"] == 128 and cfg["algorithm"]["gae_lambda"] == 0.95
     assert cfg["policy"]["net_arch"] == {"pi": [64, 64], "vf": [64, 64]}
+    # every env parameter, not only those the config changed: the run replays the same env
+    from fluidsim_envs.scenes import SCENES
+    from fluidsim_envs.scenes.base import make_params
+
+    params_cls = SCENES["fluidsim/PaperAirplane-v0"].params_cls
+    assert make_params(params_cls, cfg["env_kwargs"]) == params_cls()
+    assert len(cfg["env_kwargs"]) == len(dataclasses.fields(params_cls))
     meta = yaml.safe_load((run / "run.yaml").read_text())
     assert meta["env_id"] == "fluidsim/PaperAirplane-v0" and meta["algorithm"] == "ppo"
-    assert meta["command"][1:4] == ["training/train.py", str(CONFIG), "--set"]
-    assert "total_timesteps=2048" in meta["command_line"]
+    assert meta["env_version"] == 0 and meta["versions"]["fluidsim_envs"]
+    assert meta["command"][:3] == ["fluidsim-train", "paper_airplane_ppo", "--set"]
+    assert "total_timesteps=2000" in meta["command_line"]
     assert set(meta["git"]) == {"revision", "dirty"}
     assert meta["git"]["revision"] is None or len(meta["git"]["revision"]) == 40
     assert meta["seeds"]["model"] == 0 and meta["num_timesteps"] == 2048
@@ -102,6 +123,79 @@ def test_train_writes_a_self_describing_run_folder(run):
     monitor = (run / "monitor.csv").read_text().splitlines()
     assert monitor[1] == "r,l,t,success" and len(monitor) > 10
     assert (run / "learning_curve.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_train_says_what_it_does(trained):
+    """The plan (with the rounding to whole rollouts), a line per evaluation without the
+    progress bar, and at the end the commands that use the run."""
+    run, out = trained
+    lines = out.splitlines()
+    assert "2,048 env steps (2,000 asked, rounded up to whole rollouts of 128 x 8)" in lines[0]
+    evals = [line for line in lines if line.startswith("eval @")]
+    assert len(evals) == 2 and "1,024 steps" in evals[0] and "2,048 steps" in evals[1]
+    assert all("success" in line and "env-steps/s" in line for line in evals)
+    assert "new best" in evals[0]
+    assert any(line.startswith("done: 2,048 env steps") for line in lines)
+    assert f"fluidsim-evaluate {run}" in out and f"tensorboard --logdir {run}/tb" in out
+    assert f"--rerun {run}/episodes.rrd" in out
+
+
+def test_trained_success_reaches_tensorboard(run):
+    """``is_success`` in the final info: SB3 logs rollout/success_rate from it."""
+    from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
+
+    (events,) = (run / "tb").rglob("events.out.tfevents.*")
+    acc = EventAccumulator(str(events))
+    acc.Reload()
+    assert "rollout/success_rate" in acc.Tags()["scalars"]
+
+
+def test_train_warns_when_evaluation_or_checkpoints_never_happen(tmp_path, capsys):
+    args = ["paper_airplane_ppo", "--set", *TINY, "eval.freq=4096", "checkpoint.freq=0"]
+    args += ["--run-dir", str(tmp_path / "r"), "--no-progress-bar"]
+    assert train_cli.main(args) == 0
+    out = capsys.readouterr().out
+    assert "warning: no evaluation will run: eval.freq is 4,096 env steps" in out
+    assert "checkpoint" not in out.split("warning")[-1].split("\n")[0]  # freq 0: asked for none
+    assert "eval @" not in out and "(best model: --model best)" in out
+    assert evaluate_cli.main([str(tmp_path / "r"), "--model", "best"]) == 2
+    assert "the run never evaluated" in capsys.readouterr().err
+
+
+def test_evaluate_the_best_model_with_its_own_statistics(run, tmp_path):
+    run = copy_run(run, tmp_path)
+    (run / "vecnormalize.pkl").unlink()  # the final model's: the best one must not need it
+    rows = evaluate_cli.evaluate(run, 4, 0, which="best")
+    assert rows[0]["policy"] == "trained PPO (best)"
+    assert (run / "evaluation_best.csv").is_file() and not (run / "evaluation.csv").exists()
+
+
+def test_a_missing_extra_says_which_pip_install_fixes_it(monkeypatch, capsys):
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(
+        importlib.util,
+        "find_spec",
+        lambda name, *a: None if name == "stable_baselines3" else real(name, *a),
+    )
+    assert cli.train(["paper_airplane_ppo"]) == 2
+    err = capsys.readouterr().err
+    assert "fluidsim-train needs stable_baselines3" in err
+    assert 'pip install "fluidsim-envs[train]"' in err
+
+
+@pytest.mark.parametrize("module", ["train", "evaluate"])
+def test_python_m_prints_help(module):
+    done = subprocess.run(
+        [sys.executable, "-m", f"fluidsim_envs.rl.{module}", "--help"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0 and done.stdout.startswith("usage: python -m fluidsim_envs.rl.")
+    if module == "train":
+        assert "shipped configs: boat_on_step_ppo, paper_airplane_ppo" in done.stdout
 
 
 def test_evaluate_compares_the_model_with_the_pilot_and_random(run, tmp_path):
@@ -185,11 +279,15 @@ def test_train_cli_reports_a_misspelled_key_without_a_traceback(tmp_path):
 
 def test_train_cli_bad_inputs(tmp_path, capsys):
     assert train_cli.main([str(tmp_path / "missing.yaml")]) == 2
-    assert "config file not found" in capsys.readouterr().err
+    assert "config not found" in capsys.readouterr().err
     assert train_cli.main([str(CONFIG), "--set", "algorithm.learnin_rate=0.1"]) == 2
     assert "unknown key 'algorithm.learnin_rate'" in capsys.readouterr().err
     assert train_cli.main([]) == 2
-    assert "a config file is required" in capsys.readouterr().err
+    assert "a config is required" in capsys.readouterr().err
+    assert train_cli.main(["paper_airplane_pppo"]) == 2
+    err = capsys.readouterr().err
+    assert "'paper_airplane_pppo' is neither a file nor a shipped config" in err
+    assert "paper_airplane_ppo" in err.split("shipped config")[1]
 
 
 def test_evaluate_refuses_a_model_of_another_algorithm(run, tmp_path, capsys):
@@ -208,7 +306,7 @@ def test_evaluate_refuses_a_model_of_another_algorithm(run, tmp_path, capsys):
 def test_evaluate_refuses_a_model_of_another_env(run, tmp_path, capsys):
     run = copy_run(run, tmp_path)
     cfg = yaml.safe_load((run / "config.yaml").read_text())
-    cfg["env_id"] = "fluidsim/SubmarineWake-v0"
+    cfg["env_id"], cfg["env_kwargs"] = "fluidsim/SubmarineWake-v0", {}
     (run / "config.yaml").write_text(yaml.safe_dump(cfg))
     assert evaluate_cli.main([str(run), "--episodes", "2"]) == 2
     err = capsys.readouterr().err
@@ -257,8 +355,7 @@ def test_sac_config_trains_and_evaluates(tmp_path):
         "eval.freq=0",
         "checkpoint.freq=0",
     ]
-    sac_config = REPO / "configs" / "paper_airplane_sac.yaml"
-    args = [str(sac_config), "--set", *overrides, "--run-dir", str(run), "--no-progress-bar"]
+    args = ["paper_airplane_sac", "--set", *overrides, "--run-dir", str(run), "--no-progress-bar"]
     assert train_cli.main(args) == 0
     from stable_baselines3 import SAC
 

@@ -1,0 +1,29 @@
+"""The optional extras the commands need, checked before anything imports them: a missing one
+is an error that says which ``pip install`` fixes it, not a bare ``ModuleNotFoundError``."""
+
+from __future__ import annotations
+
+import importlib.util
+
+#: each extra of pyproject.toml and the modules the commands import from it
+EXTRAS = {
+    "train": ("stable_baselines3", "torch", "yaml", "tensorboard", "tqdm", "rich"),
+    "rerun": ("rerun",),
+}
+
+
+class MissingExtra(ImportError):
+    """An optional dependency is not installed; the message names the ``pip install``."""
+
+
+def require(extra: str, who: str) -> None:
+    """Raise :class:`MissingExtra` unless every module of ``extra`` can be imported."""
+    missing = [m for m in EXTRAS[extra] if importlib.util.find_spec(m) is None]
+    if missing:
+        raise MissingExtra(
+            f"{who} needs {', '.join(missing)} (the {extra!r} extra): "
+            f'pip install "fluidsim-envs[{extra}]"'
+        )
+
+
+__all__ = ["EXTRAS", "MissingExtra", "require"]
