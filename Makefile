@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 WARM := $(VENV)/.warm
 
-.PHONY: setup test lint demo pilots bench clean
+.PHONY: setup test lint demo pilots bench clean package-check
 
 $(STAMP): pyproject.toml constraints.txt
 	$(PY) -m venv $(VENV)
@@ -24,6 +24,10 @@ setup: $(WARM)
 test: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/python -m pytest -n 2 fluidsim_envs tests
+
+# pip install into a fresh virtualenv outside the checkout, then train there (CI runs it)
+package-check:
+	.ci/package_check
 
 lint: $(STAMP)
 	$(BIN)/ruff check .

@@ -9,7 +9,10 @@ Importing the package registers the environments of :data:`fluidsim_envs.scenes.
 
 from gymnasium.envs.registration import register
 
+from . import compiling
 from .scenes import SCENES
+
+compiling.install()  # a line on stderr while numba compiles (only on a cold cache)
 
 for _scene in SCENES.values():
     register(

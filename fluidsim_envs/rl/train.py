@@ -459,6 +459,11 @@ def train(
         "train_envs": f"SeedSequence({env_seed}).spawn({cfg.n_envs})[i] for env i",
         "eval_envs": f"SeedSequence({cfg.eval.seed}).spawn({cfg.eval.n_episodes})[i] for env i",
     }
+    # said before the envs are built: a cold numba cache compiles there (and says so)
+    remaining = cfg.total_timesteps - done_steps
+    planned = planned_timesteps(cfg, remaining) if remaining > 0 else 0
+    for line in (_plan(cfg, run_dir, remaining, planned), *schedule_warnings(cfg, planned)):
+        say(line)
     stats = None
     if checkpoint is not None and cfg.normalize.enabled:
         stats = checkpoint_stats(checkpoint[1])
@@ -498,10 +503,6 @@ def train(
     meta["total_timesteps"] = cfg.total_timesteps
     meta_path.write_text(yaml.safe_dump(meta, sort_keys=False))
 
-    remaining = cfg.total_timesteps - model.num_timesteps
-    planned = planned_timesteps(cfg, remaining) if remaining > 0 else 0
-    for line in (_plan(cfg, run_dir, remaining, planned), *schedule_warnings(cfg, planned)):
-        say(line)
     start = time.perf_counter()
     try:
         if remaining > 0:
@@ -534,7 +535,8 @@ def train(
     meta["finished"] = datetime.datetime.now().isoformat(timespec="seconds")
     meta_path.write_text(yaml.safe_dump(meta, sort_keys=False))
     plot_learning_curve(run_dir)
-    for line in _next_steps(run_dir, meta["timing"][-1], best=cfg.eval.freq > 0):
+    best = (run_dir / "best" / "best_model.zip").is_file()
+    for line in _next_steps(run_dir, meta["timing"][-1], best=best):
         say(line)
     return run_dir / "model.zip"
 
