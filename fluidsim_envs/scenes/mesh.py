@@ -28,7 +28,10 @@ class Part:
     """A rigid piece of a render mesh: triangles of one color, in the body frame (m).
 
     A part with ``sample`` set is a control surface: it turns about the line through
-    ``hinge_point_m`` along that plate's ``hinge_axis`` by the plate's deflection.
+    ``hinge_point_m`` along that plate's ``hinge_axis`` by the plate's deflection. A
+    ``closed`` part is a solid whose triangles are wound with their right-hand normals
+    outward, so that a renderer may skip those facing away (a thin sheet is seen from both
+    sides).
     """
 
     name: str
@@ -37,6 +40,7 @@ class Part:
     color: tuple[int, int, int] = PAPER
     sample: str | None = None
     hinge_point_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    closed: bool = False
 
     def __post_init__(self) -> None:
         v = np.asarray(self.vertices_m, dtype=np.float64)
@@ -103,6 +107,11 @@ class RenderMesh:
         )
 
     @property
+    def closed(self) -> np.ndarray:
+        """``[T]`` bool: each triangle's part is ``closed`` (its back faces never show)."""
+        return np.concatenate([np.full(len(p.triangles), p.closed) for p in self.parts])
+
+    @property
     def hinged(self) -> bool:
         """Whether any part moves with the controls (else :meth:`posed` is constant)."""
         return bool(self._hinges)
@@ -132,16 +141,9 @@ class RenderMesh:
             h = 0.5 * np.sqrt(p.area_m2)
             c = np.asarray(p.offset_m)
             quad = np.array([c + h * (u + w), c + h * (u - w), c - h * (u + w), c - h * (u - w)])
-            parts.append(
-                Part(
-                    p.name,
-                    quad,
-                    [[0, 1, 2], [0, 2, 3]],
-                    color,
-                    sample=p.name if p.hinge_axis is not None and _driven(craft, p.name) else None,
-                    hinge_point_m=tuple(c),
-                )
-            )
+            hinged = p.hinge_axis is not None and _driven(craft, p.name)
+            # wound to face along the plate's normal, as a posed control surface must
+            parts.append(panel(p.name, quad, color, n, p.name if hinged else None, tuple(c)))
         for s in craft.cylinders:
             a = np.asarray(s.axis)
             half = np.sqrt(s.area_m2)
@@ -182,4 +184,64 @@ def craft_meshes(venv) -> tuple[RenderMesh, ...]:
     return tuple(RenderMesh.from_craft(c) for c in venv.sim.crafts)
 
 
-__all__ = ["Part", "RenderMesh", "craft_meshes"]
+def body_commands(sim, env_index: int) -> list[np.ndarray]:
+    """Each body's channel commands in sub-env ``env_index`` (``sim.controls`` holds all the
+    bodies' channels end to end, in ``sim.crafts`` order): what :meth:`RenderMesh.posed`
+    takes."""
+    row = np.asarray(sim.controls[env_index], dtype=np.float64)
+    ends = np.cumsum([len(c.control_names) for c in sim.crafts])
+    return np.split(row, ends[:-1])
+
+
+# ---- building parts ------------------------------------------------------------------------
+
+
+def panel(
+    name: str,
+    corners: ArrayLike,
+    color=PAPER,
+    normal: ArrayLike | None = None,
+    sample: str | None = None,
+    hinge_point_m=(0.0, 0.0, 0.0),
+) -> Part:
+    """A flat convex polygon (``corners [K, 3]`` in order around it) as a fan of triangles,
+    wound so that its right-hand normal points along ``normal`` when given (a control
+    surface drawn with its plate's normal)."""
+    c = np.asarray(corners, dtype=np.float64)
+    fan = np.array([[0, k, k + 1] for k in range(1, len(c) - 1)])
+    if normal is not None:
+        n = np.cross(c[1] - c[0], c[2] - c[0])
+        if n @ np.asarray(normal, dtype=np.float64) < 0.0:
+            fan = fan[:, ::-1]
+    return Part(name, c, fan, color, sample, tuple(float(v) for v in hinge_point_m))
+
+
+def revolve(name: str, x: ArrayLike, r: ArrayLike, color, segments: int = 24) -> Part:
+    """A body of revolution about the body x axis: the profile ``r(x)`` (stations from tail
+    to nose) turned through ``segments`` sides; an end with r = 0 closes to a point, one with
+    r > 0 gets a flat cap."""
+    x = np.asarray(x, dtype=np.float64)
+    r = np.asarray(r, dtype=np.float64)
+    if x.ndim != 1 or x.shape != r.shape or len(x) < 2 or (r < 0).any():
+        raise ValueError(f"part {name!r}: x and r must be matching profiles (r >= 0)")
+    t = 2.0 * np.pi * np.arange(segments) / segments
+    ring = np.stack([np.zeros(segments), np.cos(t), np.sin(t)], 1)
+    verts = (x[:, None, None] * [1.0, 0.0, 0.0] + r[:, None, None] * ring).reshape(-1, 3)
+    tris = []
+    for i in range(len(x) - 1):
+        a, b = i * segments, (i + 1) * segments
+        for k in range(segments):
+            k1 = (k + 1) % segments
+            if r[i] > 0.0:  # not from a point (each triangle would have two corners there)
+                tris.append([a + k, a + k1, b + k1])
+            if r[i + 1] > 0.0:
+                tris.append([a + k, b + k1, b + k])
+    for end in (0, len(x) - 1):  # flat caps (a fan about the ring's first vertex)
+        if r[end] > 0.0:
+            o = end * segments
+            fan = [[o, o + k, o + k + 1] for k in range(1, segments - 1)]
+            tris += [f[::-1] for f in fan] if end == 0 else fan  # facing out: aft, forward
+    return Part(name, verts, np.array(tris), color, closed=True)
+
+
+__all__ = ["Part", "RenderMesh", "body_commands", "craft_meshes", "panel", "revolve"]

@@ -1,9 +1,12 @@
 """Numpy-only software rasterizer behind ``render_mode="rgb_array"``.
 
-Draws a perspective view of 3D line segments, filled triangles and point markers into an RGB
-``uint8`` image, so that environments can be recorded (e.g. by gymnasium's ``RecordVideo``)
-without a display or a graphics library. There is no depth buffer: calls paint over earlier
-ones, and the triangles of one call are painted far to near.
+Draws a perspective or orthographic view of 3D line segments, filled triangles (plain, or a
+mesh shaded by a sun), shadows and point markers, and 2D text, into an RGB ``uint8`` image, so
+that environments can be recorded (e.g. by gymnasium's ``RecordVideo``) without a display or a
+graphics library. Triangles are depth-tested against a depth buffer (the nearest surface wins
+whatever the order of the calls), or on request painted over what is there (flat drawings
+whose later layers go on top). Lines, points, text and filled rows paint over everything and
+leave the depth buffer alone.
 
 Conventions: the world frame is right-handed with z up, in meters. The camera frame is x right,
 y down, z forward along the view axis. Images are ``[height, width, 3]`` arrays with row 0 at
@@ -28,11 +31,16 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-__all__ = ["Camera", "Canvas", "OrthoCamera"]
+__all__ = ["SUN", "Camera", "Canvas", "OrthoCamera", "text_size"]
 
 # More grid lines than this is a spacing mistake, and would otherwise exhaust memory.
 _MAX_GRID_LINES = 10_000
 _RGB = np.dtype((np.void, 3))
+# Candidate pixels rasterized at once (bounding-box pixels of a group of triangles): bounds the
+# scratch memory of one group to some 100 MB however many large triangles one call holds.
+_RASTER_BATCH = 1 << 20
+# Toward the sun (world, unit): high, from behind the left shoulder of a camera looking +x.
+SUN = np.array([-0.35, 0.45, 0.82]) / np.linalg.norm([-0.35, 0.45, 0.82])
 
 
 class Camera:
@@ -125,6 +133,15 @@ class Camera:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             return self.center + self.focal * cam[..., :2] / cam[..., 2:3]
 
+    def _depth_key(self, depth: np.ndarray) -> np.ndarray:
+        """A key that grows with ``depth`` and is linear across the image, so that it can be
+        interpolated between a triangle's corners: -1/depth under perspective."""
+        return -1.0 / depth
+
+    def _rays(self, points: np.ndarray) -> np.ndarray:
+        """Directions ``[..., 3]`` (world, not normalized) from the eye toward ``points``."""
+        return points - self.eye
+
 
 class OrthoCamera(Camera):
     """Orthographic camera (plans and elevations): ``scale`` pixels per meter, no
@@ -156,6 +173,12 @@ class OrthoCamera(Camera):
     def _pixels(self, cam: np.ndarray) -> np.ndarray:
         with np.errstate(over="ignore", invalid="ignore"):
             return self.center + self.scale * cam[..., :2]
+
+    def _depth_key(self, depth: np.ndarray) -> np.ndarray:
+        return depth  # already linear across the image
+
+    def _rays(self, points: np.ndarray) -> np.ndarray:
+        return np.broadcast_to(self.rotation[2], np.shape(points))
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -192,6 +215,16 @@ def _colors(color: ArrayLike, n: int) -> np.ndarray:
     return c
 
 
+def _batches(count: np.ndarray, limit: int) -> list[np.ndarray]:
+    """Consecutive groups of the indices of ``count`` whose counts sum to about ``limit`` at
+    most (a single count over it makes a group of its own)."""
+    if not len(count) or not count.sum():
+        return []
+    ends = np.cumsum(count)
+    group = (ends - count) // limit
+    return np.split(np.arange(len(count)), np.flatnonzero(np.diff(group)) + 1)
+
+
 def _clip_to_rect(p0: np.ndarray, p1: np.ndarray, lo: np.ndarray, hi: np.ndarray):
     """Liang-Barsky clipping of 2D segments ``p0 -> p1`` ``[N, 2]`` to the box ``[lo, hi]``.
 
@@ -216,7 +249,11 @@ def _clip_to_rect(p0: np.ndarray, p1: np.ndarray, lo: np.ndarray, hi: np.ndarray
 
 
 class Canvas:
-    """An RGB image to draw on; primitives are painted over what is already there."""
+    """An RGB image to draw on, with a depth buffer for its triangles.
+
+    Triangles are depth-tested (:meth:`triangles`, :meth:`mesh`); everything else is painted
+    over what is already there.
+    """
 
     def __init__(
         self, width: int = 480, height: int = 360, background: ArrayLike = (200, 225, 245)
@@ -225,11 +262,17 @@ class Canvas:
         self.height = int(height)
         self.background = _colors(background, 1)[0].copy()
         self._buf = np.empty((self.height, self.width, 3), dtype=np.uint8)
+        # the depth key (Camera._depth_key) of the nearest triangle drawn at each pixel, and a
+        # scratch buffer (kept at inf) that resolves overlaps within one painted call
+        self._depth = np.empty(self.height * self.width)
+        self._scratch: np.ndarray | None = None  # made by the first painted call
         self.clear()
 
     def clear(self, color: ArrayLike | None = None) -> None:
-        """Fill the image with ``color``, or with the background color."""
+        """Fill the image with ``color``, or with the background color; empty the depth
+        buffer."""
         self._fill(0, self.height, self.background if color is None else _colors(color, 1)[0])
+        self._depth.fill(np.inf)
 
     def fill_rows(self, y0: float, y1: float, color: ArrayLike) -> None:
         """Fill rows ``y0`` to ``y1`` (rounded; half-open), clipped to the image: sky and
@@ -310,63 +353,198 @@ class Canvas:
         inside = (ix >= 0) & (ix < self.width) & (iy >= 0) & (iy < self.height)
         self._put(iy[inside] * self.width + ix[inside], colors, seg[inside])
 
-    def triangles(self, camera: Camera, tris: ArrayLike, color: ArrayLike) -> None:
-        """Filled triangles ``[N, 3, 3]`` (world), painted far to near by mean depth.
+    def triangles(
+        self, camera: Camera, tris: ArrayLike, color: ArrayLike, depth_test: bool = True
+    ) -> None:
+        """Filled triangles ``[N, 3, 3]`` (world).
+
+        With ``depth_test`` (the default) a pixel takes the nearest triangle's color unless a
+        nearer one is already in the depth buffer, which it then updates. Without it, the call
+        paints over the image (its own triangles nearest on top) and leaves the depth buffer
+        alone: flat drawings (plans, elevations) whose later layers go on top.
 
         A triangle with any vertex behind the camera is skipped, not clipped.
         """
         self._check(camera)
         tris = np.asarray(tris, dtype=np.float64).reshape(-1, 3, 3)
         colors = _colors(color, len(tris))
+        for flat, which in self._raster(camera, tris, depth_test):
+            self._put(flat, colors, which)
+
+    def mesh(
+        self,
+        camera: Camera,
+        vertices: ArrayLike,
+        triangles: ArrayLike,
+        colors: ArrayLike,
+        sun: ArrayLike = SUN,
+        ambient: float = 0.45,
+        closed: ArrayLike | None = None,
+    ) -> None:
+        """An indexed mesh (world ``vertices [V, 3]``, ``triangles [T, 3]`` indices, a color
+        per triangle ``[T, 3]`` or one), depth-tested and Lambert-shaded by a sun in direction
+        ``sun`` (toward it): ``color * (ambient + (1 - ambient) * max(0, n . sun))``.
+
+        Faces are lit on the side the camera sees (a normal turned toward the camera): a thin
+        sheet such as a paper wing is bright from above in sunlight and dark from below.
+        Triangles marked in ``closed`` ``[T]`` (bool) belong to solids wound outward: those
+        facing away from the camera are hidden anyway, and are skipped.
+        """
+        v = np.asarray(vertices, dtype=np.float64).reshape(-1, 3)
+        t = np.asarray(triangles, dtype=np.intp).reshape(-1, 3)
+        pix, _ = camera.project(v)
+        with np.errstate(invalid="ignore"):  # all on one side of the image: nothing to draw
+            if (pix < 0).all(axis=0).any() or (pix > [self.width, self.height]).all(axis=0).any():
+                return
+        tris = v[t]
+        base = _colors(colors, len(t)).astype(np.float64)
+        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+            n = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
+            n /= np.linalg.norm(n, axis=1, keepdims=True)
+            away = np.einsum("ij,ij->i", n, camera._rays(tris.mean(axis=1))) > 0.0
+            n[away] *= -1.0
+            light = np.clip(np.nan_to_num(n @ np.asarray(sun, dtype=np.float64)), 0.0, 1.0)
+        shaded = base * (ambient + (1.0 - ambient) * light)[:, None]
+        if closed is not None:
+            seen = ~(np.asarray(closed, dtype=bool).reshape(-1) & away)
+            tris, shaded = tris[seen], shaded[seen]
+        self.triangles(camera, tris, shaded)
+
+    def shadow(
+        self,
+        camera: Camera,
+        tris: ArrayLike,
+        plane_z: float = 0.0,
+        light: ArrayLike = (0.0, 0.0, 1.0),
+        darken: float = 0.55,
+    ) -> None:
+        """Darken (times ``darken``) the pixels where triangles ``[N, 3, 3]`` (world) cast
+        their shadow on the plane ``z = plane_z``, lit from direction ``light`` (toward the
+        light; default straight above). Each pixel is darkened once however many triangles
+        cover it; nearer surfaces already in the depth buffer keep their color."""
+        tris = np.asarray(tris, dtype=np.float64).reshape(-1, 3, 3)
+        d = np.asarray(light, dtype=np.float64)
+        if not d[2] > 0.0:
+            raise ValueError(f"light must point up (z > 0) to cast a shadow down, got {light}")
+        with np.errstate(invalid="ignore", over="ignore"):
+            height = np.maximum(tris[..., 2] - plane_z, 0.0)
+            flat = tris - (height / d[2])[..., None] * d
+        flat[..., 2] = plane_z
+        hit = [f for f, _ in self._raster(camera, flat, depth_test=True, write=False)]
+        if hit:
+            where = np.unique(np.concatenate(hit))
+            pixels = self._buf.reshape(-1, 3)
+            pixels[where] = (pixels[where] * darken).astype(np.uint8)
+
+    def _raster(self, camera: Camera, tris: np.ndarray, depth_test: bool, write: bool = True):
+        """Yield, group by group, the covered pixels (flat indices) of triangles ``[N, 3, 3]``
+        (world) that win the depth test, with the triangle covering each."""
+        self._check(camera)
         cam = camera.to_camera(tris)
         keep = np.isfinite(cam).all(axis=(1, 2)) & (cam[:, :, 2] > camera.near).all(axis=1)
         if not keep.any():
             return
         pix = camera._pixels(cam)
         keep &= np.isfinite(pix).all(axis=(1, 2))
-        cam, pix, colors = cam[keep], pix[keep], colors[keep]
-        order = np.argsort(-(cam[:, :, 2] / 3.0).sum(axis=1), kind="stable")  # mean depth
-        # Edge functions divided by the signed area are barycentric coordinates: >= 0 inside,
-        # whatever the winding. Their coefficients are computed for all triangles at once.
-        edge = np.roll(pix, -1, axis=1) - pix
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            area = edge[:, 0, 1] * edge[:, 2, 0] - edge[:, 0, 0] * edge[:, 2, 1]
-            ex, ey = edge[..., 0] / area[:, None], edge[..., 1] / area[:, None]
+        idx = np.flatnonzero(keep)
+        pix, key = pix[idx], camera._depth_key(cam[idx, :, 2])
         # Pixels whose centers (col + 0.5, row + 0.5) lie in the bounding box, clipped to the
         # image before the integer cast, which large coordinates would overflow.
         lo = np.ceil(pix.min(axis=1) - 0.5).clip(0, [self.width, self.height])
         hi = np.floor(pix.max(axis=1) - 0.5).clip(-1, [self.width - 1, self.height - 1])
-        lo, hi = lo.astype(np.intp), hi.astype(np.intp)
-        ok = (np.abs(area) > 1e-12) & np.isfinite(area) & (hi >= lo).all(axis=1)
-        for i in order[ok[order]]:
-            (c0, r0), (c1, r1) = lo[i], hi[i] + 1
-            xs = np.arange(c0, c1) + 0.5 - pix[i, :, :1]  # [3, cols]
-            ys = np.arange(r0, r1) + 0.5 - pix[i, :, 1:]  # [3, rows]
-            bary = (ex[i, :, None] * ys)[:, :, None] - (ey[i, :, None] * xs)[:, None, :]
-            np.copyto(
-                self._buf[r0:r1, c0:c1], colors[i], where=(bary.min(axis=0) >= 0.0)[..., None]
+        lo, size = lo.astype(np.intp), (hi - lo + 1).clip(0).astype(np.intp)
+        # Edge k runs from corner k to k + 1; its edge function, over the signed area, is the
+        # barycentric weight of the corner opposite (k + 2): >= 0 inside, whatever the winding.
+        # Each weight, and so the depth key, is a plane over the image: a + b dx + c dy at
+        # (dx, dy) pixels from the box's first pixel center. One row of coefficients per
+        # triangle: one gather per candidate pixel instead of one per coefficient.
+        edge = np.roll(pix, -1, axis=1) - pix
+        first = lo + 0.5
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            area = edge[:, 0, 1] * edge[:, 2, 0] - edge[:, 0, 0] * edge[:, 2, 1]
+            ex, ey = edge[..., 0] / area[:, None], edge[..., 1] / area[:, None]
+            at = ex * (first[:, None, 1] - pix[..., 1]) - ey * (first[:, None, 0] - pix[..., 0])
+            opposite = np.roll(key, -2, axis=1)  # the key of the corner each weight belongs to
+            table = np.concatenate(
+                [
+                    at,
+                    -ey,
+                    ex,
+                    (at * opposite).sum(axis=1, keepdims=True),
+                    (-ey * opposite).sum(axis=1, keepdims=True),
+                    (ex * opposite).sum(axis=1, keepdims=True),
+                ],
+                axis=1,
             )
+        ok = (np.abs(area) > 1e-12) & np.isfinite(table).all(axis=1)
+        count = np.where(ok, size[:, 0] * size[:, 1], 0)
+        # Painted calls go far to near (mean depth), so that a nearer group paints over.
+        order = np.argsort(-key.sum(axis=1), kind="stable") if not depth_test else None
+        groups = _batches(count if order is None else count[order], _RASTER_BATCH)
+        if not depth_test and self._scratch is None:
+            self._scratch = np.full(self.height * self.width, np.inf)
+        target = self._depth if depth_test else self._scratch
+        for sel in groups:
+            sel = sel if order is None else order[sel]
+            n = count[sel]
+            tri = np.repeat(sel, n)
+            k = np.arange(len(tri)) - np.repeat(np.cumsum(n) - n, n)
+            w = size[tri, 0]
+            dx, dy = k % w, k // w
+            t = table[tri]
+            with np.errstate(invalid="ignore", over="ignore"):
+                b = t[:, 0:3] + t[:, 3:6] * dx[:, None] + t[:, 6:9] * dy[:, None]
+                z = t[:, 9] + t[:, 10] * dx + t[:, 11] * dy
+            inside = (b >= 0.0).all(axis=1)
+            col, row = lo[tri, 0] + dx, lo[tri, 1] + dy
+            flat, tri, z = (row * self.width + col)[inside], tri[inside], z[inside]
+            if not len(flat):
+                continue
+            if depth_test and not write:  # a test against what is drawn (shadows): no update
+                win = z <= self._depth[flat]
+            else:  # the nearest candidate of each pixel, against the buffer's or alone
+                np.minimum.at(target, flat, z)
+                win = z <= target[flat]
+                if not depth_test:
+                    target[flat] = np.inf
+            yield flat[win], idx[tri[win]]
 
-    def points(self, camera: Camera, p: ArrayLike, color: ArrayLike, radius: int = 3) -> None:
-        """Filled discs of ``radius`` pixels at the projections of points ``[N, 3]`` (world)."""
+    def points(
+        self,
+        camera: Camera,
+        p: ArrayLike,
+        color: ArrayLike,
+        radius: int = 3,
+        depth_test: bool = False,
+    ) -> None:
+        """Filled discs of ``radius`` pixels at the projections of points ``[N, 3]`` (world).
+
+        With ``depth_test``, a disc is hidden where a triangle already drawn lies nearer than
+        its point (particles behind a hull); the depth buffer is left alone either way.
+        """
         self._check(camera)
         p = np.asarray(p, dtype=np.float64).reshape(-1, 3)
         colors = _colors(color, len(p))
         r = max(int(round(radius)), 0)
-        pix, _ = camera.project(p)
+        pix, depth = camera.project(p)
         lo, hi = -r - 1.0, np.array([self.width, self.height]) + r + 1.0
         # Bounds before the integer cast: a huge pixel coordinate would overflow it.
         keep = np.isfinite(pix).all(axis=1) & (pix > lo).all(axis=1) & (pix < hi).all(axis=1)
         if not keep.any():
             return
-        pix, colors = pix[keep], colors[keep]
+        pix, colors, depth = pix[keep], colors[keep], depth[keep]
         oy, ox = np.mgrid[-r : r + 1, -r : r + 1]
         disc = ox**2 + oy**2 <= r * (r + 1)  # r(r+1) rounds the disc better than r^2
         ix = np.floor(pix[:, :1]).astype(np.intp) + ox[disc]
         iy = np.floor(pix[:, 1:]).astype(np.intp) + oy[disc]
         seg = np.broadcast_to(np.arange(len(pix))[:, None], ix.shape)
         inside = (ix >= 0) & (ix < self.width) & (iy >= 0) & (iy < self.height)
-        self._put(iy[inside] * self.width + ix[inside], colors, seg[inside])
+        flat, seg = iy[inside] * self.width + ix[inside], seg[inside]
+        if depth_test:
+            with np.errstate(divide="ignore"):
+                front = camera._depth_key(depth)[seg] <= self._depth[flat]
+            flat, seg = flat[front], seg[front]
+        self._put(flat, colors, seg)
 
     def ground_grid(
         self,
@@ -396,6 +574,62 @@ class Canvas:
         )
         self.lines(camera, a, b, color)
 
+    def rect(self, x0: int, y0: int, x1: int, y1: int, color: ArrayLike, alpha: float = 1.0):
+        """Fill columns ``x0:x1`` of rows ``y0:y1`` (pixels, clipped to the image), blending
+        ``color`` over the image with opacity ``alpha`` (a readout's backdrop)."""
+        if not 0.0 <= alpha <= 1.0:
+            raise ValueError(f"alpha must be in [0, 1], got {alpha}")
+        x0, x1 = max(int(x0), 0), min(int(x1), self.width)
+        y0, y1 = max(int(y0), 0), min(int(y1), self.height)
+        if x1 <= x0 or y1 <= y0:
+            return
+        c = _colors(color, 1)[0].astype(np.float64)
+        area = self._buf[y0:y1, x0:x1]
+        area[:] = (alpha * c + (1.0 - alpha) * area).round().astype(np.uint8)
+
+    def text(self, x: int, y: int, text: str, color: ArrayLike, scale: int = 1) -> None:
+        """Write ``text`` (lines split at ``\\n``) with its top-left corner at pixel
+        ``(x, y)``, in the built-in 5 x 7 font enlarged ``scale`` times; clipped to the image.
+
+        Raises ValueError naming a character the font lacks (printable ASCII and the degree
+        sign).
+        """
+        if isinstance(scale, bool) or int(scale) != scale or scale < 1:
+            raise ValueError(f"scale must be a positive integer, got {scale!r}")
+        missing = sorted(set(text) - set(_FONT) - {"\n"})
+        if missing:
+            raise ValueError(f"the font has no glyph for {missing[0]!r} in {text!r}")
+        scale = int(scale)
+        lit = []
+        for r, line in enumerate(text.split("\n")):
+            for k, ch in enumerate(line):
+                rows, cols = _LIT[ch]
+                lit.append((rows + r * (GLYPH_H + 2), cols + k * (GLYPH_W + 1)))
+        if not lit:
+            return
+        rows = np.concatenate([a for a, _ in lit])
+        cols = np.concatenate([b for _, b in lit])
+        sub = np.arange(scale)  # each font cell becomes a scale x scale block
+        block = (len(rows), scale, scale)
+        iy = np.broadcast_to(y + scale * rows[:, None, None] + sub[:, None], block).ravel()
+        ix = np.broadcast_to(x + scale * cols[:, None, None] + sub[None, :], block).ravel()
+        inside = (ix >= 0) & (ix < self.width) & (iy >= 0) & (iy < self.height)
+        self._buf[iy[inside], ix[inside]] = _colors(color, 1)[0]
+
+    def blit(self, x: int, y: int, image: ArrayLike) -> None:
+        """Copy ``image`` ``[h, w, 3]`` onto the image with its top-left corner at pixel
+        ``(x, y)``, clipped to the image (a computed background such as a colored slice of a
+        field, a color scale, an inset); the depth buffer is left alone."""
+        img = np.asarray(image)
+        if img.ndim != 3 or img.shape[2] != 3:
+            raise ValueError(f"image must have shape [h, w, 3], got {img.shape}")
+        x0, y0 = max(int(x), 0), max(int(y), 0)
+        x1, y1 = min(int(x) + img.shape[1], self.width), min(int(y) + img.shape[0], self.height)
+        if x1 <= x0 or y1 <= y0:
+            return
+        part = img[y0 - int(y) : y1 - int(y), x0 - int(x) : x1 - int(x)]
+        self._buf[y0:y1, x0:x1] = _colors(part.reshape(-1, 3), part.size // 3).reshape(part.shape)
+
     def image(self) -> np.ndarray:
         """A copy of the ``[height, width, 3]`` uint8 image."""
         return self._buf.copy()
@@ -405,3 +639,131 @@ class Canvas:
             raise ValueError(
                 f"camera is {camera.width}x{camera.height}, canvas {self.width}x{self.height}"
             )
+
+
+# ---- text ------------------------------------------------------------------------------------
+
+# A 5 x 7 pixel font for on-screen readouts: each line is a character, then its seven rows
+# ('#' lit). Printable ASCII and the degree sign; the space is blank.
+_FONT_TABLE = r"""
+! ..#.. ..#.. ..#.. ..#.. ..#.. ..... ..#..
+" .#.#. .#.#. .#.#. ..... ..... ..... .....
+# .#.#. .#.#. ##### .#.#. ##### .#.#. .#.#.
+$ ..#.. .#### #.#.. .###. ..#.# ####. ..#..
+% ##... ##..# ...#. ..#.. .#... #..## ...##
+& .##.. #..#. #.#.. .#... #.#.# #..#. .##.#
+' ..#.. ..#.. .#... ..... ..... ..... .....
+( ...#. ..#.. .#... .#... .#... ..#.. ...#.
+) .#... ..#.. ...#. ...#. ...#. ..#.. .#...
+* ..... ..#.. #.#.# .###. #.#.# ..#.. .....
++ ..... ..#.. ..#.. ##### ..#.. ..#.. .....
+, ..... ..... ..... ..... .##.. ..#.. .#...
+- ..... ..... ..... ##### ..... ..... .....
+. ..... ..... ..... ..... ..... .##.. .##..
+/ ..... ....# ...#. ..#.. .#... #.... .....
+0 .###. #...# #..## #.#.# ##..# #...# .###.
+1 ..#.. .##.. ..#.. ..#.. ..#.. ..#.. .###.
+2 .###. #...# ....# ...#. ..#.. .#... #####
+3 ##### ...#. ..#.. ...#. ....# #...# .###.
+4 ...#. ..##. .#.#. #..#. ##### ...#. ...#.
+5 ##### #.... ####. ....# ....# #...# .###.
+6 ..##. .#... #.... ####. #...# #...# .###.
+7 ##### ....# ...#. ..#.. .#... .#... .#...
+8 .###. #...# #...# .###. #...# #...# .###.
+9 .###. #...# #...# .#### ....# ...#. .##..
+: ..... .##.. .##.. ..... .##.. .##.. .....
+; ..... .##.. .##.. ..... .##.. ..#.. .#...
+< ...#. ..#.. .#... #.... .#... ..#.. ...#.
+= ..... ..... ##### ..... ##### ..... .....
+> .#... ..#.. ...#. ....# ...#. ..#.. .#...
+? .###. #...# ....# ...#. ..#.. ..... ..#..
+@ .###. #...# ....# .##.# #.#.# #.#.# .###.
+A .###. #...# #...# ##### #...# #...# #...#
+B ####. #...# #...# ####. #...# #...# ####.
+C .###. #...# #.... #.... #.... #...# .###.
+D ###.. #..#. #...# #...# #...# #..#. ###..
+E ##### #.... #.... ####. #.... #.... #####
+F ##### #.... #.... ####. #.... #.... #....
+G .###. #...# #.... #.### #...# #...# .####
+H #...# #...# #...# ##### #...# #...# #...#
+I .###. ..#.. ..#.. ..#.. ..#.. ..#.. .###.
+J ..### ...#. ...#. ...#. ...#. #..#. .##..
+K #...# #..#. #.#.. ##... #.#.. #..#. #...#
+L #.... #.... #.... #.... #.... #.... #####
+M #...# ##.## #.#.# #.#.# #...# #...# #...#
+N #...# #...# ##..# #.#.# #..## #...# #...#
+O .###. #...# #...# #...# #...# #...# .###.
+P ####. #...# #...# ####. #.... #.... #....
+Q .###. #...# #...# #...# #.#.# #..#. .##.#
+R ####. #...# #...# ####. #.#.. #..#. #...#
+S .#### #.... #.... .###. ....# ....# ####.
+T ##### ..#.. ..#.. ..#.. ..#.. ..#.. ..#..
+U #...# #...# #...# #...# #...# #...# .###.
+V #...# #...# #...# #...# #...# .#.#. ..#..
+W #...# #...# #...# #.#.# #.#.# #.#.# .#.#.
+X #...# #...# .#.#. ..#.. .#.#. #...# #...#
+Y #...# #...# .#.#. ..#.. ..#.. ..#.. ..#..
+Z ##### ....# ...#. ..#.. .#... #.... #####
+[ .###. .#... .#... .#... .#... .#... .###.
+\ ..... #.... .#... ..#.. ...#. ....# .....
+] .###. ...#. ...#. ...#. ...#. ...#. .###.
+^ ..#.. .#.#. #...# ..... ..... ..... .....
+_ ..... ..... ..... ..... ..... ..... #####
+` .#... ..#.. ...#. ..... ..... ..... .....
+a ..... ..... .###. ....# .#### #...# .####
+b #.... #.... #.##. ##..# #...# #...# ####.
+c ..... ..... .###. #.... #.... #...# .###.
+d ....# ....# .##.# #..## #...# #...# .####
+e ..... ..... .###. #...# ##### #.... .###.
+f ..##. .#..# .#... ###.. .#... .#... .#...
+g ..... .#### #...# #...# .#### ....# .###.
+h #.... #.... #.##. ##..# #...# #...# #...#
+i ..#.. ..... .##.. ..#.. ..#.. ..#.. .###.
+j ...#. ..... ..##. ...#. ...#. #..#. .##..
+k #.... #.... #..#. #.#.. ##... #.#.. #..#.
+l .##.. ..#.. ..#.. ..#.. ..#.. ..#.. .###.
+m ..... ..... ##.#. #.#.# #.#.# #...# #...#
+n ..... ..... #.##. ##..# #...# #...# #...#
+o ..... ..... .###. #...# #...# #...# .###.
+p ..... ..... ####. #...# ####. #.... #....
+q ..... ..... .##.# #..## .#### ....# ....#
+r ..... ..... #.##. ##..# #.... #.... #....
+s ..... ..... .###. #.... .###. ....# ####.
+t .#... .#... ###.. .#... .#... .#..# ..##.
+u ..... ..... #...# #...# #...# #..## .##.#
+v ..... ..... #...# #...# #...# .#.#. ..#..
+w ..... ..... #...# #...# #.#.# #.#.# .#.#.
+x ..... ..... #...# .#.#. ..#.. .#.#. #...#
+y ..... ..... #...# #...# .#### ....# .###.
+z ..... ..... ##### ...#. ..#.. .#... #####
+{ ...#. ..#.. ..#.. .#... ..#.. ..#.. ...#.
+| ..#.. ..#.. ..#.. ..#.. ..#.. ..#.. ..#..
+} .#... ..#.. ..#.. ...#. ..#.. ..#.. .#...
+~ ..... ..... .#... #.#.# ...#. ..... .....
+° .##.. #..#. #..#. .##.. ..... ..... .....
+"""
+GLYPH_W, GLYPH_H = 5, 7  # a glyph's lit cells; characters advance GLYPH_W + 1 columns
+
+
+def _parse_font(table: str) -> dict[str, np.ndarray]:
+    font = {" ": np.zeros((GLYPH_H, GLYPH_W), dtype=bool)}
+    for line in table.strip("\n").split("\n"):
+        rows = line[2:].split()
+        font[line[0]] = np.array([[c == "#" for c in r] for r in rows], dtype=bool)
+        assert font[line[0]].shape == (GLYPH_H, GLYPH_W), line
+    return font
+
+
+_FONT = _parse_font(_FONT_TABLE)
+_LIT = {ch: np.nonzero(glyph) for ch, glyph in _FONT.items()}  # each glyph's (rows, cols)
+
+
+def text_size(text: str, scale: int = 1) -> tuple[int, int]:
+    """(width, height) in pixels of ``text`` drawn by :meth:`Canvas.text` (lines split at
+    ``\\n``): no trailing spacing column or row."""
+    lines = text.split("\n")
+    cols = max(len(s) for s in lines)
+    return (
+        max(cols * (GLYPH_W + 1) - 1, 0) * scale,
+        (len(lines) * (GLYPH_H + 2) - 2) * scale,
+    )

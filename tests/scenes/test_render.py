@@ -1,13 +1,13 @@
 """Software renderer: pinhole projection against its closed form, and rasterization of lines
-(with near-plane clipping), triangles (painter's order), points and the ground grid, including
-inputs that cannot be drawn."""
+(with near-plane clipping), triangles (depth-tested per pixel, or painted in order), shaded
+meshes, shadows, points, text and the ground grid, including inputs that cannot be drawn."""
 
 import math
 
 import numpy as np
 import pytest
 
-from fluidsim_envs.scenes.render import Camera, Canvas
+from fluidsim_envs.scenes.render import _FONT, GLYPH_H, GLYPH_W, Camera, Canvas, text_size
 
 W, H = 480, 360
 BG = np.array([200, 225, 245], dtype=np.uint8)
@@ -309,3 +309,135 @@ def test_random_garbage_never_raises_or_warns():
         canvas.ground_grid(cam, garbage(2), float(rng.uniform(0, 50)), 1.0, GREEN)
         canvas.fill_rows(*garbage(2), GREEN)
         assert canvas.image().shape == (h, w, 3)
+
+
+# ---- depth, shading, shadows, text ----------------------------------------------------------
+
+
+def facing(x, half=1.0):
+    """A triangle in the plane at depth x before forward_camera, covering the view's center."""
+    return [[x, half, -half], [x, -half, -half], [x, 0.0, half]]
+
+
+def test_depth_is_resolved_per_pixel_where_triangles_cross():
+    cam = forward_camera()
+    flat = facing(5.0, 2.0)
+    # tilted: 3 m away on the left of the image (world +y), 7 m on the right
+    tilted = [[3.0, 2.0, -2.0], [7.0, -2.0, -2.0], [5.0, 0.0, 2.0]]
+    for order in ((flat, tilted), (tilted, flat)):
+        canvas = Canvas(W, H)
+        for tri, color in zip(order, (RED, BLUE) if order[0] is flat else (BLUE, RED), strict=True):
+            canvas.triangles(cam, [tri], color)
+        img = canvas.image()
+        row = H // 2 + 20
+        assert (img[row, W // 2 - 30] == BLUE).all()  # the tilted one is nearer on the left
+        assert (img[row, W // 2 + 30] == RED).all()  # and farther on the right
+
+
+def test_painted_triangles_go_on_top_and_leave_the_depth_buffer_alone():
+    cam, canvas = forward_camera(), Canvas(W, H)
+    canvas.triangles(cam, [facing(3.0)], RED)
+    canvas.triangles(cam, [facing(9.0)], BLUE, depth_test=False)  # painted over, though farther
+    assert (canvas.image()[H // 2, W // 2] == BLUE).all()
+    canvas.triangles(cam, [facing(6.0)], GREEN)  # depth-tested: still behind the first
+    assert (canvas.image()[H // 2, W // 2] == BLUE).all()
+    canvas.clear()
+    canvas.triangles(cam, [facing(6.0)], GREEN)  # clear() empties the depth buffer
+    assert (canvas.image()[H // 2, W // 2] == GREEN).all()
+
+
+def test_mesh_is_lambert_shaded_by_the_sun_on_the_side_the_camera_sees():
+    square = np.array([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]])
+    tris, base, ambient = [[0, 1, 2], [0, 2, 3]], np.array([200.0, 100.0, 50.0]), 0.4
+    tilt = math.radians(60.0)
+    cases = [  # camera height, sun: the expected brightness
+        (5.0, (0.0, 0.0, 1.0), 1.0),
+        (5.0, (math.sin(tilt), 0.0, math.cos(tilt)), ambient + (1 - ambient) * math.cos(tilt)),
+        (-5.0, (0.0, 0.0, 1.0), ambient),  # from below: the lit side faces away
+    ]
+    for z, sun, light in cases:
+        cam = Camera.look_at((0.0, 0.0, z), (0.0, 0.0, 0.0), up=(1.0, 0.0, 0.0))
+        canvas = Canvas(W, H)
+        canvas.mesh(cam, square, tris, base, sun=sun, ambient=ambient)
+        np.testing.assert_allclose(canvas.image()[H // 2, W // 2], base * light, atol=0.51)
+
+
+def test_closed_meshes_skip_the_faces_turned_away():
+    cam = forward_camera()
+    toward = np.array(facing(5.0))  # right-hand normal toward the camera (-x)
+    for tri, drawn in ((toward, True), (toward[::-1], False)):
+        canvas = Canvas(W, H)
+        canvas.mesh(cam, tri, [[0, 1, 2]], RED, closed=[True])
+        assert lit(canvas)[H // 2, W // 2] == drawn
+        canvas.mesh(cam, tri, [[0, 1, 2]], RED)  # open: both sides show
+        assert lit(canvas)[H // 2, W // 2]
+
+
+def test_shadow_darkens_the_plane_below_a_triangle_once():
+    cam = Camera.look_at((0.0, 0.0, 10.0), (0.0, 0.0, 0.0), up=(1.0, 0.0, 0.0))
+    canvas = Canvas(W, H, background=(100, 200, 60))
+    tri = [[-1.0, -1.0, 1.0], [1.0, -1.0, 1.0], [0.0, 1.0, 1.0]]
+    canvas.shadow(cam, [tri, tri], darken=0.5)  # twice over: one darkening
+    img = canvas.image()
+    dark = (img == [50, 100, 30]).all(axis=2)
+    assert dark[H // 2, W // 2] and (dark | (img == [100, 200, 60]).all(axis=2)).all()
+    # straight down: the shadow is the triangle flattened onto z = 0
+    pix, _ = cam.project(np.array(tri) * [1.0, 1.0, 0.0])
+    (ax, ay), (bx, by) = pix[1] - pix[0], pix[2] - pix[0]
+    assert dark.sum() == pytest.approx(abs(ax * by - ay * bx) / 2, rel=0.03)
+    # a surface already drawn nearer than the plane keeps its color
+    canvas = Canvas(W, H, background=(100, 200, 60))
+    canvas.triangles(cam, [[[-3.0, -3.0, 2.0], [3.0, -3.0, 2.0], [0.0, 3.0, 2.0]]], BLUE)
+    canvas.shadow(cam, [tri])
+    assert (canvas.image()[H // 2, W // 2] == BLUE).all()
+    with pytest.raises(ValueError, match="light must point up"):
+        canvas.shadow(cam, [tri], light=(0.0, 0.0, -1.0))
+
+
+def test_points_can_hide_behind_drawn_triangles():
+    cam = forward_camera()
+    for depth_test, shown in ((True, False), (False, True)):
+        canvas = Canvas(W, H)
+        canvas.triangles(cam, [facing(5.0)], BLUE)
+        canvas.points(cam, [[8.0, 0.0, 0.0], [3.0, 0.3, 0.0]], RED, radius=1, depth_test=depth_test)
+        img = canvas.image()
+        (behind, before), _ = cam.project([[8.0, 0.0, 0.0], [3.0, 0.3, 0.0]])
+        assert (img[int(behind[1]), int(behind[0])] == RED).all() == shown
+        assert (img[int(before[1]), int(before[0])] == RED).all()
+
+
+def test_text_draws_the_font_glyphs_and_names_a_missing_one():
+    canvas = Canvas(W, H)
+    canvas.text(10, 20, "A1", RED)
+    img = (canvas.image() == RED).all(axis=2)
+    np.testing.assert_array_equal(img[20 : 20 + GLYPH_H, 10 : 10 + GLYPH_W], _FONT["A"])
+    np.testing.assert_array_equal(img[20 : 20 + GLYPH_H, 16 : 16 + GLYPH_W], _FONT["1"])
+    assert img.sum() == _FONT["A"].sum() + _FONT["1"].sum()
+    rows, cols = np.nonzero(img)
+    w, h = text_size("A1")
+    assert cols.max() - 10 < w and rows.max() - 20 < h
+    big = Canvas(W, H)
+    big.text(10, 20, "A1\nA1", RED, scale=3)
+    assert (big.image() == RED).all(axis=2).sum() == 2 * 9 * img.sum()
+    big.text(W - 3, H - 3, "clipped at the corner", RED)  # no error
+    with pytest.raises(ValueError, match="'é'"):
+        canvas.text(0, 0, "café", RED)
+    with pytest.raises(ValueError, match="scale"):
+        canvas.text(0, 0, "x", RED, scale=0)
+
+
+def test_rect_blends_and_blit_copies_an_image_in_clipped():
+    canvas = Canvas(W, H, background=(200, 100, 0))
+    canvas.rect(-5, 10, 20, 30, (0, 0, 100), alpha=0.5)
+    img = canvas.image()
+    assert (img[10:30, 0:20] == [100, 50, 50]).all() and (img[30, 0] == [200, 100, 0]).all()
+    with pytest.raises(ValueError, match="alpha"):
+        canvas.rect(0, 0, 1, 1, RED, alpha=1.5)
+    picture = np.random.default_rng(0).integers(0, 256, (H, W, 3), dtype=np.uint8)
+    canvas.blit(0, 0, picture)
+    np.testing.assert_array_equal(canvas.image(), picture)
+    canvas.blit(W - 10, -5, picture[:20, :30] // 2)  # hangs over the top and right edges
+    np.testing.assert_array_equal(canvas.image()[:15, W - 10 :], picture[5:20, :10] // 2)
+    np.testing.assert_array_equal(canvas.image()[15:], picture[15:])
+    with pytest.raises(ValueError, match="shape"):
+        canvas.blit(0, 0, picture[..., 0])

@@ -5,7 +5,8 @@
   world): the course legs from the start point through the gates, each gate's buoys (port
   buoy red, starboard green; the next gate larger and joined by a yellow line, gates behind
   the boat dimmed, with their legs), the wake (the boat's last 2.5 s of track, fading with
-  age) and the hull's planform turned to the boat's attitude.
+  age) and the hull's planform turned to the boat's attitude. The readout (top left): the
+  episode's time, the next gate, the speed against the target and the three commands.
 - Elevation, 480 x 180 px: seen from starboard, the boat's heading to the right, 52 px/m
   (about 9 m across), the hull's profile (keel, chine and sheer lines) turned by its trim and
   heel and raised by its heave over the water surface line (calm water at z = 0, or the
@@ -31,7 +32,7 @@ import numpy as np
 
 from ...physics import Craft
 from ...physics.kernels import quat_matrices
-from ..drawing import EDGE_COLOR, PLATE_COLOR
+from ..drawing import EDGE_COLOR, PLATE_COLOR, number, readout, signed
 from ..render import Canvas, OrthoCamera
 
 WIDTH, PLAN_H, SIDE_H = 480, 300, 180
@@ -52,6 +53,7 @@ HULL, EDGE = PLATE_COLOR, EDGE_COLOR
 WAKE = (222, 236, 248)
 GEAR, GLASS, TAB = (72, 72, 84), (120, 165, 200), (250, 150, 30)
 BAR_BG, BAR_OK, BAR_OFF, TICK = (22, 50, 78), (90, 210, 110), (240, 170, 50), (255, 255, 255)
+READOUT = (255, 235, 160)  # apart from the wake's and the hull's colors
 
 # plan: camera right = world x, down = world -y, looking down (-z)
 PLAN_ROT = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]])
@@ -282,8 +284,23 @@ def _plan(env, e: int, shape: HullShape, pos, rot, track: Track) -> np.ndarray:
         colors = (1 - age) * np.array(WAKE) + age * np.array(WATER)
         canvas.lines(cam, wake[:-1], wake[1:], colors, thickness=2)
 
-    canvas.triangles(cam, _place(shape.planform, pos, rot), HULL)
+    canvas.triangles(cam, _place(shape.planform, pos, rot), HULL, depth_test=False)
+    readout(canvas, _lines(env, e, k, gates), color=READOUT)
     return canvas.image()
+
+
+def _lines(env, e: int, gate: int, gates: int) -> list[str]:
+    p = env.params
+    t = float(env.episode_steps[e]) * p.dt * p.substeps
+    speed = math.hypot(*np.asarray(env.sim.lin_vel[e, 0, :2], dtype=np.float64))
+    act = dict(zip(env.action_names, env.last_action[e].tolist(), strict=True))
+    where = f"gate {gate}/{gates}" if gate <= gates else "course run"
+    return [
+        f"t {t:4.1f} s  {where}",
+        f"speed {number(speed)} m/s  target {float(env.target_speed[e]):.1f} m/s",
+        f"throttle {signed(act['throttle'])} rudder {signed(act['rudder'])}"
+        f" tabs {signed(act['trim_tabs'])}",
+    ]
 
 
 def _elevation(env, e: int, shape: HullShape, pos, rot) -> np.ndarray:
@@ -312,17 +329,17 @@ def _elevation(env, e: int, shape: HullShape, pos, rot) -> np.ndarray:
         line[:, 2] = env.world.surface_height(line[:, 0], line[:, 1], env.sim.clock[e])
         deep = line.copy()
         deep[:, 2] = zc - SIDE_H / SIDE_SCALE
-        canvas.triangles(cam, _strip(deep, line), WATER)
+        canvas.triangles(cam, _strip(deep, line), WATER, depth_test=False)
 
     # the boat
     act = env.last_action[e]
     canvas.lines(cam, *_place(shape.legs, pos, rot).transpose(1, 0, 2), GEAR, thickness=4)
     canvas.lines(cam, *_place(shape.props, pos, rot).transpose(1, 0, 2), GEAR, thickness=3)
     if len(shape.cowls):
-        canvas.triangles(cam, _place(shape.cowls, pos, rot), GEAR)
+        canvas.triangles(cam, _place(shape.cowls, pos, rot), GEAR, depth_test=False)
     if len(shape.fins):
-        canvas.triangles(cam, _place(shape.fins, pos, rot), GEAR)
-    canvas.triangles(cam, _place(shape.profile, pos, rot), HULL)
+        canvas.triangles(cam, _place(shape.fins, pos, rot), GEAR, depth_test=False)
+    canvas.triangles(cam, _place(shape.profile, pos, rot), HULL, depth_test=False)
     outline = _place(shape.profile_outline, pos, rot)
     canvas.lines(cam, outline, np.roll(outline, -1, axis=0), EDGE)
     chine = _place(shape.chine, pos, rot)
