@@ -194,7 +194,11 @@ def evaluate(
             from fluidsim_envs.wrappers.rerun_logger import RerunLogger
 
             trained_env = RerunLogger(
-                venv, path=str(rerun), env_ids=list(range(min(episodes, RERUN_ENVS)))
+                venv,
+                path=str(rerun),
+                env_ids=list(range(min(episodes, RERUN_ENVS))),
+                episodes_per_env=1,  # whole episodes: each logged sub-env's first
+                name=f"{run_dir.name}, trained {cfg.algorithm.name.upper()}, seed {seed}",
             )
         except ImportError as e:
             raise RunError(f"--rerun needs the Rerun logger and rerun-sdk: {e}") from e

@@ -19,7 +19,7 @@ generator, so its episodes do not depend on the others.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import gymnasium as gym
@@ -118,6 +118,10 @@ class FluidVectorEnv(VectorEnv):
         self._needs_reset = np.ones(E, dtype=bool)
         self._episodes = np.zeros(E, dtype=np.int64)
         self._view = None
+        # callables hook(ended_ids, info) that a same-step autoreset calls just before it
+        # restarts sub-envs ``ended_ids``: the state still holds their ended episodes (how the
+        # Rerun logger records each episode's last state); ``info`` is the step's info
+        self.before_autoreset: list[Callable[[np.ndarray, dict], None]] = []
 
     # ---- hooks ----------------------------------------------------------------------------
 
@@ -239,6 +243,8 @@ class FluidVectorEnv(VectorEnv):
                 info["_final_info"] = done
                 info["final_obs"] = self._obs.copy()
                 info["_final_obs"] = done
+                for hook in self.before_autoreset:
+                    hook(ended, info)
                 self._start(ended)
                 self._observe(self._obs)
             else:

@@ -1,7 +1,13 @@
-"""What the scenes' Rerun hooks share: the hooks' protocol, level planes and grids, the body's
+"""What the scenes' Rerun hooks share: the hooks' protocol, level patches and grids, the body's
 motion scalars, colors. Rerun itself is not imported here: the hooks draw through the logger's
 ``rr`` (:class:`~fluidsim_envs.wrappers.rerun_logger.RerunLogger`), so this module imports
-without it."""
+without it.
+
+A hook logs through the logger: ``lg.log(e, path, archetype, static=...)`` for what is drawn
+once or once per episode, ``lg.record(e, path, Archetype, **columns)`` for a row held and sent
+with the episode (what changes every step), ``lg.scalars(e, path, {name: value})`` for a row of
+named series, and ``lg.every(e, period_s)`` to draw heavy things less often than every step.
+"""
 
 from __future__ import annotations
 
@@ -13,7 +19,6 @@ import numpy as np
 if TYPE_CHECKING:
     import rerun
 
-PLANE_HALF_M = 1000.0  # static planes (calm water, sea floor): far beyond any course
 WATER, GROUND, FLOOR = (40, 110, 170, 120), (150, 180, 130), (150, 130, 90)
 TARGET, BUOY = (210, 40, 40), (250, 140, 20)
 
@@ -26,17 +31,52 @@ class RerunHooks(Protocol):
         """Static geometry of sub-env e, logged once."""
 
     def episode(self, e: int) -> None:
-        """At the start of each episode of sub-env e (before that step's :meth:`step`)."""
+        """At the start of each episode of sub-env e (before that row's :meth:`step`)."""
 
     def step(self, e: int, info: dict[str, Any] | None) -> None:
-        """After every reset (``info`` None) and step of sub-env e."""
+        """Every logged row of sub-env e: an episode's first state (``info`` None), each step
+        and an episode's last state (before the autoreset)."""
 
 
-def plane(rr: rerun, z: float, half: float, color):
-    """A level square at height z, centered over the origin: a Mesh3D of two triangles."""
-    corners = [[-half, -half, z], [half, -half, z], [half, half, z], [-half, half, z]]
-    return rr.Mesh3D(
-        vertex_positions=corners, triangle_indices=[[0, 1, 2], [0, 2, 3]], albedo_factor=color
+def patch(points_xy, z: float, margin_m: float) -> np.ndarray:
+    """The corners ``[4, 3]`` of a level rectangle at height z around ``points_xy [n, 2]``,
+    ``margin_m`` beyond them: the ground or water under a course (drawn with
+    :func:`sheet`'s two triangles), not a plane to the horizon that would frame the views."""
+    xy = np.asarray(points_xy, dtype=np.float64).reshape(-1, 2)
+    (x0, y0), (x1, y1) = xy.min(axis=0) - margin_m, xy.max(axis=0) + margin_m
+    return np.array([[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]])
+
+
+def sheet(rr: rerun, color, triangles=((0, 1, 2), (0, 2, 3))):
+    """What a surface's rows share, logged once (static): its triangles and its color; its
+    vertices come per row (a :func:`patch` each episode, a swell's surface every so often)."""
+    return rr.Mesh3D.from_fields(
+        triangle_indices=np.asarray(triangles, dtype=np.uint32), albedo_factor=color
+    )
+
+
+def mesh3d(rr: rerun, vertices, triangles, colors, positions: bool = True):
+    """A render mesh's triangles ``[T, 3]`` over ``vertices [V, 3]``, one color per triangle
+    (``[T, 3]`` uint8: each vertex takes its triangles' color), as a double-sided Mesh3D with
+    area-weighted vertex normals; without its vertex positions unless ``positions`` (a mesh
+    whose vertices are logged per row)."""
+    v = np.asarray(vertices, dtype=np.float64)
+    t = np.asarray(triangles, dtype=np.uint32).reshape(-1, 3)
+    vertex_colors = np.zeros((len(v), 3), dtype=np.uint8)
+    for k in range(3):
+        vertex_colors[t[:, k]] = colors
+    a, b, c = (v[t[:, k]] for k in range(3))
+    normals = np.zeros_like(v)
+    for k in range(3):
+        np.add.at(normals, t[:, k], np.cross(b - a, c - a))
+    length = np.linalg.norm(normals, axis=1, keepdims=True)
+    normals = np.where(length > 1e-12, normals / np.maximum(length, 1e-12), [0.0, 0.0, 1.0])
+    return rr.Mesh3D.from_fields(
+        vertex_positions=v if positions else None,
+        triangle_indices=t,
+        vertex_colors=vertex_colors,
+        vertex_normals=normals,
+        face_rendering=rr.components.MeshFaceRendering.DoubleSided,
     )
 
 
@@ -59,13 +99,15 @@ def attitude_deg(quat) -> tuple[float, float]:
     )
 
 
-def log_motion(lg, e: int, horizontal: bool = False, angles=("pitch_deg", "roll_deg")) -> None:
-    """Speed (over the ground; horizontal only if asked), height and attitude of body 0
-    (``angles``: the names of its pitch and roll)."""
-    sim = lg.base.sim
+def motion(env, e: int, horizontal: bool = False, angles=("pitch_deg", "roll_deg")) -> dict:
+    """Speed (over the ground; horizontal only if asked), height and attitude of body 0 of
+    sub-env e (``angles``: the names of its pitch and roll), by series name."""
+    sim = env.sim
     v = np.asarray(sim.lin_vel[e, 0], dtype=np.float64)
-    lg.scalar(e, "state/speed_mps", np.linalg.norm(v[:2] if horizontal else v))
-    lg.scalar(e, "state/altitude_m", sim.pos[e, 0, 2])
     pitch, roll = attitude_deg(sim.quat[e, 0])
-    lg.scalar(e, f"state/{angles[0]}", pitch)
-    lg.scalar(e, f"state/{angles[1]}", roll)
+    return {
+        "speed_mps": float(np.linalg.norm(v[:2] if horizontal else v)),
+        "altitude_m": float(sim.pos[e, 0, 2]),
+        angles[0]: pitch,
+        angles[1]: roll,
+    }

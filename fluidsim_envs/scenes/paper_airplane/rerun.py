@@ -1,11 +1,14 @@
-"""PaperAirplane-v0 in a Rerun recording: the ground (once), the target and its success ring
-(each episode), speed, height, attitude and the distance to the target (each step)."""
+"""PaperAirplane-v0 in a Rerun recording: each episode, the ground around its course (the
+launch point and the target), the target and its success ring; each step, speed, height,
+attitude (``state``) and the distance to the target (``state/task``)."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..rerun import GROUND, TARGET, log_motion, plane
+from ..rerun import GROUND, TARGET, motion, patch, sheet
+
+GROUND_MARGIN_M = 10.0  # the ground drawn this far beyond the launch point and the target
 
 
 class PaperAirplaneRerun:
@@ -16,19 +19,23 @@ class PaperAirplaneRerun:
         self.env = logger.base
 
     def world(self, e: int) -> None:
-        half = self.env.params.arena_radius_m
-        self.lg.log(e, "ground", plane(self.lg.rr, 0.0, half, GROUND), static=True)
+        lg, rr = self.lg, self.lg.rr
+        lg.log(e, "ground", sheet(rr, GROUND), static=True)
+        lg.log(e, "target", rr.Points3D.from_fields(radii=0.1, colors=TARGET), static=True)
+        lg.log(e, "target/ring", rr.LineStrips3D.from_fields(colors=TARGET), static=True)
 
     def episode(self, e: int) -> None:
         lg, env, rr = self.lg, self.env, self.lg.rr
         tx, ty = env.target_xy(e)
+        ground = patch([env.sim.pos[e, 0, :2], (tx, ty)], 0.0, GROUND_MARGIN_M)
+        lg.record(e, "ground", rr.Mesh3D, vertex_positions=ground)
         ring = np.linspace(0.0, 2.0 * np.pi, 49)
         r = env.params.success_radius_m
         circle = np.stack([tx + r * np.cos(ring), ty + r * np.sin(ring), 0.0 * ring], axis=1)
-        lg.log(e, "target", rr.Points3D([[tx, ty, 0.0]], radii=0.1, colors=TARGET))
-        lg.log(e, "target/ring", rr.LineStrips3D([circle], colors=TARGET))
+        lg.record(e, "target", rr.Points3D, positions=[[tx, ty, 0.0]])
+        lg.record(e, "target/ring", rr.LineStrips3D, strips=circle[None])
 
     def step(self, e: int, info: dict | None) -> None:
-        log_motion(self.lg, e)
+        self.lg.scalars(e, "state", motion(self.env, e))
         if info is not None:
-            self.lg.scalar(e, "state/distance_to_target_m", info["distance_m"][e])
+            self.lg.scalars(e, "state/task", {"distance_to_target_m": info["distance_m"][e]})
