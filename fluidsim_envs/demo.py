@@ -1,9 +1,9 @@
-"""Demo (the README's main command until training lands): a paper dart thrown from 10 m
-glides to the floor, a buoy dropped into water settles at its waterline, and on
-each scene of ``SCENES`` (PaperAirplane-v0, SubmarineWake-v0, BoatOnStep-v0) its scripted
+"""The physics and the scripted pilots, without training (``make pilots``): a paper dart
+thrown from 10 m glides to the floor, a buoy dropped into water settles at its waterline, and
+on each scene of ``SCENES`` (PaperAirplane-v0, SubmarineWake-v0, BoatOnStep-v0) its scripted
 pilot, a random policy and idle controls fly 256 seeded episodes.
 
-    python -m fluidsim_envs.demo
+    python -m fluidsim_envs.demo [--episodes N] [--seed S]
 """
 
 from __future__ import annotations
@@ -58,7 +58,21 @@ def scenes(num_envs: int = 256, seed: int = 0) -> None:
         scene.demo(num_envs=num_envs, seed=seed)
 
 
-if __name__ == "__main__":
+def main(argv: list[str] | None = None) -> None:
+    import argparse
+
+    parser = argparse.ArgumentParser(
+        prog="python -m fluidsim_envs.demo", description=__doc__.splitlines()[0]
+    )
+    parser.add_argument("--episodes", type=int, default=256, help="seeded episodes per policy")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the episodes")
+    args = parser.parse_args(argv)
+    if args.episodes < 1:
+        parser.error(f"--episodes must be at least 1, got {args.episodes}")
     glide()
     float_buoy()
-    scenes()
+    scenes(num_envs=args.episodes, seed=args.seed)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,12 +1,31 @@
-"""The README's Python example runs as written."""
+"""The README and docs/ pages: their Python examples run as written, and the README's table of
+envs is what ``python -m benchmarks.report`` writes from the registry and docs/envs.csv."""
 
 import re
 from pathlib import Path
 
+import pytest
 
-def test_readme_python_blocks_run():
-    text = (Path(__file__).parents[1] / "README.md").read_text()
-    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
-    assert blocks, "README has no python example"
+from benchmarks import report
+
+ROOT = Path(__file__).parents[1]
+PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+
+
+@pytest.mark.parametrize("page", PAGES, ids=[p.name for p in PAGES])
+def test_python_blocks_run(page):
+    blocks = re.findall(r"```python\n(.*?)```", page.read_text(), flags=re.S)
+    if page.name == "README.md":
+        assert blocks, "README has no python example"
     for block in blocks:
-        exec(compile(block, "README.md", "exec"), {})
+        exec(compile(block, str(page.relative_to(ROOT)), "exec"), {})
+
+
+def test_the_envs_table_is_up_to_date(capsys):
+    assert report.main(["--check"]) == 0, capsys.readouterr().out
+
+
+def test_the_readme_links_resolve():
+    text = (ROOT / "README.md").read_text()
+    for target in re.findall(r"\]\(((?:docs/|LICENSE)[^)#]*)\)", text):
+        assert (ROOT / target).exists(), target

@@ -580,11 +580,12 @@ def _next_steps(run_dir: Path, timing: dict, best: bool) -> list[str]:
 def parse_args(argv: list[str] | None, prog: str = "fluidsim-train") -> argparse.Namespace:
     from .config import shipped_configs
 
+    shipped = list(shipped_configs())
     parser = argparse.ArgumentParser(
         prog=prog,
         description="Train a pilot with Stable-Baselines3 from a YAML config.",
-        epilog=f"shipped configs: {', '.join(shipped_configs())}. Example: {prog} "
-        "paper_airplane_ppo --set total_timesteps=200000",
+        epilog=f"shipped configs: {', '.join(shipped)}. Example: {prog} {shipped[0]} "
+        "--set total_timesteps=200000",
     )
     parser.add_argument(
         "config",

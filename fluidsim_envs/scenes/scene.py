@@ -29,6 +29,9 @@ class Scene:
 
     id: str  # the gym id, "fluidsim/Name-vN"
     summary: str  # one line: the task
+    # what info["success"] means, with the parameters it reads in braces (filled from a
+    # params instance by success_text): one line for the docs' table of envs
+    success: str
     env_cls: type[FluidEnv]  # the single env (the batch of one)
     vector_cls: type[FluidVectorEnv]  # the native vector env
     params_cls: type  # the frozen parameter dataclass (gym.make kwargs)
@@ -61,8 +64,17 @@ class Scene:
             raise ValueError(
                 f"{own}: obs_dim {self.vector_cls.obs_dim} != {len(self.observation)} columns"
             )
+        try:
+            self.success_text()
+        except (KeyError, IndexError, ValueError) as e:
+            raise ValueError(f"{own}: success names no parameter of the env: {e}") from None
         object.__setattr__(self, "observation", tuple(tuple(c) for c in self.observation))
         object.__setattr__(self, "short_episodes", MappingProxyType(dict(self.short_episodes)))
+
+    def success_text(self, params=None) -> str:
+        """:attr:`success` with the numbers of ``params`` (default: the env's defaults)."""
+        p = self.params_cls() if params is None else params
+        return self.success.format(**{f: getattr(p, f) for f in p.__dataclass_fields__})
 
     @property
     def obs_names(self) -> tuple[str, ...]:

@@ -10,6 +10,7 @@
 from ..scene import Scene
 from .env import GATES, BoatOnStepEnv, BoatOnStepParams, BoatOnStepVectorEnv
 from .kernel import OBS, OBS_NAMES, OBSERVATION
+from .mesh import meshes
 from .pilot import BoatOnStepPilot, HelmGains, demo, make_pilot
 from .rerun import BoatOnStepRerun
 from .view import BoatOnStepView
@@ -17,6 +18,7 @@ from .view import BoatOnStepView
 SCENE = Scene(
     id="fluidsim/BoatOnStep-v0",
     summary="get a planing speedboat up on step and run a course of gates",
+    success="every gate of the course passed (none missed), no crash",
     env_cls=BoatOnStepEnv,
     vector_cls=BoatOnStepVectorEnv,
     params_cls=BoatOnStepParams,
@@ -26,6 +28,7 @@ SCENE = Scene(
     rerun=BoatOnStepRerun,
     demo=demo,
     short_episodes={"max_episode_steps": 40},
+    meshes=meshes,
 )
 
 __all__ = [

@@ -11,6 +11,7 @@ import numpy as np
 from ..scene import Scene
 from .env import PaperAirplaneEnv, PaperAirplaneParams, PaperAirplaneVectorEnv
 from .kernel import OBS, OBS_NAMES, OBSERVATION
+from .mesh import meshes
 from .pilot import PaperAirplanePilot, PilotGains, demo, make_pilot
 from .rerun import PaperAirplaneRerun
 from .view import PaperAirplaneView
@@ -25,6 +26,8 @@ def _blow_up(venv, env_index: int) -> None:
 SCENE = Scene(
     id="fluidsim/PaperAirplane-v0",
     summary="glide a paper dart to a target on the ground and land on it",
+    success="landed (sink under {crash_sink_mps:g} m/s, upright) within {success_radius_m:g} m "
+    "of the target",
     env_cls=PaperAirplaneEnv,
     vector_cls=PaperAirplaneVectorEnv,
     params_cls=PaperAirplaneParams,
@@ -35,6 +38,7 @@ SCENE = Scene(
     demo=demo,
     short_episodes={"launch_height_m": (1.5, 2.5), "max_episode_steps": 40},
     diverge=_blow_up,
+    meshes=meshes,
 )
 
 __all__ = [

@@ -11,6 +11,7 @@
 from ..scene import Scene
 from .env import SubmarineWakeEnv, SubmarineWakeParams, SubmarineWakeVectorEnv
 from .kernel import OBS, OBS_NAMES, OBSERVATION
+from .mesh import meshes
 from .pilot import StationGains, SubmarineWakePilot, demo, make_pilot
 from .rerun import SubmarineWakeRerun
 from .view import SubmarineWakeView
@@ -18,6 +19,8 @@ from .view import SubmarineWakeView
 SCENE = Scene(
     id="fluidsim/SubmarineWake-v0",
     summary="hold a small UUV on station in a submarine's wake",
+    success="{success_fraction:.0%} of the steps within {success_radius_m:g} m of the station "
+    "point, no crash",
     env_cls=SubmarineWakeEnv,
     vector_cls=SubmarineWakeVectorEnv,
     params_cls=SubmarineWakeParams,
@@ -27,6 +30,7 @@ SCENE = Scene(
     rerun=SubmarineWakeRerun,
     demo=demo,
     short_episodes={"max_episode_steps": 40, "lost_distance_m": 5.0},
+    meshes=meshes,
 )
 
 __all__ = [
