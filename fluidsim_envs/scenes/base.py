@@ -157,6 +157,12 @@ class FluidVectorEnv(VectorEnv):
         return _read_only(self._elapsed)
 
     @property
+    def episode_return(self) -> np.ndarray:
+        """The reward summed over each sub-env's current episode so far [E] (a copy; 0 right
+        after a reset, the autoreset's included)."""
+        return self._sums.sum(axis=0)
+
+    @property
     def episodes(self) -> np.ndarray:
         """Episodes started in each sub-env [E] (read-only): a viewer's cue to restart what it
         keeps per episode."""

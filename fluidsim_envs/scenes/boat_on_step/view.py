@@ -296,7 +296,7 @@ def _lines(env, e: int, gate: int, gates: int) -> list[str]:
     act = dict(zip(env.action_names, env.last_action[e].tolist(), strict=True))
     where = f"gate {gate}/{gates}" if gate <= gates else "course run"
     return [
-        f"t {t:4.1f} s  {where}",
+        f"t {t:4.1f} s  {where}  return {number(float(env.episode_return[e]), 2)}",
         f"speed {number(speed)} m/s  target {float(env.target_speed[e]):.1f} m/s",
         f"throttle {signed(act['throttle'])} rudder {signed(act['rudder'])}"
         f" tabs {signed(act['trim_tabs'])}",

@@ -76,6 +76,7 @@ def _lines(env, e: int, pos: np.ndarray, target: np.ndarray) -> list[str]:
     cmd = dict(zip(env.sim.control_names, env.sim.controls[e].tolist(), strict=True))
     ail, elv, rud = cmd["aileron"], cmd["elevator"], cmd["rudder"]
     return [
-        f"t {t:4.1f} s  speed {number(speed)} m/s  height {number(pos[2], 2)} m",
+        f"t {t:4.1f} s  speed {number(speed)} m/s  height {number(pos[2], 2)} m"
+        f"  return {number(float(env.episode_return[e]), 2)}",
         f"target {number(to_go)} m  ail {signed(ail)} elv {signed(elv)} rud {signed(rud)}",
     ]

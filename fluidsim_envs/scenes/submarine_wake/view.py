@@ -251,7 +251,8 @@ def _lines(env, e, vpos, station, lead_speed, commands) -> list[str]:
     return [
         f"t {t:4.1f} s  station {number(float(np.linalg.norm(vpos - station)))} m"
         f"  depth {number(-float(vpos[2]))} m",
-        f"uuv {number(speed, 2)} m/s  lead {lead_speed:.2f} m/s",
+        f"uuv {number(speed, 2)} m/s  lead {lead_speed:.2f} m/s"
+        f"  return {number(float(env.episode_return[e]), 1)}",
         f"thrust {signed(cmd['thrust'])} rudder {signed(cmd['rudder'])}"
         f" planes {signed(cmd['dive_planes'])}",
     ]
