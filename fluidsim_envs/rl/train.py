@@ -35,6 +35,7 @@ import shlex
 import subprocess
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -214,6 +215,62 @@ def latest_checkpoint(run_dir: Path) -> tuple[int, Path] | None:
     return max(found) if found else None
 
 
+@dataclass(frozen=True)
+class Restart:
+    """Where ``--resume`` continues from: a saved model, its statistics and replay buffer
+    (either may be absent), and the timesteps it had done."""
+
+    steps: int
+    model: Path
+    stats: Path
+    replay: Path
+
+
+def restart_point(run_dir: Path) -> Restart | None:
+    """The newest saved state of a run: its newest checkpoint, or its final model when that
+    went further (a finished run continued with a larger ``total_timesteps``)."""
+    found = []
+    checkpoint = latest_checkpoint(run_dir)
+    if checkpoint is not None:
+        steps, path = checkpoint
+        replay = path.with_name(f"{CHECKPOINT_PREFIX}_replay_buffer_{steps}_steps.pkl")
+        found.append(Restart(steps, path, checkpoint_stats(path), replay))
+    meta = run_dir / "run.yaml"
+    if (run_dir / "model.zip").is_file() and meta.is_file():
+        steps = (yaml.safe_load(meta.read_text()) or {}).get("num_timesteps")
+        if isinstance(steps, int):
+            stats, replay = run_dir / "vecnormalize.pkl", run_dir / "replay_buffer.pkl"
+            found.append(Restart(steps, run_dir / "model.zip", stats, replay))
+    return max(found, key=lambda r: r.steps) if found else None
+
+
+def trim_logs(run_dir: Path, restart: Restart) -> None:
+    """Drop what a run logged after its restart point, so a resumed run's history does not
+    hold the lost stretch twice: evaluations past its timesteps (``eval/history.csv``,
+    ``eval/evaluations.npz``) and training episodes that ended after its model was saved
+    (``monitor.csv``, by their wall time)."""
+    import numpy as np
+
+    history = run_dir / "eval" / "history.csv"
+    if history.is_file():
+        lines = history.read_text().splitlines(keepends=True)
+        kept = [ln for ln in lines[1:] if int(float(ln.split(",", 1)[0])) <= restart.steps]
+        history.write_text("".join(lines[:1] + kept))
+    npz = run_dir / "eval" / "evaluations.npz"
+    if npz.is_file():
+        with np.load(npz) as data:
+            keep = data["timesteps"] <= restart.steps
+            arrays = {k: data[k][keep] for k in data.files}
+        np.savez(npz, **arrays)
+    monitor = run_dir / "monitor.csv"
+    if monitor.is_file():
+        lines = monitor.read_text().splitlines(keepends=True)
+        t_start = float(re.search(r'"t_start": ([0-9.e+-]+)', lines[0]).group(1))
+        saved = restart.model.stat().st_mtime - t_start
+        rows = [ln for ln in lines[2:] if float(ln.split(",")[2]) <= saved]
+        monitor.write_text("".join(lines[:2] + rows))
+
+
 def checkpoint_stats(model_path: Path) -> Path:
     """The normalization statistics saved with a checkpoint (SB3's naming)."""
     steps = model_path.name[len(CHECKPOINT_PREFIX) + 1 :]
@@ -237,6 +294,8 @@ def schedule_warnings(cfg: TrainConfig, planned: int) -> list[str]:
     """What the run will never do: an evaluation or checkpoint interval beyond its length."""
     calls = planned // cfg.n_envs
     out = []
+    if planned <= 0:  # nothing left to train: nothing to warn about
+        return out
     for what, freq, key, left in (
         ("evaluation", cfg.eval.freq, "eval.freq", "best/ stays empty"),
         ("checkpoint", cfg.checkpoint.freq, "checkpoint.freq", "--resume will have nothing"),
@@ -319,28 +378,52 @@ def _callbacks(cfg: TrainConfig, run_dir: Path, eval_env, say) -> list:
             )
         )
     if cfg.eval.freq > 0:
-        callbacks.append(
-            EvalCallback(
-                eval_env,
-                callback_on_new_best=SaveBestStats(),
-                callback_after_eval=EvalHistory(),
-                n_eval_episodes=cfg.eval.n_episodes,
-                eval_freq=_every(cfg.eval.freq, cfg.n_envs),
-                log_path=str(run_dir / "eval"),
-                best_model_save_path=str(run_dir / "best"),
-                deterministic=True,
-                verbose=0,
-            )
+        evaluation = EvalCallback(
+            eval_env,
+            callback_on_new_best=SaveBestStats(),
+            callback_after_eval=EvalHistory(),
+            n_eval_episodes=cfg.eval.n_episodes,
+            eval_freq=_every(cfg.eval.freq, cfg.n_envs),
+            log_path=str(run_dir / "eval"),
+            best_model_save_path=str(run_dir / "best"),
+            deterministic=True,
+            verbose=0,
         )
+        _continue_evaluations(evaluation, run_dir)
+        callbacks.append(evaluation)
     return callbacks
 
 
-def _save(model, run_dir: Path, name: str, stats_name: str) -> None:
-    run_dir.mkdir(parents=True, exist_ok=True)
-    model.save(run_dir / name)
+def _continue_evaluations(evaluation, run_dir: Path) -> None:
+    """A resumed run's EvalCallback starts from the run's earlier evaluations: its best score
+    (so a worse model does not replace ``best/``) and the arrays it rewrites into
+    ``evaluations.npz``. A new run has none."""
+    import numpy as np
+
+    npz = run_dir / "eval" / "evaluations.npz"
+    if not npz.is_file():
+        return
+    with np.load(npz) as data:
+        evaluation.evaluations_timesteps = [int(t) for t in data["timesteps"]]
+        evaluation.evaluations_results = [list(r) for r in data["results"]]
+        evaluation.evaluations_length = [list(n) for n in data["ep_lengths"]]
+        if "successes" in data.files:
+            evaluation.evaluations_successes = [list(x) for x in data["successes"]]
+    if evaluation.evaluations_results:
+        means = [float(np.mean(r)) for r in evaluation.evaluations_results]
+        evaluation.best_mean_reward = max(means)
+
+
+def _save(model, cfg: TrainConfig, where: Restart) -> None:
+    """The model, its normalization statistics and (off-policy, when the config keeps it)
+    its replay buffer, at the paths ``where`` names."""
+    where.model.parent.mkdir(parents=True, exist_ok=True)
+    model.save(where.model)
     vec_normalize = model.get_vec_normalize_env()
     if vec_normalize is not None:
-        vec_normalize.save(str(run_dir / stats_name))
+        vec_normalize.save(str(where.stats))
+    if cfg.checkpoint.save_replay_buffer and hasattr(model, "save_replay_buffer"):
+        model.save_replay_buffer(where.replay)
 
 
 def _timing(venv, eval_env, wall: float) -> dict[str, float]:
@@ -421,38 +504,18 @@ def train(
     say=print,
 ) -> Path:
     """Train ``cfg`` into ``run_dir`` (or, with ``resume``, continue the run there from its
-    newest checkpoint) and return the final model's path. ``say`` gets the lines that tell
+    newest saved state) and return the final model's path. ``say`` gets the lines that tell
     the user what happens (the plan, each evaluation, what to do next)."""
     cfg = resolved(cfg)  # every env parameter written down: the run replays whatever changes
     run_dir.mkdir(parents=True, exist_ok=True)
-    meta_path = run_dir / "run.yaml"
-    now = datetime.datetime.now().isoformat(timespec="seconds")
-    algo_cls = algorithm_class(cfg.algorithm.name)
-    checkpoint = None
-    if resume:
-        checkpoint = latest_checkpoint(run_dir)
-        if checkpoint is None:
-            raise RunError(f"{run_dir}: no checkpoint in {run_dir / 'checkpoints'} to resume from")
-        meta = yaml.safe_load(meta_path.read_text()) if meta_path.exists() else {}
-    else:
-        meta = {
-            "env_id": cfg.env_id,
-            "env_version": int(cfg.env_id.rsplit("-v", 1)[1]),
-            "algorithm": cfg.algorithm.name,
-            "command": command,
-            "command_line": shlex.join(command),
-            "cwd": str(Path.cwd()),
-            "git": git_revision(),
-            "started": now,
-            "versions": versions(),
-        }
+    restart = _restart(run_dir, cfg) if resume else None
+    meta = _meta(run_dir, cfg, command, restart)
     dump_config(cfg, run_dir / "config.yaml")
-
     # seeding, in one place: training env i gets SeedSequence(seed).spawn(n_envs)[i] at its
     # first reset (SB3VecEnv.seed, as the env's own reset(seed=...)); a resumed run reseeds
     # with seed + timesteps done, so it does not replay the episodes it began with; the eval
     # env is reseeded before every evaluation
-    done_steps = checkpoint[0] if checkpoint else 0
+    done_steps = restart.steps if restart else 0
     env_seed = cfg.seed + done_steps
     seeds = {
         "model": cfg.seed,
@@ -464,20 +527,92 @@ def train(
     planned = planned_timesteps(cfg, remaining) if remaining > 0 else 0
     for line in (_plan(cfg, run_dir, remaining, planned), *schedule_warnings(cfg, planned)):
         say(line)
-    stats = None
-    if checkpoint is not None and cfg.normalize.enabled:
-        stats = checkpoint_stats(checkpoint[1])
-        if not stats.exists():
-            raise RunError(f"{run_dir}: checkpoint {checkpoint[1].name} has no {stats.name}")
+    stats = restart.stats if restart is not None and cfg.normalize.enabled else None
     venv = make_env(
         cfg, cfg.n_envs, env_seed, stats=stats, monitor_file=run_dir / "monitor.csv", append=resume
     )
     eval_env = None
     if cfg.eval.freq > 0:
         eval_env = make_env(cfg, cfg.eval.n_episodes, cfg.eval.seed, evaluation=True)
+    model = _model(cfg, run_dir, venv, restart, env_seed)
+    if restart is None:
+        meta["seeds"] = seeds
+    else:
+        meta.setdefault("resumes", []).append(
+            {
+                "at": meta.pop("_now"),
+                "command_line": shlex.join(command),
+                "from": str(restart.model.relative_to(run_dir)),
+                "timesteps": done_steps,
+                "seeds": seeds,
+            }
+        )
+    meta.pop("_now", None)
+    meta["total_timesteps"] = cfg.total_timesteps
+    (run_dir / "run.yaml").write_text(yaml.safe_dump(meta, sort_keys=False))
 
-    if checkpoint is None:
-        model = algo_cls(
+    start = time.perf_counter()
+    try:
+        if planned > 0:
+            model.learn(
+                total_timesteps=planned,
+                callback=_callbacks(cfg, run_dir, eval_env, say),
+                tb_log_name=cfg.algorithm.name.upper(),
+                reset_num_timesteps=restart is None,
+                progress_bar=progress_bar,
+            )
+    except KeyboardInterrupt:
+        n = model.num_timesteps
+        _save(model, cfg, _checkpoint_paths(run_dir, n))
+        print(f"\ninterrupted at {n} timesteps; continue with --resume {run_dir}", file=sys.stderr)
+        raise
+    finally:
+        venv.close()
+        if eval_env is not None:
+            eval_env.close()
+    return _finish(
+        model, cfg, run_dir, meta, _timing(venv, eval_env, time.perf_counter() - start), say
+    )
+
+
+def _restart(run_dir: Path, cfg: TrainConfig) -> Restart:
+    """The state ``--resume`` continues from, checked, with the run's later logs dropped."""
+    restart = restart_point(run_dir)
+    if restart is None:
+        raise RunError(
+            f"{run_dir}: nothing saved to resume from (no checkpoints/ model, no model.zip)"
+        )
+    if cfg.normalize.enabled and not restart.stats.exists():
+        raise RunError(f"{run_dir}: {restart.model.name} has no {restart.stats.name}")
+    trim_logs(run_dir, restart)
+    return restart
+
+
+def _meta(run_dir: Path, cfg: TrainConfig, command: list[str], restart: Restart | None) -> dict:
+    """``run.yaml``'s contents: read back on a resume, else what describes a new run."""
+    now = datetime.datetime.now().isoformat(timespec="seconds")
+    path = run_dir / "run.yaml"
+    if restart is not None:
+        meta = yaml.safe_load(path.read_text()) if path.exists() else {}
+        return {**(meta or {}), "_now": now}
+    return {
+        "env_id": cfg.env_id,
+        "env_version": int(cfg.env_id.rsplit("-v", 1)[1]),
+        "algorithm": cfg.algorithm.name,
+        "command": command,
+        "command_line": shlex.join(command),
+        "cwd": str(Path.cwd()),
+        "git": git_revision(),
+        "started": now,
+        "versions": versions(),
+    }
+
+
+def _model(cfg: TrainConfig, run_dir: Path, venv, restart: Restart | None, env_seed: int):
+    """A new model, or the saved one (with its replay buffer if kept) reseeded to go on."""
+    algo_cls = algorithm_class(cfg.algorithm.name)
+    if restart is None:
+        return algo_cls(
             "MlpPolicy",
             venv,
             policy_kwargs=policy_kwargs(cfg),
@@ -487,58 +622,37 @@ def train(
             verbose=0,
             **algorithm_kwargs(cfg),
         )
-        meta["seeds"] = seeds
-    else:
-        model = algo_cls.load(checkpoint[1], env=venv, device=cfg.device)
-        model.tensorboard_log = str(run_dir / "tb")
-        model.set_random_seed(env_seed)  # torch, the action space and the envs (SeedSequence)
-        replay = checkpoint[1].with_name(
-            f"{CHECKPOINT_PREFIX}_replay_buffer_{done_steps}_steps.pkl"
-        )
-        if replay.exists():
-            model.load_replay_buffer(replay)
-        meta.setdefault("resumes", []).append(
-            {"at": now, "from": checkpoint[1].name, "timesteps": done_steps, "seeds": seeds}
-        )
-    meta["total_timesteps"] = cfg.total_timesteps
-    meta_path.write_text(yaml.safe_dump(meta, sort_keys=False))
+    model = algo_cls.load(restart.model, env=venv, device=cfg.device)
+    model.tensorboard_log = str(run_dir / "tb")
+    model.set_random_seed(env_seed)  # torch, the action space and the envs (SeedSequence)
+    if restart.replay.exists():
+        model.load_replay_buffer(restart.replay)
+    return model
 
-    start = time.perf_counter()
-    try:
-        if remaining > 0:
-            model.learn(
-                total_timesteps=planned,
-                callback=_callbacks(cfg, run_dir, eval_env, say),
-                tb_log_name=cfg.algorithm.name.upper(),
-                reset_num_timesteps=checkpoint is None,
-                progress_bar=progress_bar,
-            )
-    except KeyboardInterrupt:
-        n = model.num_timesteps
-        _save(
-            model,
-            run_dir / "checkpoints",
-            f"{CHECKPOINT_PREFIX}_{n}_steps.zip",
-            f"{CHECKPOINT_PREFIX}_vecnormalize_{n}_steps.pkl",
-        )
-        print(f"\ninterrupted at {n} timesteps; continue with --resume {run_dir}", file=sys.stderr)
-        raise
-    finally:
-        venv.close()
-        if eval_env is not None:
-            eval_env.close()
 
-    wall = time.perf_counter() - start
-    _save(model, run_dir, "model.zip", "vecnormalize.pkl")
-    meta.setdefault("timing", []).append(_timing(venv, eval_env, wall))
-    meta["num_timesteps"] = int(model.num_timesteps)
+def _checkpoint_paths(run_dir: Path, steps: int) -> Restart:
+    """Where a checkpoint at ``steps`` goes (CheckpointCallback's naming)."""
+    model = run_dir / "checkpoints" / f"{CHECKPOINT_PREFIX}_{steps}_steps.zip"
+    replay = model.with_name(f"{CHECKPOINT_PREFIX}_replay_buffer_{steps}_steps.pkl")
+    return Restart(steps, model, checkpoint_stats(model), replay)
+
+
+def _finish(model, cfg: TrainConfig, run_dir: Path, meta: dict, timing: dict, say) -> Path:
+    """Save the final model, close ``run.yaml``, chart the run and say what to do next."""
+    steps = int(model.num_timesteps)
+    final = Restart(
+        steps, run_dir / "model.zip", run_dir / "vecnormalize.pkl", run_dir / "replay_buffer.pkl"
+    )
+    _save(model, cfg, final)
+    meta.setdefault("timing", []).append(timing)
+    meta["num_timesteps"] = steps
     meta["finished"] = datetime.datetime.now().isoformat(timespec="seconds")
-    meta_path.write_text(yaml.safe_dump(meta, sort_keys=False))
+    (run_dir / "run.yaml").write_text(yaml.safe_dump(meta, sort_keys=False))
     plot_learning_curve(run_dir)
     best = (run_dir / "best" / "best_model.zip").is_file()
-    for line in _next_steps(run_dir, meta["timing"][-1], best=best):
+    for line in _next_steps(run_dir, timing, best=best):
         say(line)
-    return run_dir / "model.zip"
+    return final.model
 
 
 def _plan(cfg: TrainConfig, run_dir: Path, remaining: int, planned: int) -> str:
@@ -546,7 +660,11 @@ def _plan(cfg: TrainConfig, run_dir: Path, remaining: int, planned: int) -> str:
     a = cfg.algorithm
     if remaining <= 0:
         return f"{run_dir}: already at {cfg.total_timesteps:,} timesteps; nothing to train"
-    chunk = f"rollouts of {a.n_steps} x {cfg.n_envs}" if a.name == "ppo" else "env steps"
+    chunk = (
+        f"rollouts of {a.n_steps} x {cfg.n_envs}"
+        if a.name == "ppo"
+        else f"collections of {a.train_freq} x {cfg.n_envs}"
+    )
     rounded = f" ({remaining:,} asked, rounded up to whole {chunk})" if planned != remaining else ""
     evals = (
         f"evaluation every {cfg.eval.freq:,} steps on {cfg.eval.n_episodes} episodes"

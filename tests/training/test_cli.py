@@ -163,6 +163,18 @@ def test_train_warns_when_evaluation_or_checkpoints_never_happen(tmp_path, capsy
 
 
 def test_evaluate_the_best_model_with_its_own_statistics(run, tmp_path):
+    """best/ holds the statistics of the step the best model comes from (its checkpoint's),
+    and evaluating it needs no other."""
+    import pickle
+
+    with (run / "eval" / "history.csv").open() as f:
+        rows = list(csv.DictReader(f))
+    best_step = max(rows, key=lambda r: float(r["mean_return"]))["timesteps"]
+    saved = run / "checkpoints" / f"model_vecnormalize_{best_step}_steps.pkl"
+    counts = [
+        pickle.loads(p.read_bytes()).obs_rms.count for p in (run / "best/vecnormalize.pkl", saved)
+    ]
+    assert counts[0] == counts[1]
     run = copy_run(run, tmp_path)
     (run / "vecnormalize.pkl").unlink()  # the final model's: the best one must not need it
     rows = evaluate_cli.evaluate(run, 4, 0, which="best")
@@ -249,20 +261,53 @@ def test_resume_continues_an_interrupted_run(run, tmp_path):
     assert (run / "checkpoints" / "model_2048_steps.zip").is_file()
     meta = yaml.safe_load((run / "run.yaml").read_text())
     (resumed,) = meta["resumes"]
-    assert resumed["from"] == "model_1024_steps.zip" and resumed["timesteps"] == 1024
+    assert resumed["from"] == "checkpoints/model_1024_steps.zip" and resumed["timesteps"] == 1024
+    assert "--resume" in resumed["command_line"]
     assert meta["num_timesteps"] == 2048
-    with (run / "eval" / "history.csv").open() as f:  # appended, not restarted
+    # the lost stretch's evaluation (2048) dropped, then evaluated again: once each
+    with (run / "eval" / "history.csv").open() as f:
         steps = [int(r["timesteps"]) for r in csv.DictReader(f)]
-    assert steps == [1024, 2048, 2048]
+    assert steps == [1024, 2048]
+    assert np.load(run / "eval" / "evaluations.npz")["timesteps"].tolist() == [1024, 2048]
     monitor = (run / "monitor.csv").read_text()
     assert monitor.count("r,l,t,success") == 1  # one header, rows of both sessions
+
+
+def test_a_resumed_evaluation_keeps_the_runs_best_score(run, tmp_path):
+    """A resumed run's EvalCallback starts from the run's evaluations: a new best must beat
+    the best before the interruption, not minus infinity."""
+    from types import SimpleNamespace
+
+    run = copy_run(run, tmp_path)
+    evaluation = SimpleNamespace(best_mean_reward=-np.inf)
+    train_cli._continue_evaluations(evaluation, run)
+    with (run / "eval" / "history.csv").open() as f:
+        means = [float(r["mean_return"]) for r in csv.DictReader(f)]
+    assert evaluation.best_mean_reward == pytest.approx(max(means), rel=1e-12)
+    assert evaluation.evaluations_timesteps == [1024, 2048]
+
+
+def test_resume_a_finished_run_for_more_steps(run, tmp_path, capsys):
+    """--resume with a larger total continues from the final model when it went furthest."""
+    run = copy_run(run, tmp_path)
+    for name in ("model_2048_steps.zip", "model_vecnormalize_2048_steps.pkl"):
+        (run / "checkpoints" / name).unlink()
+    args = ["--resume", str(run), "--set", "total_timesteps=3072", "--no-progress-bar"]
+    assert train_cli.main(args) == 0
+    meta = yaml.safe_load((run / "run.yaml").read_text())
+    assert meta["resumes"][-1]["from"] == "model.zip" and meta["resumes"][-1]["timesteps"] == 2048
+    assert meta["num_timesteps"] == 3072
+    assert train_cli.main(["--resume", str(run), "--no-progress-bar"]) == 0
+    out = capsys.readouterr().out
+    assert "already at 3,072 timesteps; nothing to train" in out and "warning" not in out
 
 
 def test_resume_needs_a_checkpoint(run, tmp_path, capsys):
     run = copy_run(run, tmp_path)
     shutil.rmtree(run / "checkpoints")
+    (run / "model.zip").unlink()  # an interrupted run that never checkpointed
     assert train_cli.main(["--resume", str(run)]) == 2
-    assert "no checkpoint" in capsys.readouterr().err
+    assert "nothing saved to resume from" in capsys.readouterr().err
     assert train_cli.main([str(CONFIG), "--resume", str(run)]) == 2
     assert "takes its config and folder from RUN" in capsys.readouterr().err
 
