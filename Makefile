@@ -13,9 +13,10 @@ $(STAMP): pyproject.toml constraints.txt
 	$(BIN)/pip install --quiet -c constraints.txt -e ".[dev]"
 	touch $(STAMP)
 
-# the physics kernels compiled ahead (a few minutes, once): the demo's first step then
-# starts at once. The tests compile only what they use, so `make test` does not wait on it.
-$(WARM): $(STAMP)
+# the physics kernels compiled ahead (minutes, once; again after a source change, when only
+# what changed compiles): the demo's first step then starts at once. The tests compile only
+# what they use, so `make test` does not wait on it.
+$(WARM): $(STAMP) $(shell find fluidsim_envs -name '*.py')
 	$(BIN)/python -m fluidsim_envs.warmup
 	touch $(WARM)
 

@@ -62,7 +62,9 @@ def main(argv: list[str] | None = None) -> None:
     import argparse
 
     parser = argparse.ArgumentParser(
-        prog="python -m fluidsim_envs.demo", description=__doc__.splitlines()[0]
+        prog="python -m fluidsim_envs.demo",
+        description=__doc__.split("\n\n")[0],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--episodes", type=int, default=256, help="seeded episodes per policy")
     parser.add_argument("--seed", type=int, default=0, help="seed of the episodes")

@@ -25,7 +25,10 @@ def test_the_envs_table_is_up_to_date(capsys):
     assert report.main(["--check"]) == 0, capsys.readouterr().out
 
 
-def test_the_readme_links_resolve():
-    text = (ROOT / "README.md").read_text()
-    for target in re.findall(r"\]\(((?:docs/|LICENSE)[^)#]*)\)", text):
-        assert (ROOT / target).exists(), target
+@pytest.mark.parametrize("page", PAGES, ids=[p.name for p in PAGES])
+def test_local_links_resolve(page):
+    """Every link to a file (not a web address or an anchor) names one that exists, relative
+    to the page."""
+    for target in re.findall(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", page.read_text()):
+        if not re.match(r"[a-z]+:", target):
+            assert (page.parent / target).exists(), f"{page.name}: {target}"

@@ -185,9 +185,13 @@ def evaluate(
     if episodes < 1:
         raise RunError(f"--episodes must be at least 1, got {episodes}")
     cfg, model = load_run(run_dir, which)
-    venv = gym.make_vec(
-        cfg.env_id, num_envs=episodes, vectorization_mode="vector_entry_point", **cfg.env_kwargs
-    )
+
+    def make():  # the run's env, one sub-env per episode
+        return gym.make_vec(
+            cfg.env_id, num_envs=episodes, vectorization_mode="vector_entry_point", **cfg.env_kwargs
+        )
+
+    venv = make()
     trained_env = venv
     if rerun is not None:
         try:
@@ -212,12 +216,7 @@ def evaluate(
         if trained_env is not venv:
             trained_env.close()  # closes the recording (and the env under it)
     if trained_env is not venv:  # the logger closed it: a fresh one for the baselines
-        venv = gym.make_vec(
-            cfg.env_id,
-            num_envs=episodes,
-            vectorization_mode="vector_entry_point",
-            **cfg.env_kwargs,
-        )
+        venv = make()
     for name, policy in (
         ("scripted pilot", scripted_pilot(cfg.env_id, venv)),
         ("random", random_policy(venv, seed)),

@@ -736,7 +736,9 @@ def _run_folder(args: argparse.Namespace) -> tuple[TrainConfig, Path]:
             raise RunError(f"{args.resume}: not a run folder (no config.yaml)")
         return load_config(args.resume / "config.yaml", args.overrides), args.resume
     if args.config is None:
-        raise RunError("a config is required (a file or a shipped config's name), or --resume")
+        raise RunError(
+            "a config is required (a file or a shipped config's name), or --resume RUN; see --help"
+        )
     cfg = load_config(args.config, args.overrides)
     stamp = datetime.datetime.now().strftime("%Y%m%d-%H%M%S")
     run_dir = args.run_dir or Path("runs") / f"{cfg.env_name}-{cfg.algorithm.name}-{stamp}"

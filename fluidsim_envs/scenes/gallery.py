@@ -81,10 +81,16 @@ def write(out_dir: Path, seed: int = 0, ids=None) -> list[Path]:
 
 
 def main(argv=None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("out_dir", nargs="?", default="docs", type=Path)
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--ids", nargs="+", default=None, metavar="ID")
+    parser = argparse.ArgumentParser(
+        prog="python -m fluidsim_envs.scenes.gallery", description=__doc__.split("\n\n")[0]
+    )
+    parser.add_argument(
+        "out_dir", nargs="?", default="docs", type=Path, help="where the PNGs go (docs)"
+    )
+    parser.add_argument("--seed", type=int, default=0, help="the episode's seed (0)")
+    parser.add_argument(
+        "--ids", nargs="+", default=None, metavar="ID", help="env ids (default: every scene)"
+    )
     args = parser.parse_args(argv)
     try:
         paths = write(args.out_dir, args.seed, args.ids)

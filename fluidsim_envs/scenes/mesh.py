@@ -188,9 +188,14 @@ def body_commands(sim, env_index: int) -> list[np.ndarray]:
     """Each body's channel commands in sub-env ``env_index`` (``sim.controls`` holds all the
     bodies' channels end to end, in ``sim.crafts`` order): what :meth:`RenderMesh.posed`
     takes."""
-    row = np.asarray(sim.controls[env_index], dtype=np.float64)
-    ends = np.cumsum([len(c.control_names) for c in sim.crafts])
-    return np.split(row, ends[:-1])
+    return split_by_body(sim.crafts, sim.controls[env_index])
+
+
+def split_by_body(crafts, commands) -> list[np.ndarray]:
+    """One environment's ``commands`` (all bodies' channels end to end) cut into each
+    craft's."""
+    ends = np.cumsum([len(c.control_names) for c in crafts])
+    return np.split(np.asarray(commands, dtype=np.float64), ends[:-1])
 
 
 # ---- building parts ------------------------------------------------------------------------

@@ -32,7 +32,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .rerun_logger import BYTES_PER_SIM_MINUTE, MAX_COLUMNS, STATIC_BYTES, import_rerun
+from .rerun_logger import (
+    BYTES_PER_SIM_MINUTE,
+    MAX_COLUMNS,
+    STATIC_BYTES,
+    body_rotation,
+    import_rerun,
+)
 
 GROUPS = ("controls", "reward", "state")  # the plots under each 3D view, as in the blueprint
 
@@ -299,7 +305,7 @@ def _body(ax, rec: Recording, path: str, center, half: float) -> None:
     if np.abs(pos - center).max() > 2 * half:
         return
     x, y, z, w = rec.last(path, "Transform3D:quaternion")
-    turn = _matrix(w, x, y, z)
+    turn = body_rotation((w, x, y, z))
     for part in ("mesh", "surfaces"):
         static = rec.static.get(f"{path}/{part}", {})
         verts = static.get("Mesh3D:vertex_positions") or rec.last(
@@ -371,16 +377,6 @@ def _plot(ax, rec: Recording, e: int, group: str) -> None:
     ax.tick_params(colors="#c8c8c8", labelsize=7)
     ax.legend(fontsize=6, loc="upper left", ncols=2, framealpha=0.3)
     ax.set_xlabel("time (s)", color="#c8c8c8", fontsize=7)
-
-
-def _matrix(w, x, y, z) -> np.ndarray:
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
 
 
 # --------------------------------------------------------------------------------------------

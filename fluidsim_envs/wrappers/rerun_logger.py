@@ -65,10 +65,11 @@ import numpy as np
 from gymnasium.vector import VectorEnv, VectorWrapper
 
 from ..physics import Craft
+from ..physics.kernels import quat_matrices
 from ..physics.model import GLYPH_FORMS, glyphs
 from ..scenes import SCENES, Scene
 from ..scenes.base import FluidVectorEnv
-from ..scenes.mesh import RenderMesh
+from ..scenes.mesh import RenderMesh, split_by_body
 from ..scenes.rerun import BUOY, mesh3d
 
 INSTALL_HINT = 'pip install "fluidsim-envs[rerun]"'
@@ -334,7 +335,7 @@ class RerunLogger(VectorWrapper):
         for b in range(len(pos)):
             mine = body == b
             if mine.any():
-                turn = _rotation(quat[b])
+                turn = body_rotation(quat[b])
                 if self._logs[e].kind == "first":
                     self.record(
                         e, f"body/{b}/forces", Arrows3D, origins=(points[mine] - pos[b]) @ turn
@@ -344,10 +345,8 @@ class RerunLogger(VectorWrapper):
 
     def _log_surfaces(self, e: int, commands: np.ndarray) -> None:
         """Each body's control surfaces as its commands turn them."""
-        ends = np.cumsum([len(c.control_names) for c in self.base.sim.crafts])
-        for b, (mesh, mine) in enumerate(
-            zip(self.meshes, np.split(commands, ends[:-1]), strict=True)
-        ):
+        split = split_by_body(self.base.sim.crafts, commands)
+        for b, (mesh, mine) in enumerate(zip(self.meshes, split, strict=True)):
             if mesh.moving is not None:
                 verts = mesh.mesh.posed(mine)[mesh.moving]
                 self.record(e, f"body/{b}/surfaces", self.rr.Mesh3D, vertex_positions=verts)
@@ -508,7 +507,7 @@ def _view3d(lg: RerunLogger, e: int):
 
 def _eye(pos: np.ndarray, quat: np.ndarray, size_m: float) -> tuple[np.ndarray, np.ndarray]:
     """(eye, look target): ``EYE_OFFSET`` craft sizes from the body, in its heading's frame."""
-    nose = _rotation(quat)[:, 0]
+    nose = body_rotation(quat)[:, 0]
     heading = math.atan2(nose[1], nose[0])
     fwd = np.array([math.cos(heading), math.sin(heading), 0.0])
     left = np.array([-fwd[1], fwd[0], 0.0])
@@ -602,16 +601,9 @@ def _xyzw(quat: np.ndarray) -> np.ndarray:
     return quat[:, [1, 2, 3, 0]]
 
 
-def _rotation(q) -> np.ndarray:
+def body_rotation(q) -> np.ndarray:
     """The rotation matrix (body to world) of a unit quaternion (w, x, y, z)."""
-    w, x, y, z = (float(v) for v in q)
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
+    return quat_matrices(np.asarray(q, dtype=np.float64).reshape(1, 4).copy())[0]
 
 
 def _force_scale(craft: Craft) -> float:
