@@ -223,7 +223,8 @@ def evaluate(
     ):
         rows.append(summarize(name, first_episodes(venv, policy, seed=seed)))
     venv.close()
-    write_csv(rows, run_dir / csv_name(which), seed)
+    comments = provenance(run_dir, which, episodes, seed)
+    write_csv(rows, run_dir / csv_name(which), seed, comments)
     return rows
 
 
@@ -232,9 +233,29 @@ def csv_name(which: str) -> str:
     return "evaluation.csv" if which == "final" else f"evaluation_{which}.csv"
 
 
-def write_csv(rows: list[dict[str, Any]], path: Path, seed: int) -> None:
+def provenance(run_dir: Path, which: str, episodes: int, seed: int) -> list[str]:
+    """The ``#`` lines an evaluation table starts with: the command that wrote it and the run
+    and model it evaluated, so a copy of the table (in docs/) says where it came from."""
+    import yaml
+
+    path = run_dir / "run.yaml"
+    meta = (yaml.safe_load(path.read_text()) if path.is_file() else None) or {}
+    git = meta.get("git") or {}
+    dirty = " (dirty)" if git.get("dirty") else ""
+    return [
+        f"command: fluidsim-evaluate {run_dir.name} --model {which} --episodes {episodes} "
+        f"--seed {seed}",
+        f"run: {run_dir.name}, trained by: {meta.get('command_line', '?')}",
+        f"model: {which} at {meta.get('num_timesteps', '?')} timesteps of "
+        f"{meta.get('env_id', '?')}, git {git.get('revision', '?')}{dirty}",
+    ]
+
+
+def write_csv(rows: list[dict[str, Any]], path: Path, seed: int, comments: list[str] = ()) -> None:
+    """The table (``#`` lines first: :func:`provenance`); readers skip lines starting ``#``."""
     columns = ["seed", *dict.fromkeys(k for row in rows for k in row)]
     with path.open("w", newline="") as f:
+        f.writelines(f"# {line}\n" for line in comments)
         writer = csv.DictWriter(f, columns)
         writer.writeheader()
         for row in rows:

@@ -218,8 +218,10 @@ def test_evaluate_compares_the_model_with_the_pilot_and_random(run, tmp_path):
     assert "trained PPO" in table and "scripted pilot" in table and "random" in table
     for metric in ("return_mean", "return_std", "success_rate", "landed_mean", "distance_m_mean"):
         assert metric in table
-    with (run / "evaluation.csv").open() as f:
-        rows = {r["policy"]: r for r in csv.DictReader(f)}
+    text = (run / "evaluation.csv").read_text()
+    comments = [line for line in text.splitlines() if line.startswith("#")]
+    assert comments[0].startswith("# command: fluidsim-evaluate") and "model: final at 2048" in text
+    rows = {r["policy"]: r for r in csv.DictReader(text.splitlines()[len(comments) :])}
     assert set(rows) == {"trained PPO", "scripted pilot", "random"}
     for r in rows.values():
         assert r["seed"] == "5" and r["episodes"] == "6"
@@ -240,7 +242,7 @@ def test_evaluate_writes_a_rerun_recording(run, tmp_path):
     assert evaluate_cli.main([str(run), "--episodes", "3", "--rerun", str(rrd)]) == 0
     assert rrd.is_file() and rrd.stat().st_size > 1000
     # the baselines still ran after the logger closed its env
-    assert (run / "evaluation.csv").read_text().count("\n") == 4
+    assert (run / "evaluation.csv").read_text().count("\n") == 4 + 3  # 3 # lines
 
 
 def test_resume_continues_an_interrupted_run(run, tmp_path):
