@@ -30,9 +30,13 @@ episodes in order; on ``episode`` each tick shows an episode's last state with i
 trail (the plots read best on ``time``).
 
 Episodes: a step that ends an episode logs that episode's last state (taken just before the
-vector env's same-step autoreset, through ``FluidVectorEnv.before_autoreset``), then, at the
-same ``step``, the next episode's first state. With ``episodes_per_env=n`` a sub-env is no
-longer logged once n of its episodes have ended, so that a recording holds whole episodes.
+vector env's same-step autoreset, through ``FluidVectorEnv.before_autoreset``), so the
+touchdown is what the views show at that step. The next episode's logging starts at the
+following step, with the state after its first action: its reset state, which the autoreset
+gave at the same step as the last one, is not logged (it would hide the last state on
+``step`` and ``time``). A ``reset`` logs the first state of the episodes it starts. With
+``episodes_per_env=n`` a sub-env is no longer logged once n of its episodes have ended, so
+that a recording holds whole episodes.
 
 Size: the rows of each sub-env are held in memory and sent as one chunk per entity
 (``send_columns``) every ``FLUSH_ROWS`` rows (``LIVE_FLUSH_ROWS`` when streaming to a
@@ -176,14 +180,13 @@ class RerunLogger(VectorWrapper):
         done = terminated | truncated
         for e in self.env_ids:
             log = self._logs[e]
-            if not log.running:  # past its episodes, or not started
+            if not (log.running or log.opening):  # past its episodes, or not started
                 continue
-            if e in self._last_rows:  # its episode ended, the next has begun
-                self._end_episode(e)
-                if self._active(e):
-                    self._start_episode(e)
-                    self._log_row(e, "first")
+            if e in self._last_rows:  # its episode ended, the next has begun: logged from
+                self._end_episode(e)  # the next step on, so the last state shows at this one
+                log.opening = self._active(e)
                 continue
+            self._open_pending(e)
             self._log_row(e, "last" if done[e] else "step", info, reward[e])
             if done[e]:  # no autoreset: the next reset starts the next episode
                 self._end_episode(e)
@@ -237,7 +240,7 @@ class RerunLogger(VectorWrapper):
         """Whether this row of sub-env e is one to draw on when drawing every ``period_s`` of
         simulated time: an episode's first and last rows, and then one per period."""
         log = self._logs[e]
-        if log.kind != "step":
+        if log.kind != "step" or log.opens:
             return True
         steps = max(1, round(period_s / self.action_period_s))
         return int(self.base.episode_steps[e]) % steps == 0
@@ -247,10 +250,20 @@ class RerunLogger(VectorWrapper):
     def _active(self, e: int) -> bool:
         return self.episodes_per_env is None or self._logs[e].ended < self.episodes_per_env
 
+    def _open_pending(self, e: int) -> None:
+        """Start logging the episode an autoreset began at the last step, if one waits: its
+        first logged row is the one about to be logged."""
+        log = self._logs[e]
+        if log.opening:
+            log.opening = False
+            self._start_episode(e)
+            log.opens = True
+
     def _start_episode(self, e: int) -> None:
         log = self._logs[e]
         log.episode += 1
         log.running = True
+        log.trail_end = None  # a new trail
 
     def _end_episode(self, e: int) -> None:
         log = self._logs[e]
@@ -263,18 +276,21 @@ class RerunLogger(VectorWrapper):
         """The base env's hook: the last rows of the logged episodes that end now."""
         reward = np.sum(np.stack(list(info["reward_terms"].values())), axis=0)
         for e in self.env_ids:
-            if self._logs[e].running and np.isin(e, ended):
+            if np.isin(e, ended) and (self._logs[e].running or self._logs[e].opening):
+                self._open_pending(e)  # a one-step episode: its only row is its last
                 self._log_row(e, "last", info, reward[e])
                 self._last_rows.add(e)
 
     def _log_row(self, e: int, kind: str, info: dict | None = None, reward=None) -> None:
         """One row of sub-env e at the current step: ``kind`` is "first" (a new episode's
-        first state), "step" or "last" (an episode's last state)."""
+        first state), "step" or "last" (an episode's last state). The first row of an episode
+        an autoreset began is a "step" or "last" row that opens it (``_EnvLog.opens``)."""
         log = self._begin_row(e, kind)
         sim = self.base.sim
         controls = sim.controls.copy()  # the last step's commands (the Simulator keeps them)
         if kind == "first":
             controls[e] = 0.0  # a new episode has none yet
+        if log.opens:
             self.hooks.episode(e)
         pos = np.asarray(sim.pos[e], dtype=np.float64)
         quat = np.asarray(sim.quat[e], dtype=np.float64)
@@ -290,12 +306,14 @@ class RerunLogger(VectorWrapper):
             self.scalars(e, "reward", {"total": float(reward), **terms})
         self.hooks.step(e, info)
         log.rows += 1
+        log.opens = False
         if log.rows % self._flush_rows == 0:
             log.columns.send()
 
     def _begin_row(self, e: int, kind: str) -> _EnvLog:
         """Sub-env e's row times, for what is held (``record``) and what is logged now."""
         log = self._logs[e]
+        log.opens = kind == "first" or log.opens
         log.kind = kind
         log.now = (self.step_index, self.step_index * self.action_period_s, log.episode)
         self.rec.set_time("step", sequence=self.step_index)
@@ -313,7 +331,7 @@ class RerunLogger(VectorWrapper):
                 translation=pos[b : b + 1],
                 quaternion=_xyzw(quat[b : b + 1]),
             )
-        if log.kind != "first" and log.trail_end is not None:
+        if log.trail_end is not None:  # None at an episode's first row
             color = TRAIL_COLORS[log.episode % len(TRAIL_COLORS)]
             segment = np.stack([log.trail_end, pos[0]])[None]
             self.record(
@@ -336,7 +354,7 @@ class RerunLogger(VectorWrapper):
             mine = body == b
             if mine.any():
                 turn = body_rotation(quat[b])
-                if self._logs[e].kind == "first":
+                if self._logs[e].opens:
                     self.record(
                         e, f"body/{b}/forces", Arrows3D, origins=(points[mine] - pos[b]) @ turn
                     )
@@ -387,6 +405,8 @@ class _EnvLog:
     episode: int = -1  # the episode being logged (from 0)
     ended: int = 0  # episodes that have ended
     running: bool = False  # an episode is being logged
+    opening: bool = False  # an autoreset began an episode, logged from the next step on
+    opens: bool = False  # the current row is its episode's first
     kind: str = "first"  # the current row's: first, step or last
     now: tuple = (0, 0.0, 0)  # the current row's (step, time, episode)
     rows: int = 0

@@ -114,8 +114,9 @@ def run(env_id: str, path, watch=None, **kwargs) -> tuple[dict, dict, object]:
     for step in range(1, STEPS + 1):
         _, reward, _, _, info = logger.step(rng.uniform(-1, 1, (E, 3)))
         episode = int(env.episodes[LOGGED]) - 1
-        if ending:  # the episode that ended at this step
+        if ending:  # the episode that ended at this step: its last state is this step's row
             seen[step, episode - 1] = {**ending.pop(), "reward": reward[LOGGED]}
+            continue  # the next episode's reset state is not logged
         terms = {k: v[LOGGED] for k, v in info["reward_terms"].items()}
         now = {**snapshot(env, reward[LOGGED]), "terms": terms, "watched": watch and watch(env)}
         seen[step, episode] = now
@@ -125,7 +126,11 @@ def run(env_id: str, path, watch=None, **kwargs) -> tuple[dict, dict, object]:
 
 def kind(key) -> str:
     step, episode = key
-    return "first" if step == EPISODE * episode else "last" if step == EPISODE else "step"
+    if step == 0:
+        return "first"  # the reset's
+    if episode > 0 and step == EPISODE * episode + 1:
+        return "opening"  # the first row of an episode the autoreset began
+    return "last" if step == EPISODE * (episode + 1) else "step"
 
 
 def drawn(key, period_s, env) -> bool:
@@ -178,11 +183,11 @@ def test_glyphs_turn_up_onto_their_axis():
 
 
 def check_poses(rows, seen, env, root) -> None:
-    """Every row's pose, time and trail; the last state of episode 0 and the first of
-    episode 1 both at step EPISODE."""
+    """Every row's pose, time and trail; episode 0's last state alone at step EPISODE (the
+    autoreset's state of episode 1 is not logged), episode 1 from the next step on."""
     keys = sorted(seen)
     assert keys == [(k, 0) for k in range(EPISODE + 1)] + [
-        (k, 1) for k in range(EPISODE, STEPS + 1)
+        (k, 1) for k in range(EPISODE + 1, STEPS + 1)
     ]
     translation = series(rows, f"{root}/body/0", "Transform3D:translation")
     quaternion = series(rows, f"{root}/body/0", "Transform3D:quaternion")
@@ -196,9 +201,10 @@ def check_poses(rows, seen, env, root) -> None:
         np.testing.assert_allclose(quaternion[key], [x, y, z, w], rtol=1e-6, atol=1e-6)
         assert times[key] == pytest.approx(key[0] * dt * 1e9, abs=1.0)
     # the episode's end is there, and differs from the next episode's start
-    assert not np.allclose(seen[EPISODE, 0]["pos"][0], seen[EPISODE, 1]["pos"][0])
+    assert not np.allclose(seen[EPISODE, 0]["pos"][0], seen[EPISODE + 1, 1]["pos"][0])
     trail = series(rows, f"{root}/trail", "LineStrips3D:strips")
-    assert sorted(trail) == [k for k in keys if kind(k) != "first"]  # a segment per step
+    # a segment per step, none into an episode's first row
+    assert sorted(trail) == [k for k in keys if kind(k) not in ("first", "opening")]
     for (step, episode), (start, end) in trail.items():
         before = (step - 1, episode)
         np.testing.assert_allclose(start, seen[before]["pos"][0], rtol=1e-6, atol=1e-5)
@@ -212,7 +218,7 @@ def check_forces(rows, seen, env, root) -> None:
     vectors = series(rows, f"{root}/body/0/forces", "Arrows3D:vectors")
     scale = static(rows, f"{root}/body/0/forces", "scale_m_per_n")[0]
     assert scale > 0.0
-    assert sorted(origins) == [k for k in sorted(seen) if kind(k) == "first"]
+    assert sorted(origins) == [k for k in sorted(seen) if kind(k) in ("first", "opening")]
     assert sorted(vectors) == [k for k in sorted(seen) if drawn(k, FORCE_PERIOD_S, env)]
     assert len(vectors) < len(seen)  # not every step
     origins = {episode: where for (_, episode), where in origins.items()}
@@ -272,7 +278,7 @@ def check_common(rows, seen, env) -> None:
             assert terms == ["total", *s["terms"]]
             assert rewards[key] == [s["reward"], *s["terms"].values()]
     # the new episode at step EPISODE starts without a command, the last one had some
-    assert not any(commands[EPISODE, 1]) and any(commands[EPISODE, 0])
+    assert any(commands[EPISODE, 0]) and (EPISODE, 1) not in commands
     state = series(rows, f"{root}/state", "Scalars:scalars")
     altitude = static(rows, f"{root}/state", "SeriesLines:names").index("altitude_m")
     assert {k: v[altitude] for k, v in state.items()} == {
@@ -288,11 +294,11 @@ def test_paper_airplane(tmp_path):
     half = static(rows, f"{root}/body/0/boxes", "Boxes3D:half_sizes")
     np.testing.assert_allclose(half, [s.half_extents_m for s in craft.shapes], rtol=1e-6)
     target = series(rows, f"{root}/target", "Points3D:positions")
-    assert sorted(target) == [(0, 0), (EPISODE, 1)]  # each episode's target, at its start
-    np.testing.assert_allclose(target[EPISODE, 1][:2], env.target[LOGGED], rtol=1e-6)
-    ground = np.array(series(rows, f"{root}/ground", "Mesh3D:vertex_positions")[EPISODE, 1])
+    assert sorted(target) == [(0, 0), (EPISODE + 1, 1)]  # each episode's, at its first row
+    np.testing.assert_allclose(target[EPISODE + 1, 1][:2], env.target[LOGGED], rtol=1e-6)
+    ground = np.array(series(rows, f"{root}/ground", "Mesh3D:vertex_positions")[EPISODE + 1, 1])
     assert ground[:, 2].tolist() == [0.0] * 4  # the ground around this course, not beyond
-    for xy in (env.target[LOGGED], seen[EPISODE, 1]["pos"][0, :2]):
+    for xy in (env.target[LOGGED], seen[EPISODE + 1, 1]["pos"][0, :2]):
         assert (ground[:, :2].min(0) < xy).all() and (xy < ground[:, :2].max(0)).all()
     assert np.ptp(ground[:, :2], axis=0).max() < 4 * env.params.arena_radius_m
     speed = series(rows, f"{root}/state", "Scalars:scalars")
@@ -308,10 +314,11 @@ def test_boat_on_step_with_swell(tmp_path):
     check_common(rows, seen, env)
     root = f"/env/{LOGGED}"
     buoys = series(rows, f"{root}/buoys", "Points3D:positions")
-    assert sorted(buoys) == [(0, 0), (EPISODE, 1)]
-    np.testing.assert_allclose(np.asarray(buoys[EPISODE, 1])[:, :2], env.buoys[LOGGED], rtol=1e-6)
+    assert sorted(buoys) == [(0, 0), (EPISODE + 1, 1)]
+    first = np.asarray(buoys[EPISODE + 1, 1])
+    np.testing.assert_allclose(first[:, :2], env.buoys[LOGGED], rtol=1e-6)
     gates = series(rows, f"{root}/gates", "LineStrips3D:strips")
-    assert len(gates[EPISODE, 1]) == len(env.buoys[LOGGED]) // 2
+    assert len(gates[EPISODE + 1, 1]) == len(env.buoys[LOGGED]) // 2
     water = series(rows, f"{root}/water", "Mesh3D:vertex_positions")
     assert sorted(water) == [k for k in sorted(seen) if drawn(k, SWELL_PERIOD_S, env)]
     for key, vertices in water.items():  # the surface at that row's clock, around the boat
@@ -353,7 +360,7 @@ def test_submarine_wake(tmp_path):
     assert not np.allclose(last[0], last[-1])  # they move with the water
     lead = series(rows, f"{root}/lead", "Transform3D:translation")
     np.testing.assert_allclose(lead[STEPS, 1], env.lead[:3, LOGGED], rtol=1e-6)
-    floor = np.array(series(rows, f"{root}/floor", "Mesh3D:vertex_positions")[EPISODE, 1])
+    floor = np.array(series(rows, f"{root}/floor", "Mesh3D:vertex_positions")[EPISODE + 1, 1])
     assert set(floor[:, 2]) == {-env.params.floor_depth_m}
 
 
@@ -446,7 +453,7 @@ def test_a_diverged_episode_ends_in_the_plots_not_the_views(tmp_path):
     logger.close()
     rows = read_rrd(path)
     poses = series(rows, "/env/1/body/0", "Transform3D:translation")
-    assert sorted(poses) == [(0, 0), (1, 0), (2, 1)]  # no pose for the blown-up state
+    assert sorted(poses) == [(0, 0), (1, 0)]  # no pose for the blown-up state
     assert all(np.isfinite(p).all() for p in poses.values())
     assert (2, 0) in series(rows, "/env/1/reward", "Scalars:scalars")
     assert np.isnan(series(rows, "/env/1/state", "Scalars:scalars")[2, 0]).any()
