@@ -148,6 +148,7 @@ class RerunLogger(VectorWrapper):
         self._logs = {e: _EnvLog(_Columns(rr, self.rec)) for e in self.env_ids}
         self._last_rows: set[int] = set()  # sub-envs whose last row the autoreset hook logged
         self._closed = False
+        self._colors: dict[str, dict] = {}  # plot -> series name -> its color
         self._blueprint_sent = False
         self.hooks = self.scene.rerun(self)  # the scene's part of the recording
         self._log_static()
@@ -230,11 +231,20 @@ class RerunLogger(VectorWrapper):
         names = tuple(values)
         known = log.series.setdefault(path, names)
         if known is names:
-            self.log(e, path, self.rr.SeriesLines(names=list(names)), static=True)
+            lines = self.rr.SeriesLines(names=list(names), colors=self._series_colors(path, names))
+            self.log(e, path, lines, static=True)
         elif known != names:
             raise ValueError(f"RerunLogger: env/{e}/{path} had series {known}, now {names}")
         row = np.fromiter(values.values(), dtype=np.float64, count=len(names))
         self.record(e, path, self.rr.Scalars, scalars=row)
+
+    def _series_colors(self, path: str, names) -> list[tuple[int, int, int]]:
+        """A color per series, the same in every env's plots: the next palette color of its
+        plot (``state`` and ``state/task`` draw in one) at the series' first appearance."""
+        plot = self._colors.setdefault(path.split("/")[0], {})
+        for name in names:
+            plot.setdefault(name, SERIES_COLORS[len(plot) % len(SERIES_COLORS)])
+        return [plot[name] for name in names]
 
     def every(self, e: int, period_s: float) -> bool:
         """Whether this row of sub-env e is one to draw on when drawing every ``period_s`` of
@@ -492,6 +502,12 @@ def blueprint(lg: RerunLogger):
     )
 
 
+SERIES_COLORS = (  # matplotlib's tab10: a series has the same color in every env's plot
+    (31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189),
+    (140, 86, 75), (227, 119, 194), (127, 127, 127), (188, 189, 34), (23, 190, 207),
+)  # fmt: skip
+
+
 def _view3d(lg: RerunLogger, e: int):
     """Sub-env e's 3D view: its eye starts behind the craft and follows body 0; the trail
     shows every episode up to the time cursor (on ``episode``: the current one, whole)."""
@@ -503,7 +519,9 @@ def _view3d(lg: RerunLogger, e: int):
         position=None if eye is None else eye[0],
         look_target=None if eye is None else eye[1],
         eye_up=(0.0, 0.0, 1.0),
-        tracking_entity=f"{root}/body/0",
+        # the mesh, not the body: the viewer follows only an entity with geometry of its own
+        # (a bare Transform3D is not tracked; seen in the web viewer, rerun 0.41)
+        tracking_entity=f"{root}/body/0/mesh",
     )
     upto = [
         rrb.VisibleTimeRange(

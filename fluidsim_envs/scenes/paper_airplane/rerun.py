@@ -9,6 +9,7 @@ import numpy as np
 from ..rerun import GROUND, TARGET, motion, patch, sheet
 
 GROUND_MARGIN_M = 10.0  # the ground drawn this far beyond the launch point and the target
+GRID_CLEARANCE_M = 0.005  # the ground drawn this far below z = 0, so the view's grid shows
 
 
 class PaperAirplaneRerun:
@@ -27,7 +28,7 @@ class PaperAirplaneRerun:
     def episode(self, e: int) -> None:
         lg, env, rr = self.lg, self.env, self.lg.rr
         tx, ty = env.target_xy(e)
-        ground = patch([env.sim.pos[e, 0, :2], (tx, ty)], 0.0, GROUND_MARGIN_M)
+        ground = patch([env.sim.pos[e, 0, :2], (tx, ty)], -GRID_CLEARANCE_M, GROUND_MARGIN_M)
         lg.record(e, "ground", rr.Mesh3D, vertex_positions=ground)
         ring = np.linspace(0.0, 2.0 * np.pi, 49)
         r = env.params.success_radius_m
