@@ -1,14 +1,17 @@
-"""The README's table of envs, written from the registry and the committed evaluation CSVs.
+"""The docs' tables of envs and results, written from the registry and the committed
+evaluation CSVs.
 
-    python -m benchmarks.report            # writes docs/envs.csv and the README's table
-    python -m benchmarks.report --check    # exit 1 if either is out of date (the tests run it)
+    python -m benchmarks.report            # writes docs/envs.csv and the tables
+    python -m benchmarks.report --check    # exit 1 if any is out of date (the tests run it)
 
 One row per registered env (:data:`fluidsim_envs.scenes.SCENES`): its observation and action
 sizes, control rate and horizon (from the env's default parameters), what success means (the
 scene's ``success``, with its numbers), and the scripted pilot's and trained PPO's success
 rate and mean return from ``docs/eval_<scene>_ppo.csv`` (what ``fluidsim-evaluate RUN
 --episodes 256`` wrote for the shipped PPO config's run; blank where no such file exists).
-The README's table sits between the two ``envs-table`` markers and is never edited by hand.
+The README's table sits between the two ``envs-table`` markers, and docs/training.md's table
+of PPO against the baselines (return mean +- std and success of each policy in those CSVs)
+between the ``ppo-results`` markers; neither is edited by hand.
 """
 
 from __future__ import annotations
@@ -16,13 +19,20 @@ from __future__ import annotations
 import argparse
 import re
 import sys
+from pathlib import Path
 
 from .common import DOCS, ROOT, read_csv, write_csv
 
 CSV = DOCS / "envs.csv"
 README = ROOT / "README.md"
+TRAINING = DOCS / "training.md"
 BEGIN = "<!-- envs-table: written by `python -m benchmarks.report` from docs/envs.csv -->"
 END = "<!-- /envs-table -->"
+RESULTS_BEGIN = (
+    "<!-- ppo-results: written by `python -m benchmarks.report` from docs/eval_*_ppo.csv -->"
+)
+RESULTS_END = "<!-- /ppo-results -->"
+POLICIES = ("trained PPO", "scripted pilot", "random")
 COLUMNS = (
     "env_id", "summary", "observations", "actions", "action_names", "control_hz",
     "horizon_steps", "horizon_s", "success", "pilot_success", "pilot_return",
@@ -98,13 +108,37 @@ def markdown(table: list[dict[str, str]]) -> str:
     return "\n".join(lines)
 
 
-def readme_with(table_md: str, text: str) -> str:
-    """``text`` (the README) with the block between the markers replaced."""
-    if BEGIN not in text or END not in text:
-        raise SystemExit(f"{README}: the markers {BEGIN!r} ... {END!r} are missing")
-    head, rest = text.split(BEGIN, 1)
-    _, tail = rest.split(END, 1)
-    return f"{head}{BEGIN}\n{table_md}\n{END}{tail}"
+def results_markdown() -> str:
+    """docs/training.md's table: each env's PPO run against the pilot and random."""
+    from fluidsim_envs.scenes import SCENES
+
+    head = " | ".join(f"{p} return | {p} success" for p in POLICIES)
+    lines = [f"| env | episodes | {head} |", "|---|---:|" + "---:|---:|" * len(POLICIES)]
+    for env_id in SCENES:
+        path = DOCS / f"eval_{scene_slug(env_id)}_ppo.csv"
+        if not path.is_file():
+            continue
+        by = {r["policy"]: r for r in read_csv(path)[1]}
+        cells = []
+        for p in POLICIES:
+            r = by.get(p)
+            cells += (
+                [f"{float(r['return_mean']):.2f} +- {float(r['return_std']):.2f}",
+                 _pct(r["success_rate"])]
+                if r else ["n/a", "n/a"]
+            )  # fmt: skip
+        episodes = by[POLICIES[0]]["episodes"] if POLICIES[0] in by else "n/a"
+        lines.append(f"| {env_id.split('/')[1]} | {episodes} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def with_block(text: str, begin: str, end: str, block: str, where: Path) -> str:
+    """``text`` with what lies between the markers ``begin`` and ``end`` replaced."""
+    if begin not in text or end not in text:
+        raise SystemExit(f"{where}: the markers {begin!r} ... {end!r} are missing")
+    head, rest = text.split(begin, 1)
+    _, tail = rest.split(end, 1)
+    return f"{head}{begin}\n{block}\n{end}{tail}"
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -116,20 +150,27 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--check", action="store_true", help="only check, write nothing")
     args = parser.parse_args(argv)
     table = rows()
-    readme = README.read_text()
-    new_readme = readme_with(markdown(table), readme)
+    pages = {
+        README: with_block(README.read_text(), BEGIN, END, markdown(table), README),
+        TRAINING: with_block(
+            TRAINING.read_text(), RESULTS_BEGIN, RESULTS_END, results_markdown(), TRAINING
+        ),
+    }
     if args.check:
         _, on_disk = read_csv(CSV) if CSV.is_file() else ([], [])
-        checks = (("docs/envs.csv", on_disk == table), ("README.md", new_readme == readme))
-        stale = [name for name, ok in checks if not ok]
+        checks = [("docs/envs.csv", on_disk == table)]
+        checks += [(p.relative_to(ROOT), text == p.read_text()) for p, text in pages.items()]
+        stale = [str(name) for name, ok in checks if not ok]
         if stale:
             print(f"out of date: {', '.join(stale)}; run python -m benchmarks.report")
             return 1
         return 0
     write_csv(CSV, COLUMNS, ([r[c] for c in COLUMNS] for r in table))
-    README.write_text(new_readme)
+    for path, text in pages.items():
+        path.write_text(text)
     print(markdown(table))
-    print(f"written: {CSV.relative_to(ROOT)}, README.md")
+    print(results_markdown())
+    print(f"written: {CSV.relative_to(ROOT)}, README.md, docs/training.md")
     return 0
 
 
