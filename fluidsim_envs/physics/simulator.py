@@ -232,6 +232,9 @@ class Simulator:
         self._bodies = [_Body(c, E, int(first[b])) for b, c in enumerate(crafts)]
         self._factors = FactorTable(self._samples.factor_row, self._samples.factor)
         n_pairs = CT.num_pairs(B) if cprm[CT.C_ON] else 0
+        # the step kernel compiled without contact.py where nothing can touch (its None
+        # is resolved when numba compiles: kernels.step_serial)
+        self._contact = True if cprm[CT.C_ON] else None
         flow = np.zeros((6, E), dtype=dtype)  # air velocity, water velocity per env
         flow[:3] = np.asarray(world.wind_mps)[:, None]
         flow[3:] = np.asarray(world.current_mps)[:, None]
@@ -758,7 +761,7 @@ class Simulator:
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise ValueError(f"steps must be a positive integer, got {steps!r}")
         self._set_controls(controls)
-        args = (self._model, self._samples, self._data, self._method, int(steps))
+        args = (self._model, self._samples, self._data, self._method, int(steps), self._contact)
         if self._entry is None:  # the first call compiles (or loads) through the dispatcher
             self._kernel(*args)
             self._entry = _entry_point(self._kernel, args)

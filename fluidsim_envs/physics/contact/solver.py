@@ -462,7 +462,9 @@ def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm, touch):
     for b in range(nb):  # nothing recorded yet: most bodies touch nothing most steps
         W[b, W_REST] = ZERO
         W[b, W_SEEN] = ZERO
-    k = 0
+    # not ``k = 0``: numba types a call while k is still the literal 0, and compiles _open
+    # (7-9 s) for that signature too before k settles to int64 (docs/bench_compile.csv)
+    k = np.int64(0)
     margin = cprm[C_MARGIN]
     for b in range(nb):
         W[k, W_ON] = ZERO
