@@ -1,5 +1,5 @@
 """Where a cold first step goes: per env, the seconds of the first ``gym.make`` + ``reset`` +
-``step`` and of every numba compile under them (issue 18).
+``step`` and of every numba compile under them.
 
 Each env runs in its own Python process (``--cold``, the default: with ``NUMBA_CACHE_DIR``
 pointing at a fresh empty folder, so every kernel compiles; ``--warm`` reuses one folder per
@@ -162,8 +162,13 @@ def rows_of(res: dict, run: int) -> list[tuple]:
     ours = [c for c in comps if c["name"].startswith(PACKAGE)]
     top = [c for c in comps if c["depth"] == 0]
     rows.append(
-        (env, run, "compiles", sum(c["inclusive"] for c in top),
-         f"{len(comps)} dispatcher compiles, {len(ours)} of {PACKAGE}")  # fmt: skip
+        (
+            env,
+            run,
+            "compiles",
+            sum(c["inclusive"] for c in top),
+            f"{len(comps)} dispatcher compiles, {len(ours)} of {PACKAGE}",
+        )  # fmt: skip
     )
     for phase in ("make", "reset", "step"):
         s = sum(c["inclusive"] for c in top if c["phase"] == phase)
