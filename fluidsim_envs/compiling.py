@@ -37,7 +37,7 @@ class CompileNotice(event.Listener):
                 self.told = True
                 self._say(
                     "fluidsim-envs: compiling the physics kernels (once after an install or an "
-                    "update, a minute or two on 2 cores; cached afterwards; "
+                    "update, about a minute per env on 2 cores; cached afterwards; "
                     "`python -m fluidsim_envs.warmup` compiles them ahead) ..."
                 )
         self.depth += 1

@@ -1,12 +1,12 @@
 """Compile the physics kernels ahead, so that no env's first step waits for the compiler.
 
-    python -m fluidsim_envs.warmup                    # every registered env (make setup runs this)
+    python -m fluidsim_envs.warmup                    # every registered env (make setup runs it)
     python -m fluidsim_envs.warmup fluidsim/BoatOnStep-v0 --no-parallel
 
 numba compiles a kernel at its first call and caches the machine code beside the package
-(``cache=True``), so a fresh install, or a changed kernel, pays for it once: on 2 cores the
-first env took 169 s here (serial and threaded kernels), each further one about 90 s (kernels
-of its own: the scene's, the wake's). This pays it up front,
+(``cache=True``), so a fresh install, or a changed kernel, pays for it once: 55-93 s for an
+env's first step on 2 cores (docs/bench_compile.csv, ``python -m benchmarks.bench_compile``),
+and more for the threaded kernels of large batches. This pays it up front,
 one line per env, for the kernels the env uses at a batch below and at or above the size from
 which the Simulator steps environments on several threads.
 """
