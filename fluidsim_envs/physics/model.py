@@ -277,6 +277,18 @@ def control_names(crafts: Sequence[Craft]) -> list[str]:
     return [f"{c.name}.{n}" for c in crafts for n in c.control_names]
 
 
+def surface_mix(craft: Craft) -> dict[str, np.ndarray]:
+    """Each control surface's deflection (rad) per unit of each of ``craft``'s channels: the
+    sum over its controls of ``gain * max_deflection_deg`` (the kernels' ``flap_mix`` rows,
+    and what a render mesh turns a surface by)."""
+    drive: dict[str, np.ndarray] = {}
+    for j, ctl in enumerate(craft.controls):
+        for s in ctl.surfaces:
+            row = drive.setdefault(s.sample, np.zeros(len(craft.controls)))
+            row[j] += s.gain * math.radians(ctl.max_deflection_deg)
+    return drive
+
+
 def _once(rows: list[tuple], width: int, dtype) -> np.ndarray:
     return np.ascontiguousarray(np.asarray(rows, dtype=np.float64).reshape(-1, width).T, dtype)
 
@@ -309,12 +321,11 @@ def pack(
     offsets = np.cumsum([0] + [len(c.control_names) for c in crafts])
     mix, thr_ch = [], []
     for b, c in enumerate(crafts):
-        drive = {}
-        for j, ctl in enumerate(c.controls):
-            for s in ctl.surfaces:
-                row = drive.setdefault(s.sample, np.zeros(offsets[-1]))
-                row[offsets[b] + j] += s.gain * math.radians(ctl.max_deflection_deg)
-        mix.extend(drive[p.name] for p in KIND["flap"].of(c))
+        drive = surface_mix(c)
+        for p in KIND["flap"].of(c):  # the row over every body's channels
+            row = np.zeros(offsets[-1])
+            row[offsets[b] : offsets[b + 1]] = drive[p.name]
+            mix.append(row)
         thr_ch.extend(
             -1 if t.control is None else offsets[b] + c.control_names.index(t.control)
             for t in c.thrusters

@@ -118,10 +118,11 @@ class FluidVectorEnv(VectorEnv):
         self._needs_reset = np.ones(E, dtype=bool)
         self._episodes = np.zeros(E, dtype=np.int64)
         self._view = None
-        # callables hook(ended_ids, info) that a same-step autoreset calls just before it
-        # restarts sub-envs ``ended_ids``: the state still holds their ended episodes (how the
-        # Rerun logger records each episode's last state); ``info`` is the step's info
-        self.before_autoreset: list[Callable[[np.ndarray, dict], None]] = []
+        # callables hook(ended_ids, info, reward) that a same-step autoreset calls just before
+        # it restarts sub-envs ``ended_ids``: the state still holds their ended episodes (how
+        # the Rerun logger records each episode's last state); ``info`` and ``reward`` are the
+        # step's
+        self.before_autoreset: list[Callable[[np.ndarray, dict, np.ndarray], None]] = []
 
     # ---- hooks ----------------------------------------------------------------------------
 
@@ -250,7 +251,7 @@ class FluidVectorEnv(VectorEnv):
                 info["final_obs"] = self._obs.copy()
                 info["_final_obs"] = done
                 for hook in self.before_autoreset:
-                    hook(ended, info)
+                    hook(ended, info, reward)
                 self._start(ended)
                 self._observe(self._obs)
             else:

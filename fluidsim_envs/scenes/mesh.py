@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..physics import Craft
+from ..physics.model import surface_mix
 
 PAPER = (245, 245, 240)
 
@@ -64,13 +65,16 @@ class RenderMesh:
 
     craft: Craft
     parts: tuple[Part, ...]
-    # per hinged part: (its slice of the vertices, hinge point, unit axis, [channel gains * deg])
+    # per hinged part: (its slice of the vertices, hinge point, unit axis, rad per channel)
     _hinges: tuple = field(init=False, repr=False)
     _vertices: np.ndarray = field(init=False, repr=False)
+    _triangles: np.ndarray = field(init=False, repr=False)
+    _colors: np.ndarray = field(init=False, repr=False)
+    _closed: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         plates = {p.name: p for p in self.craft.plates}
-        channels = self.craft.control_names
+        mix = surface_mix(self.craft)  # the physics' own deflection per channel (rad)
         hinges, start = [], 0
         for part in self.parts:
             stop = start + len(part.vertices_m)
@@ -81,35 +85,42 @@ class RenderMesh:
                         f"part {part.name!r}: sample {part.sample!r} is not a hinged plate of "
                         f"craft {self.craft.name!r}"
                     )
-                deg = np.zeros(len(channels))
-                for k, control in enumerate(self.craft.controls):
-                    for s in control.surfaces:
-                        if s.sample == part.sample:
-                            deg[k] += s.gain * control.max_deflection_deg
+                rad = mix.get(part.sample, np.zeros(len(self.craft.controls)))
                 axis = np.asarray(plate.hinge_axis, dtype=np.float64)
                 point = np.asarray(part.hinge_point_m, dtype=np.float64)
-                hinges.append((slice(start, stop), point, axis, deg))
+                hinges.append((slice(start, stop), point, axis, rad))
             start = stop
-        object.__setattr__(self, "_hinges", tuple(hinges))
-        object.__setattr__(self, "_vertices", np.concatenate([p.vertices_m for p in self.parts]))
+        offsets = np.cumsum([0] + [len(p.vertices_m) for p in self.parts[:-1]])
+        fixed = {  # what never changes, built once
+            "_hinges": tuple(hinges),
+            "_vertices": np.concatenate([p.vertices_m for p in self.parts]),
+            "_triangles": np.concatenate(
+                [p.triangles + o for p, o in zip(self.parts, offsets, strict=True)]
+            ),
+            "_colors": np.concatenate(
+                [np.tile(np.uint8(p.color), (len(p.triangles), 1)) for p in self.parts]
+            ),
+            "_closed": np.concatenate([np.full(len(p.triangles), p.closed) for p in self.parts]),
+        }
+        for name, value in fixed.items():
+            if isinstance(value, np.ndarray):
+                value.flags.writeable = False
+            object.__setattr__(self, name, value)
 
     @property
     def triangles(self) -> np.ndarray:
-        """``[T, 3]`` indices into :meth:`posed`'s vertices."""
-        offsets = np.cumsum([0] + [len(p.vertices_m) for p in self.parts[:-1]])
-        return np.concatenate([p.triangles + o for p, o in zip(self.parts, offsets, strict=True)])
+        """``[T, 3]`` indices into :meth:`posed`'s vertices (read-only)."""
+        return self._triangles
 
     @property
     def colors(self) -> np.ndarray:
-        """``[T, 3]`` uint8: each triangle's part color."""
-        return np.concatenate(
-            [np.tile(np.array(p.color, dtype=np.uint8), (len(p.triangles), 1)) for p in self.parts]
-        )
+        """``[T, 3]`` uint8: each triangle's part color (read-only)."""
+        return self._colors
 
     @property
     def closed(self) -> np.ndarray:
         """``[T]`` bool: each triangle's part is ``closed`` (its back faces never show)."""
-        return np.concatenate([np.full(len(p.triangles), p.closed) for p in self.parts])
+        return self._closed
 
     @property
     def hinged(self) -> bool:
@@ -123,8 +134,8 @@ class RenderMesh:
         if commands is None or not self._hinges:
             return v
         c = np.asarray(commands, dtype=np.float64)
-        for where, point, axis, deg in self._hinges:
-            angle = np.radians(float(deg @ c))
+        for where, point, axis, rad in self._hinges:
+            angle = float(rad @ c)
             if angle != 0.0:
                 v[where] = point + (v[where] - point) @ _rotation(axis, angle).T
         return v

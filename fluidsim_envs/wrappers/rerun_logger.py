@@ -282,9 +282,8 @@ class RerunLogger(VectorWrapper):
         if not self._active(e):  # its last episode: nothing more will come
             log.columns.send()
 
-    def _before_autoreset(self, ended: np.ndarray, info: dict) -> None:
+    def _before_autoreset(self, ended: np.ndarray, info: dict, reward: np.ndarray) -> None:
         """The base env's hook: the last rows of the logged episodes that end now."""
-        reward = np.sum(np.stack(list(info["reward_terms"].values())), axis=0)
         for e in self.env_ids:
             if np.isin(e, ended) and (self._logs[e].running or self._logs[e].opening):
                 self._open_pending(e)  # a one-step episode: its only row is its last

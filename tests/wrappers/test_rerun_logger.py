@@ -102,7 +102,7 @@ def run(env_id: str, path, watch=None, **kwargs) -> tuple[dict, dict, object]:
     seen: dict[tuple[int, int], dict] = {}
     ending: list[dict] = []
 
-    def capture(ended, info):
+    def capture(ended, info, reward):
         if LOGGED in ended:
             terms = {k: v[LOGGED] for k, v in info["reward_terms"].items()}
             ending.append({**snapshot(env), "terms": terms, "watched": watch and watch(env)})
@@ -420,7 +420,7 @@ def test_evaluation_logs_whole_episodes(tmp_path):
     logger = RerunLogger(venv, path=str(path), env_ids=(0, 3), episodes_per_env=1)
     last: dict[int, np.ndarray] = {}
 
-    def capture(ended, info):
+    def capture(ended, info, reward):
         for e in ended:
             last.setdefault(int(e), np.array(env.sim.pos[e, 0]))
 
