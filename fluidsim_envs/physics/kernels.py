@@ -897,7 +897,7 @@ def _deflect(e0, n, samples, ctrl, flap_now):
             flap_now[2, p, e0 + i] = nz
 
 
-@njit(**_JIT)
+@njit(**_INLINE)
 def _load_block(blk, model, samples, data):
     """Copy a block's state, body constants and fluid (and wake source) into its scratch and
     deflect its control surfaces; returns (first environment, environments in the block)."""
@@ -908,10 +908,10 @@ def _load_block(blk, model, samples, data):
     scr_blk = scr[blk]
     _deflect(e0, n, samples, data.ctrl, data.flap_now)
     for b in range(nb):
-        for k in range(NSTATE):
+        for k in range(st.shape[0]):
             for i in range(n):
                 scr_blk[b, (STATE + k) * BLOCK + i] = st[k, b, e0 + i]
-        for k in range(NBODY):
+        for k in range(model.body.shape[2]):
             for i in range(n):
                 scr_blk[b, (BODY + k) * BLOCK + i] = model.body[e0 + i, b, k]
         for k in range(3):
@@ -925,7 +925,7 @@ def _load_block(blk, model, samples, data):
                     scr_blk[b, (OWN_WATER + k) * BLOCK + i] = scr_blk[
                         b, (FLUID + 3 + k) * BLOCK + i
                     ]
-            for k in range(NSRC):
+            for k in range(src.shape[0]):
                 for i in range(n):
                     scr_blk[b, (SOURCE + k) * BLOCK + i] = src[k, e0 + i]
     return e0, n
@@ -942,7 +942,7 @@ def _contact(scr_blk, nb, e0, n, model, data, work):
                     model.grid, cbody[e], cprm, work, warm[e], data.touch[e])  # fmt: skip
 
 
-@njit(**_JIT)
+@njit(**_INLINE)
 def _advance_block(blk, model, samples, data, method, steps, contact):
     e0, n = _load_block(blk, model, samples, data)
     st, src, clock, diverged = data.st, data.src, data.clock, data.diverged
@@ -984,7 +984,7 @@ def _advance_block(blk, model, samples, data, method, steps, contact):
     for i in range(n):
         diverged[e0 + i] = False
     for b in range(nb):
-        for k in range(NSTATE):
+        for k in range(st.shape[0]):
             for i in range(n):
                 x = scr_blk[b, (STATE + k) * BLOCK + i]
                 st[k, b, e0 + i] = x
