@@ -130,7 +130,7 @@ from .state import (
     STATE,
 )
 from .surface import MAX_WAVES, time_phase, wave_cos
-from .wake import NSRC, W_ON, wake_at
+from .wake import W_ON, wake_at
 
 # A slot's scratch is one flat row-major array S[row * BLOCK + i] (rows: state.SCRATCH_FIELDS):
 # with the row length a compile-time constant the compiler can prove that rows do not
@@ -932,18 +932,18 @@ def _load_block(blk, model, samples, data):
 
 
 @njit(**_JIT)
-def _contact(scr_blk, nb, e0, n, model, data, work):
+def _contact(scr_blk, nb, e0, n, model, data, work, pairs):
     """contact.py: scalar per environment, after a step's integration."""
     cbody, cprm, warm = model.contact_body, model.cprm, data.warm
     for i in range(n):
         e = e0 + i
         if may_touch(scr_blk, nb, i, BLOCK, e, cbody, cprm, warm):
             collide(scr_blk, nb, i, BLOCK, model.body[e], model.shape[e], model.shape_at,
-                    model.grid, cbody[e], cprm, work, warm[e], data.touch[e])  # fmt: skip
+                    model.grid, cbody[e], cprm, work, warm[e], data.touch[e], pairs)  # fmt: skip
 
 
 @njit(**_INLINE)
-def _advance_block(blk, model, samples, data, method, steps, contact):
+def _advance_block(blk, model, samples, data, method, steps, contact, pairs):
     e0, n = _load_block(blk, model, samples, data)
     st, src, clock, diverged = data.st, data.src, data.clock, data.diverged
     nb = st.shape[1]
@@ -967,7 +967,7 @@ def _advance_block(blk, model, samples, data, method, steps, contact):
         # resolved when numba compiles: with ``contact`` None (a model without contact) the
         # branch is pruned and contact.py is never compiled (~60% of a cold first step)
         if contact is not None and touching:
-            _contact(scr_blk, nb, e0, n, model, data, work)
+            _contact(scr_blk, nb, e0, n, model, data, work, pairs)
         for i in range(n):  # each environment's clock: its own slots only
             clock[e0 + i] += tdt
         if wake:  # the source moves on at its velocity (rows: pos 0-2, velocity 12-14)
@@ -1011,23 +1011,25 @@ def _check_method(method):
 
 
 @njit(**_JIT)
-def step_serial(model, samples, data, method, steps, contact):
+def step_serial(model, samples, data, method, steps, contact, pairs):
     """Advance every environment ``steps`` steps on the calling thread (``model``, ``samples``,
     ``data``: ``model.py``'s :class:`Model`, :class:`Samples`, :class:`Data`;
     ``method``: an ``integrators.Integrator.id``; ``contact``: None for a model without
-    contact (``model.cprm[C_ON] == 0``: the kernel is compiled without contact.py), else True)."""
+    contact (``model.cprm[C_ON] == 0``: the kernel is compiled without contact.py), else True;
+    ``pairs``: None where no two bodies can touch (one body per environment: the kernel is
+    compiled without the body-pair tests), else True)."""
     _check_method(method)
     for blk in range(data.scr.shape[0]):
-        _advance_block(blk, model, samples, data, method, steps, contact)
+        _advance_block(blk, model, samples, data, method, steps, contact, pairs)
 
 
 @njit(parallel=True, **_JIT)
-def step_parallel(model, samples, data, method, steps, contact):
+def step_parallel(model, samples, data, method, steps, contact, pairs):
     """Advance every environment ``steps`` steps, blocks spread over numba's threads
     (arguments: :func:`step_serial`'s)."""
     _check_method(method)
     for blk in prange(data.scr.shape[0]):
-        _advance_block(blk, model, samples, data, method, steps, contact)
+        _advance_block(blk, model, samples, data, method, steps, contact, pairs)
 
 
 @njit(**_JIT)

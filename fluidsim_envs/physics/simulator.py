@@ -235,6 +235,7 @@ class Simulator:
         # the step kernel compiled without contact.py where nothing can touch (its None
         # is resolved when numba compiles: kernels.step_serial)
         self._contact = True if cprm[CT.C_ON] else None
+        self._pairs = True if cprm[CT.C_ON] and B > 1 else None  # likewise the body pairs
         flow = np.zeros((6, E), dtype=dtype)  # air velocity, water velocity per env
         flow[:3] = np.asarray(world.wind_mps)[:, None]
         flow[3:] = np.asarray(world.current_mps)[:, None]
@@ -761,7 +762,8 @@ class Simulator:
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise ValueError(f"steps must be a positive integer, got {steps!r}")
         self._set_controls(controls)
-        args = (self._model, self._samples, self._data, self._method, int(steps), self._contact)
+        args = (self._model, self._samples, self._data, self._method, int(steps), self._contact,
+                self._pairs)  # fmt: skip
         if self._entry is None:  # the first call compiles (or loads) through the dispatcher
             self._kernel(*args)
             self._entry = _entry_point(self._kernel, args)

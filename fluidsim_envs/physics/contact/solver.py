@@ -449,7 +449,7 @@ def may_touch(S, nb, i, n, e, contact_body, cprm, warm):
 
 
 @njit(**_JIT)
-def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm, touch):
+def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm, touch, pairs):
     """All contacts of environment i (its bodies' state in the scratch S: element k of body
     b at ``S[b, i + k * n]``; W a work array [num_pairs(nb), NW]; ``warm`` the environment's
     warm-start impulses [num_pairs(nb), NWARM], updated; ``touch`` [num_pairs(nb)] each
@@ -458,27 +458,32 @@ def collide(S, nb, i, n, body, shp, srange, grid, cbody, cprm, W, warm, touch):
     each touching pair is one contact, opened (pushed apart, warm-started) as found; then
     ``C_PASSES`` velocity passes over them all; then the energy check of the impacts; then
     the resting bodies' positions are put back where the velocity the contacts took away
-    had carried them this step."""
+    had carried them this step. ``pairs``: None when no two bodies can touch (one body per
+    environment): the pairs' loop is then pruned when numba compiles (with the pair tests
+    it holds, about 5 s of a cold first step)."""
     for b in range(nb):  # nothing recorded yet: most bodies touch nothing most steps
         W[b, W_REST] = ZERO
         W[b, W_SEEN] = ZERO
     # not ``k = 0``: numba types a call while k is still the literal 0, and compiles _open
     # (7-9 s) for that signature too before k settles to int64 (docs/bench_compile.csv)
     k = np.int64(0)
+    ground = np.int64(-1)  # the ground's body index, typed like b (the literal: _open twice)
     margin = cprm[C_MARGIN]
     for b in range(nb):
         W[k, W_ON] = ZERO
         if _near_ground(S, b, i, n, cbody[b, CB_REACH], cprm):  # (clear above: not visited)
             acc = _ground_overlap(S, b, i, n, shp, srange, grid, cprm)
-            _open(S, W, k, b, -1, i, n, body, cbody, cprm, acc)
+            _open(S, W, k, b, ground, i, n, body, cbody, cprm, acc)
         k += 1
-    for a in range(nb):
-        for b in range(a + 1, nb):
-            W[k, W_ON] = ZERO
-            if _near_each_other(S, a, b, i, n, cbody[a, CB_REACH], cbody[b, CB_REACH], margin):
-                acc = _pair_overlap(S, a, b, i, n, shp, srange, margin)
-                _open(S, W, k, a, b, i, n, body, cbody, cprm, acc)
-            k += 1
+    if pairs is not None:
+        for a in range(nb):
+            for b in range(a + 1, nb):
+                W[k, W_ON] = ZERO
+                reach_a, reach_b = cbody[a, CB_REACH], cbody[b, CB_REACH]
+                if _near_each_other(S, a, b, i, n, reach_a, reach_b, margin):
+                    acc = _pair_overlap(S, a, b, i, n, shp, srange, margin)
+                    _open(S, W, k, a, b, i, n, body, cbody, cprm, acc)
+                k += 1
     opened = 0  # (the calls below are not inlined: skip them for the pairs apart)
     for c in range(k):
         if W[c, W_ON] != ZERO:
