@@ -1,10 +1,11 @@
 """The integrators, one table: each method's name, kernel id, cost and what contact needs.
 
-``kernels._integrate`` dispatches on ``Integrator.id`` with one explicit branch per entry and
-no fallback; :func:`get` is the one lookup, and an unknown name or id raises. Adding a method
-means a row here, its branch in ``kernels._integrate`` (tests/physics/test_integrators.py
-checks every row has one: a missing branch leaves the state untouched and fails there) and
-its description in ``Simulator``'s docstring.
+``kernels.STEPPERS`` maps each ``Integrator.id`` to its block step, a compiled function; the
+step kernels take the id as a literal and compile only that integrator's step in (a kernel per
+integrator); :func:`get` is the one lookup, and an unknown name or id raises. Adding a method
+means a row here, its function in ``kernels.STEPPERS`` (kernels.py asserts every row has one;
+typing a kernel for an id without one fails, naming it) and its description in
+``Simulator``'s docstring.
 """
 
 from __future__ import annotations

@@ -67,7 +67,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit, prange, types
+from numba.core.errors import TypingError
+from numba.extending import overload
 
 from . import integrators as IT
 from .contact import C_ON, NW, collide, may_touch, num_pairs
@@ -150,7 +152,6 @@ EXPLICIT_EULER, SYMPLECTIC_EULER, VELOCITY_VERLET = (
     IT.VELOCITY_VERLET,
 )
 RK2, RK4, VERLET_TETRA = IT.RK2, IT.RK4, IT.VERLET_TETRA
-_IDS = np.array(sorted(IT.BY_ID), dtype=np.int64)
 
 # prm[] slots: world and step parameters, in the simulation dtype
 P_G, P_RHO_AIR, P_RHO_WATER, P_WATER = 0, 1, 2, 3
@@ -778,94 +779,185 @@ def _drift(S, n, h):
             S[(STATE + OX + k) * BLOCK + i] += h * S[(STATE + OV + k) * BLOCK + i]
 
 
+# One time step of every body slot in a block, one function per integrator (stage-synchronous
+# across slots, so that forces coupling bodies of one environment can be added per stage);
+# each evaluation sees the surface at its stage time, the step's start plus ``tau`` (see the
+# module docstring). The step kernels take the integrator's function as an argument
+# (``STEPPERS``): numba compiles a step kernel per integrator, holding that integrator only,
+# which a first step compiles in a third of the time one kernel holding all six took.
+
+
 @njit(**_JIT)
-def _integrate(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external, method):
-    """One time step of every body slot in a block (stage-synchronous across slots, so that
-    forces coupling bodies of one environment can be added per stage); each evaluation sees
-    the surface at its stage time, the step's start plus ``tau`` (see the module docstring)."""
+def _explicit_euler(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+    """Explicit Euler: everything from the old state."""
+    dt = prm[P_DT]
+    for b in range(nb):
+        _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
+    for b in range(nb):
+        _axpy(scr_blk[b], STATE, STATE, dt, n)
+        _normalize_quat(scr_blk[b], STATE + OQ, n)
+
+
+@njit(**_JIT)
+def _symplectic_euler(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+    """Symplectic Euler: velocities first, then positions with new velocities."""
+    dt = prm[P_DT]
+    for b in range(nb):
+        _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
+    for b in range(nb):
+        S = scr_blk[b]
+        _kick(S, n, dt)
+        _drift(S, n, dt)
+        _rotate_by_omega(S, n, dt)
+
+
+@njit(**_JIT)
+def _velocity_verlet(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+    """Velocity Verlet: half kick, drift, new forces, half kick."""
+    dt = prm[P_DT]
+    h2 = HALF * dt
+    tdt = np.float64(dt)  # stage time offsets, float64 like the clock
+    for b in range(nb):
+        _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
+    for b in range(nb):
+        S = scr_blk[b]
+        _kick(S, n, h2)
+        _drift(S, n, dt)
+        _rotate_by_omega(S, n, dt)
+    for b in range(nb):  # at the step's end
+        _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tdt, None)
+    for b in range(nb):
+        _kick(scr_blk[b], n, h2)
+
+
+@njit(**_JIT)
+def _rk2(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+    """RK2, explicit midpoint: START keeps the step's start."""
     dt = prm[P_DT]
     h2 = HALF * dt
     tdt = np.float64(dt)  # stage time offsets, float64 like the clock
     th = 0.5 * tdt
-    if method == EXPLICIT_EULER:  # explicit Euler: everything from the old state
+    for b in range(nb):
+        _copy(scr_blk[b], START, STATE, n)
+        _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
+    for b in range(nb):
+        _axpy(scr_blk[b], STATE, START, h2, n)
+    for b in range(nb):
+        _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, th, None)
+    for b in range(nb):
+        _axpy(scr_blk[b], STATE, START, dt, n)
+        _normalize_quat(scr_blk[b], STATE + OQ, n)
+
+
+@njit(**_JIT)
+def _verlet_tetra(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+    """verlet_tetra: symplectic kick and drift, the turn as a tetrahedron."""
+    dt = prm[P_DT]
+    for b in range(nb):
+        _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
+    for b in range(nb):
+        S = scr_blk[b]
+        _kick(S, n, dt)
+        _drift(S, n, dt)
+        _rotate_tetra(S, n, dt, prm)
+
+
+@njit(**_JIT)
+def _rk4(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+    """Classic RK4: RK_SUM sums k1 + 2 k2 + 2 k3 + k4."""
+    dt = prm[P_DT]
+    h2 = HALF * dt
+    tdt = np.float64(dt)  # stage time offsets, float64 like the clock
+    th = 0.5 * tdt
+    for b in range(nb):
+        _copy(scr_blk[b], START, STATE, n)
+    for stage in range(4):
+        tau = T0 if stage == 0 else (th if stage < 3 else tdt)
         for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
-        for b in range(nb):
-            _axpy(scr_blk[b], STATE, STATE, dt, n)
-            _normalize_quat(scr_blk[b], STATE + OQ, n)
-    elif (
-        method == SYMPLECTIC_EULER
-    ):  # symplectic Euler: velocities first, then positions with new velocities
-        for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
-        for b in range(nb):
-            S = scr_blk[b]
-            _kick(S, n, dt)
-            _drift(S, n, dt)
-            _rotate_by_omega(S, n, dt)
-    elif method == VELOCITY_VERLET:  # velocity Verlet: half kick, drift, new forces, half kick
-        for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
-        for b in range(nb):
-            S = scr_blk[b]
-            _kick(S, n, h2)
-            _drift(S, n, dt)
-            _rotate_by_omega(S, n, dt)
-        for b in range(nb):  # at the step's end
-            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tdt, None)
-        for b in range(nb):
-            _kick(scr_blk[b], n, h2)
-    elif method == RK2:  # RK2, explicit midpoint: START keeps the step's start
-        for b in range(nb):
-            _copy(scr_blk[b], START, STATE, n)
-            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
-        for b in range(nb):
-            _axpy(scr_blk[b], STATE, START, h2, n)
-        for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, th, None)
-        for b in range(nb):
-            _axpy(scr_blk[b], STATE, START, dt, n)
-            _normalize_quat(scr_blk[b], STATE + OQ, n)
-    elif (
-        method == VERLET_TETRA
-    ):  # verlet_tetra: symplectic kick and drift, the turn as a tetrahedron
-        for b in range(nb):
-            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
+            _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, None)
         for b in range(nb):
             S = scr_blk[b]
-            _kick(S, n, dt)
-            _drift(S, n, dt)
-            _rotate_tetra(S, n, dt, prm)
-    elif method == RK4:  # classic RK4: RK_SUM sums k1 + 2 k2 + 2 k3 + k4
-        for b in range(nb):
-            _copy(scr_blk[b], START, STATE, n)
-        for stage in range(4):
-            tau = T0 if stage == 0 else (th if stage < 3 else tdt)
-            for b in range(nb):
-                _evaluate(
-                    scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, None
-                )
-            for b in range(nb):
-                S = scr_blk[b]
-                weight = ONE if stage == 0 or stage == 3 else TWO
+            weight = ONE if stage == 0 or stage == 3 else TWO
+            for k in range(NSTATE):
+                for i in range(n):
+                    acc = S[(DERIV + k) * BLOCK + i] * weight
+                    S[(RK_SUM + k) * BLOCK + i] = (
+                        acc if stage == 0 else S[(RK_SUM + k) * BLOCK + i] + acc
+                    )
+            if stage < 2:
+                _axpy(S, STATE, START, h2, n)
+            elif stage == 2:
+                _axpy(S, STATE, START, dt, n)
+            else:
+                h6 = dt / SIX
                 for k in range(NSTATE):
                     for i in range(n):
-                        acc = S[(DERIV + k) * BLOCK + i] * weight
-                        S[(RK_SUM + k) * BLOCK + i] = (
-                            acc if stage == 0 else S[(RK_SUM + k) * BLOCK + i] + acc
+                        S[(STATE + k) * BLOCK + i] = (
+                            S[(START + k) * BLOCK + i] + h6 * S[(RK_SUM + k) * BLOCK + i]
                         )
-                if stage < 2:
-                    _axpy(S, STATE, START, h2, n)
-                elif stage == 2:
-                    _axpy(S, STATE, START, dt, n)
-                else:
-                    h6 = dt / SIX
-                    for k in range(NSTATE):
-                        for i in range(n):
-                            S[(STATE + k) * BLOCK + i] = (
-                                S[(START + k) * BLOCK + i] + h6 * S[(RK_SUM + k) * BLOCK + i]
-                            )
-                    _normalize_quat(S, STATE + OQ, n)
+                _normalize_quat(S, STATE + OQ, n)
+
+
+# integrator id -> its block step
+STEPPERS = {
+    EXPLICIT_EULER: _explicit_euler,
+    SYMPLECTIC_EULER: _symplectic_euler,
+    VELOCITY_VERLET: _velocity_verlet,
+    RK2: _rk2,
+    RK4: _rk4,
+    VERLET_TETRA: _verlet_tetra,
+}
+assert sorted(STEPPERS) == sorted(IT.BY_ID), "an integrator of integrators.TABLE has no stepper"
+
+
+@njit(**_JIT)
+def _integrate(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external, method):
+    """One time step of a block by integrator id ``method``, chosen at run time: the shared
+    kernel, compiled once for every integrator (``Simulator(shared_kernel=True)``)."""
+    if method == EXPLICIT_EULER:
+        _explicit_euler(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
+    elif method == SYMPLECTIC_EULER:
+        _symplectic_euler(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
+    elif method == VELOCITY_VERLET:
+        _velocity_verlet(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
+    elif method == RK2:
+        _rk2(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
+    elif method == RK4:
+        _rk4(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
+    elif method == VERLET_TETRA:
+        _verlet_tetra(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
+    else:  # a new row of integrators.TABLE without its branch would leave the state as it was
+        raise ValueError("unknown integrator id: see integrators.TABLE")
+
+
+def _step_block(method, scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+    """One time step of a block by integrator id ``method`` (compiled code only)."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(_step_block)
+def _step_block_typed(method, scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+    """Chosen while numba types a step kernel: with ``method`` a literal integer (the
+    Simulator compiles its kernel for its integrator's id as a literal), that integrator's
+    block step is the only one compiled in; with ``method`` an integer, :func:`_integrate`."""
+    if isinstance(method, types.IntegerLiteral):
+        step = STEPPERS.get(method.literal_value)
+        if step is None:
+            raise TypingError(
+                f"unknown integrator id {method.literal_value}: see integrators.TABLE"
+            )
+
+        def one(method, scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+            step(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
+
+        return one
+    if isinstance(method, types.Integer):
+
+        def shared(method, scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+            _integrate(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external, method)
+
+        return shared
+    return None
 
 
 @njit(**_JIT)
@@ -963,7 +1055,7 @@ def _advance_block(blk, model, samples, data, method, steps, contact, pairs):
         if sea:  # the waves' time phases at the step's start
             for b in range(nb):
                 _phase_rows(scr_blk[b], n, e0, model.swell, clock)
-        _integrate(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external, method)
+        _step_block(method, scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
         # resolved when numba compiles: with ``contact`` None (a model without contact) the
         # branch is pruned and contact.py is never compiled (~60% of a cold first step)
         if contact is not None and touching:
@@ -1001,24 +1093,15 @@ def _advance_block(blk, model, samples, data, method, steps, contact, pairs):
 
 
 @njit(**_JIT)
-def _check_method(method):
-    """An integrator id without a branch in ``_integrate`` would leave the state untouched:
-    refuse it (``integrators.TABLE`` lists the ids)."""
-    for known in _IDS:
-        if method == known:
-            return
-    raise ValueError("unknown integrator id: see integrators.TABLE")
-
-
-@njit(**_JIT)
 def step_serial(model, samples, data, method, steps, contact, pairs):
     """Advance every environment ``steps`` steps on the calling thread (``model``, ``samples``,
     ``data``: ``model.py``'s :class:`Model`, :class:`Samples`, :class:`Data`;
-    ``method``: an ``integrators.Integrator.id``; ``contact``: None for a model without
-    contact (``model.cprm[C_ON] == 0``: the kernel is compiled without contact.py), else True;
-    ``pairs``: None where no two bodies can touch (one body per environment: the kernel is
-    compiled without the body-pair tests), else True)."""
-    _check_method(method)
+    ``method``: an ``integrators.Integrator.id``, typed as a literal for a kernel holding that
+    integrator's block step only, or as an integer for one shared by all six (``_step_block``);
+    ``contact``: None for a model without contact (``model.cprm[C_ON] == 0``: the kernel is
+    compiled without contact.py), else True; ``pairs``: None where no two bodies can touch
+    (one body per environment: the kernel is compiled without the body-pair tests), else
+    True)."""
     for blk in range(data.scr.shape[0]):
         _advance_block(blk, model, samples, data, method, steps, contact, pairs)
 
@@ -1027,7 +1110,6 @@ def step_serial(model, samples, data, method, steps, contact, pairs):
 def step_parallel(model, samples, data, method, steps, contact, pairs):
     """Advance every environment ``steps`` steps, blocks spread over numba's threads
     (arguments: :func:`step_serial`'s)."""
-    _check_method(method)
     for blk in prange(data.scr.shape[0]):
         _advance_block(blk, model, samples, data, method, steps, contact, pairs)
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Sequence
 
 import numpy as np
@@ -23,15 +24,19 @@ PARALLEL_MIN_BODIES = 1024  # below this many bodies the serial kernel wins (thr
 BUILTIN_GROUPS = ("all", "plates", "control_surfaces", "cylinders", "buoyancy")
 
 
-def _entry_point(kernel, args):
-    """The compiled function ``kernel`` runs for ``args``, called without the dispatcher's
-    typing of every argument: half of a one-environment step's round trip through Python
-    (``benchmarks/compare_revisions.py``). The Simulator's buffers keep their types for its
-    life, so the types resolved once hold; None falls back to the dispatcher."""
+def _entry_point(kernel, args, literal=()):
+    """The compiled function ``kernel`` runs for ``args`` (compiled, or loaded from numba's
+    cache, now), to be called without the dispatcher's typing of every argument: half of a
+    one-environment step's round trip through Python (``benchmarks/compare_revisions.py``).
+    The Simulator's buffers keep their types for its life, so the types resolved once hold.
+    The arguments at the positions ``literal`` are typed as literals (the integrator id: a
+    kernel holding that integrator only, ``kernels._step_block``)."""
     import numba
 
-    overload = kernel.overloads.get(tuple(numba.typeof(a) for a in args))
-    return overload.entry_point if overload is not None else kernel
+    sig = tuple(
+        numba.types.literal(a) if i in literal else numba.typeof(a) for i, a in enumerate(args)
+    )
+    return kernel.compile(sig)
 
 
 def _world_params(world: World, dt: float, swell: np.ndarray) -> np.ndarray:
@@ -138,6 +143,13 @@ class Simulator:
             pose and velocity) is set with :meth:`set_wake_source` and moves on at its
             velocity (orientation held) while the bodies step. None (default): no wake, and
             no cost.
+        shared_kernel: compile one step kernel for every integrator (the method chosen at
+            run time) instead of one holding this integrator only. The first step of a
+            process compiles its kernel (docs/bench_compile.csv): per integrator is the
+            faster first step (the default); shared compiles once for a process that runs
+            several integrators (the test suite, the studies). Both give bit-identical
+            results (tests/physics/test_integrator_table.py). None (default): shared when
+            the environment variable ``FLUIDSIM_SHARED_KERNEL`` is ``1``.
 
     State (world frame, arrays ``[E, B, ...]``, read-only views): ``pos``, ``quat`` (w, x, y,
     z), ``lin_vel``, ``ang_vel``, and ``diverged`` ``[E]`` (a non-finite state).
@@ -177,6 +189,7 @@ class Simulator:
         dtype=np.float64,
         parallel: bool | None = None,
         wake: WK.WakeField | None = None,
+        shared_kernel: bool | None = None,
     ) -> None:
         crafts = [crafts] if isinstance(crafts, Craft) else list(crafts)
         if not crafts or not all(isinstance(c, Craft) for c in crafts):
@@ -211,6 +224,11 @@ class Simulator:
         self.wake = wake
         self.parallel = E * B >= PARALLEL_MIN_BODIES if parallel is None else bool(parallel)
         self._method = method.id
+        if shared_kernel is None:
+            shared_kernel = os.environ.get("FLUIDSIM_SHARED_KERNEL", "") == "1"
+        elif not isinstance(shared_kernel, bool):
+            raise TypeError(f"shared_kernel must be a bool or None, got {shared_kernel!r}")
+        self.shared_kernel = shared_kernel
         self._kernel = K.step_parallel if self.parallel else K.step_serial
         self.control_names: tuple[str, ...] = tuple(M.control_names(crafts))
 
@@ -764,11 +782,10 @@ class Simulator:
         self._set_controls(controls)
         args = (self._model, self._samples, self._data, self._method, int(steps), self._contact,
                 self._pairs)  # fmt: skip
-        if self._entry is None:  # the first call compiles (or loads) through the dispatcher
-            self._kernel(*args)
-            self._entry = _entry_point(self._kernel, args)
-        else:
-            self._entry(*args)
+        if self._entry is None:  # the first call compiles (or loads) the kernel
+            literal = () if self.shared_kernel else (3,)  # the integrator id
+            self._entry = _entry_point(self._kernel, args, literal)
+        self._entry(*args)
 
     def _set_controls(self, controls) -> None:
         if controls is None:
