@@ -67,7 +67,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange, types
+from numba import literally, njit, prange, types
 from numba.core.errors import TypingError
 from numba.extending import overload
 
@@ -935,11 +935,11 @@ def _step_block(method, scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, 
     raise NotImplementedError("compiled code only")
 
 
-@overload(_step_block)
+@overload(_step_block, prefer_literal=True)  # the literal first: one integrator
 def _step_block_typed(method, scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
-    """Chosen while numba types a step kernel: with ``method`` a literal integer (the
-    Simulator compiles its kernel for its integrator's id as a literal), that integrator's
-    block step is the only one compiled in; with ``method`` an integer, :func:`_integrate`."""
+    """Chosen while numba types a step kernel: with ``method`` a literal integer
+    (``step_serial``, ``step_parallel``: ``literally``), that integrator's block step is the
+    only one compiled in; with ``method`` an integer (``step_*_shared``), :func:`_integrate`."""
     if isinstance(method, types.IntegerLiteral):
         step = STEPPERS.get(method.literal_value)
         if step is None:
@@ -1096,12 +1096,12 @@ def _advance_block(blk, model, samples, data, method, steps, contact, pairs):
 def step_serial(model, samples, data, method, steps, contact, pairs):
     """Advance every environment ``steps`` steps on the calling thread (``model``, ``samples``,
     ``data``: ``model.py``'s :class:`Model`, :class:`Samples`, :class:`Data`;
-    ``method``: an ``integrators.Integrator.id``, typed as a literal for a kernel holding that
-    integrator's block step only, or as an integer for one shared by all six (``_step_block``);
-    ``contact``: None for a model without contact (``model.cprm[C_ON] == 0``: the kernel is
-    compiled without contact.py), else True; ``pairs``: None where no two bodies can touch
-    (one body per environment: the kernel is compiled without the body-pair tests), else
-    True)."""
+    ``method``: an ``integrators.Integrator.id``, compiled as a literal: the kernel holds that
+    integrator's block step only (``_step_block``); ``contact``: None for a model without
+    contact (``model.cprm[C_ON] == 0``: the kernel is compiled without contact.py), else True;
+    ``pairs``: None where no two bodies can touch (one body per environment: the kernel is
+    compiled without the body-pair tests), else True)."""
+    literally(method)
     for blk in range(data.scr.shape[0]):
         _advance_block(blk, model, samples, data, method, steps, contact, pairs)
 
@@ -1110,6 +1110,25 @@ def step_serial(model, samples, data, method, steps, contact, pairs):
 def step_parallel(model, samples, data, method, steps, contact, pairs):
     """Advance every environment ``steps`` steps, blocks spread over numba's threads
     (arguments: :func:`step_serial`'s)."""
+    literally(method)
+    for blk in prange(data.scr.shape[0]):
+        _advance_block(blk, model, samples, data, method, steps, contact, pairs)
+
+
+# The same kernels shared by every integrator (``Simulator(shared_kernel=True)``): ``method``
+# an integer, the block step chosen at run time (``_integrate``)
+
+
+@njit(**_JIT)
+def step_serial_shared(model, samples, data, method, steps, contact, pairs):
+    """:func:`step_serial` for any integrator (arguments: its)."""
+    for blk in range(data.scr.shape[0]):
+        _advance_block(blk, model, samples, data, method, steps, contact, pairs)
+
+
+@njit(parallel=True, **_JIT)
+def step_parallel_shared(model, samples, data, method, steps, contact, pairs):
+    """:func:`step_parallel` for any integrator (arguments: its)."""
     for blk in prange(data.scr.shape[0]):
         _advance_block(blk, model, samples, data, method, steps, contact, pairs)
 

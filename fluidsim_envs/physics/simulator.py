@@ -25,18 +25,19 @@ BUILTIN_GROUPS = ("all", "plates", "control_surfaces", "cylinders", "buoyancy")
 
 
 def _entry_point(kernel, args, literal=()):
-    """The compiled function ``kernel`` runs for ``args`` (compiled, or loaded from numba's
-    cache, now), to be called without the dispatcher's typing of every argument: half of a
-    one-environment step's round trip through Python (``benchmarks/compare_revisions.py``).
-    The Simulator's buffers keep their types for its life, so the types resolved once hold.
-    The arguments at the positions ``literal`` are typed as literals (the integrator id: a
-    kernel holding that integrator only, ``kernels._step_block``)."""
+    """The compiled function ``kernel`` runs for ``args``, called without the dispatcher's
+    typing of every argument: half of a one-environment step's round trip through Python
+    (``benchmarks/compare_revisions.py``). The Simulator's buffers keep their types for its
+    life, so the types resolved once hold; the arguments at the positions ``literal`` were
+    compiled as literals (the integrator id: ``kernels.step_serial``). Without a match, the
+    dispatcher."""
     import numba
 
-    sig = tuple(
+    key = tuple(
         numba.types.literal(a) if i in literal else numba.typeof(a) for i, a in enumerate(args)
     )
-    return kernel.compile(sig)
+    overload = kernel.overloads.get(key)
+    return overload.entry_point if overload is not None else kernel
 
 
 def _world_params(world: World, dt: float, swell: np.ndarray) -> np.ndarray:
@@ -229,7 +230,10 @@ class Simulator:
         elif not isinstance(shared_kernel, bool):
             raise TypeError(f"shared_kernel must be a bool or None, got {shared_kernel!r}")
         self.shared_kernel = shared_kernel
-        self._kernel = K.step_parallel if self.parallel else K.step_serial
+        if shared_kernel:
+            self._kernel = K.step_parallel_shared if self.parallel else K.step_serial_shared
+        else:
+            self._kernel = K.step_parallel if self.parallel else K.step_serial
         self.control_names: tuple[str, ...] = tuple(M.control_names(crafts))
 
         swell = world.swell_table()  # rows (a, kx, ky, omega, phase)
@@ -782,10 +786,12 @@ class Simulator:
         self._set_controls(controls)
         args = (self._model, self._samples, self._data, self._method, int(steps), self._contact,
                 self._pairs)  # fmt: skip
-        if self._entry is None:  # the first call compiles (or loads) the kernel
+        if self._entry is None:  # the first call compiles (or loads) through the dispatcher
+            self._kernel(*args)
             literal = () if self.shared_kernel else (3,)  # the integrator id
             self._entry = _entry_point(self._kernel, args, literal)
-        self._entry(*args)
+        else:
+            self._entry(*args)
 
     def _set_controls(self, controls) -> None:
         if controls is None:
