@@ -40,6 +40,7 @@ import sys
 import tempfile
 import time
 from collections import defaultdict
+from pathlib import Path
 
 import numba
 
@@ -201,6 +202,19 @@ def run_child(env_id: str, cache: str) -> dict:
     if proc.returncode != 0:
         raise RuntimeError(f"{env_id}: child failed\n{proc.stderr[-4000:]}")
     return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def first_step_range(path=ROOT / "docs" / "bench_compile.csv") -> str:
+    """The cold first step as the docs quote it, ``"A-B s"``: the fastest and the slowest
+    env's mean ``first total`` over the runs in ``path`` (tests/test_readme.py checks that
+    README.md, docs/benchmarks.md, the warmup and the compile notice say this)."""
+    totals = defaultdict(list)
+    for line in Path(path).read_text().splitlines():
+        cells = line.split(",")
+        if len(cells) >= 4 and cells[2] == "first total":
+            totals[cells[0]].append(float(cells[3]))
+    means = [sum(v) / len(v) for v in totals.values()]
+    return f"{min(means):.0f}-{max(means):.0f} s"
 
 
 def main(argv=None) -> None:

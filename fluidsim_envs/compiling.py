@@ -16,6 +16,7 @@ import time
 from numba.core import event
 
 SLOW_S = 3.0  # an outermost compile at least this long gets its own line
+FIRST_STEP = "19-37 s"  # an env's cold first step (docs/bench_compile.csv; tests/test_readme.py)
 
 
 class CompileNotice(event.Listener):
@@ -37,7 +38,7 @@ class CompileNotice(event.Listener):
                 self.told = True
                 self._say(
                     "fluidsim-envs: compiling the physics kernels (once after an install or an "
-                    "update, about a minute per env on 2 cores; cached afterwards; "
+                    f"update, {FIRST_STEP} per env on 2 cores; cached afterwards; "
                     "`python -m fluidsim_envs.warmup` compiles them ahead) ..."
                 )
         self.depth += 1

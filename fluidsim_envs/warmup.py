@@ -4,11 +4,11 @@
     python -m fluidsim_envs.warmup fluidsim/BoatOnStep-v0 --no-parallel
 
 numba compiles a kernel at its first call and caches the machine code beside the package
-(``cache=True``), so a fresh install, or a changed kernel, pays for it once: 55-93 s for an
-env's first step on 2 cores (docs/bench_compile.csv, ``python -m benchmarks.bench_compile``),
-and more for the threaded kernels of large batches. This pays it up front,
-one line per env, for the kernels the env uses at a batch below and at or above the size from
-which the Simulator steps environments on several threads.
+(``cache=True``), so a fresh install, or a changed kernel, pays for it once: 19-37 s per env
+for its first step on 2 cores (docs/bench_compile.csv, ``python -m benchmarks.bench_compile``),
+and more for the threaded kernels of large batches. This pays it up front, one line per
+env, for the kernels the env uses at a batch below and at or above the size from which the
+Simulator steps environments on several threads.
 """
 
 from __future__ import annotations

@@ -32,3 +32,16 @@ def test_local_links_resolve(page):
     for target in re.findall(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", page.read_text()):
         if not re.match(r"[a-z]+:", target):
             assert (page.parent / target).exists(), f"{page.name}: {target}"
+
+
+def test_quoted_compile_times_are_the_csvs():
+    """The cold first step, wherever a page or a message quotes it, is what
+    docs/bench_compile.csv holds (``python -m benchmarks.bench_compile`` rewrites it)."""
+    from benchmarks.bench_compile import first_step_range
+    from fluidsim_envs import compiling
+
+    expected = first_step_range()
+    assert compiling.FIRST_STEP == expected
+    for path in ("README.md", "docs/benchmarks.md", "fluidsim_envs/warmup.py"):
+        quoted = re.findall(r"(\d+-\d+ s) per env", (ROOT / path).read_text())
+        assert quoted and set(quoted) == {expected}, (path, quoted, expected)

@@ -48,6 +48,19 @@ state rows in place (it does not vectorize and need not: a body costs it one dis
 per pair until something touches). It reads that environment's rows of ``model.shape``,
 ``model.body`` and ``model.contact_body``, and ``data.warm``, ``data.touch``.
 
+What a first step compiles (``benchmarks/bench_compile.py``, docs/bench_compile.csv). Numba
+links each compiled callee into its caller and optimizes and emits the whole again, so a
+cold compile grows with the code times the levels of calls above it. Hence: the block's load
+and advance are inlined into the step kernels (numba's inlining: a level less); the loops
+that copy state, body and source rows run to the arrays' shapes, not to constants, which LLVM
+would unroll into one vectorized copy per row (the step tree was 50k lines of IR, now 20k);
+the step kernels take the integrator id as a literal and compile its block step only
+(``STEPPERS``, ``_step_block``; ``step_*_shared`` hold all six, chosen at run time, for a
+process that runs several); and ``contact`` and ``pairs`` are None where nothing touches or no
+two bodies can meet, branches numba prunes, so contact.py and its body-pair tests compile only
+where they can run. Together a first step went from 93/58/55 s (dart, submarine, boat) to
+the CSV's figures; the dart's rest is mostly contact.py's scalar solver.
+
 External force. ``data.external`` [E, B, 6] holds a world force and torque per body that
 ``_evaluate`` adds to the samples' (``Simulator.set_external_force``: a scene's mooring line).
 
