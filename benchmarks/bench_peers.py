@@ -107,7 +107,7 @@ COLUMNS = (
 )
 
 # Flops of one body-step of the paper airplane (symplectic Euler, World(): air only, no wake,
-# no swell), counted from the source of kernels._evaluate / _integrate and forces.py. Rule:
+# no swell), counted from the source of kernels._evaluate / _symplectic_euler and forces.py. Rule:
 # +, -, *, / and sqrt count 1 each; min, max, negation, loads, stores and copies count 0;
 # a fused multiply-add counts 2 (its multiply and its add, as written); an operation on
 # values that are the same for every body of the loop (hoisted by the compiler: HALF * h,
@@ -533,7 +533,7 @@ def write_md(machine: list[str], rows: list[dict], path: Path, csv_name: str) ->
     L.append("### Flops per body-step and the share of the machine's peak")
     L.append("")
     L.append(
-        "Counted by reading `_evaluate`, `_integrate` (symplectic Euler) and the helpers they "
+        "Counted by reading `_evaluate`, `_symplectic_euler` and the helpers they "
         "inline in `physics/kernels.py`, `physics/rotation.py` and `physics/forces.py`, for "
         "`World()` (air only: no wake, no swell, calm). Rule: +, -, *, / and sqrt count 1 "
         "each; min, max, negation, loads and stores 0; a fused multiply-add 2 (the source's "
