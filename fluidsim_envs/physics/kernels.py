@@ -948,7 +948,7 @@ def _step_block(method, scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, 
     raise NotImplementedError("compiled code only")
 
 
-@overload(_step_block, prefer_literal=True)  # the literal first: one integrator
+@overload(_step_block, prefer_literal=True, inline="always")  # literal first; no call level
 def _step_block_typed(method, scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
     """Chosen while numba types a step kernel: with ``method`` a literal integer
     (``step_serial``, ``step_parallel``: ``literally``), that integrator's block step is the
