@@ -40,11 +40,10 @@ import sys
 import tempfile
 import time
 from collections import defaultdict
-from pathlib import Path
 
 import numba
 
-from benchmarks.common import ROOT, arguments, load_average, write_csv
+from benchmarks.common import ROOT, arguments, load_average, read_csv, write_csv
 
 ENVS = ("fluidsim/PaperAirplane-v0", "fluidsim/SubmarineWake-v0", "fluidsim/BoatOnStep-v0")
 PACKAGE = "fluidsim_envs"
@@ -209,10 +208,9 @@ def first_step_range(path=ROOT / "docs" / "bench_compile.csv") -> str:
     env's mean ``first total`` over the runs in ``path`` (tests/test_readme.py checks that
     README.md, docs/benchmarks.md, the warmup and the compile notice say this)."""
     totals = defaultdict(list)
-    for line in Path(path).read_text().splitlines():
-        cells = line.split(",")
-        if len(cells) >= 4 and cells[2] == "first total":
-            totals[cells[0]].append(float(cells[3]))
+    for row in read_csv(path)[1]:
+        if row["what"] == "first total":
+            totals[row["env"]].append(float(row["seconds"]))
     means = [sum(v) / len(v) for v in totals.values()]
     return f"{min(means):.0f}-{max(means):.0f} s"
 

@@ -3,8 +3,8 @@
 ``kernels.STEPPERS`` maps each ``Integrator.id`` to its block step, a compiled function; the
 step kernels take the id as a literal and compile only that integrator's step in (a kernel per
 integrator); :func:`get` is the one lookup, and an unknown name or id raises. Adding a method
-means a row here, its function in ``kernels.STEPPERS`` (kernels.py asserts every row has one;
-typing a kernel for an id without one fails, naming it) and its description in
+means a row here, its function in ``kernels.STEPPERS`` (kernels.py asserts every row has one)
+and in ``kernels._integrate`` (without it the step raises), and its description in
 ``Simulator``'s docstring.
 """
 

@@ -81,7 +81,6 @@ import math
 
 import numpy as np
 from numba import literally, njit, prange, types
-from numba.core.errors import TypingError
 from numba.extending import overload
 
 from . import integrators as IT
@@ -795,9 +794,9 @@ def _drift(S, n, h):
 # One time step of every body slot in a block, one function per integrator (stage-synchronous
 # across slots, so that forces coupling bodies of one environment can be added per stage);
 # each evaluation sees the surface at its stage time, the step's start plus ``tau`` (see the
-# module docstring). The step kernels take the integrator's function as an argument
-# (``STEPPERS``): numba compiles a step kernel per integrator, holding that integrator only,
-# which a first step compiles in a third of the time one kernel holding all six took.
+# module docstring). ``STEPPERS`` maps the ids to them; a step kernel compiled for one id
+# holds that integrator only (``_step_block``), which a first step compiles far sooner than a
+# kernel holding all six (``_integrate``, the shared kernels').
 
 
 @njit(**_JIT)
@@ -952,13 +951,10 @@ def _step_block(method, scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, 
 def _step_block_typed(method, scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
     """Chosen while numba types a step kernel: with ``method`` a literal integer
     (``step_serial``, ``step_parallel``: ``literally``), that integrator's block step is the
-    only one compiled in; with ``method`` an integer (``step_*_shared``), :func:`_integrate`."""
-    if isinstance(method, types.IntegerLiteral):
-        step = STEPPERS.get(method.literal_value)
-        if step is None:
-            raise TypingError(
-                f"unknown integrator id {method.literal_value}: see integrators.TABLE"
-            )
+    only one compiled in; with ``method`` an integer (``step_*_shared``), or a literal without
+    a block step, :func:`_integrate` (which refuses an unknown id when it runs)."""
+    if isinstance(method, types.IntegerLiteral) and method.literal_value in STEPPERS:
+        step = STEPPERS[method.literal_value]
 
         def one(method, scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
             step(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
@@ -1070,7 +1066,7 @@ def _advance_block(blk, model, samples, data, method, steps, contact, pairs):
                 _phase_rows(scr_blk[b], n, e0, model.swell, clock)
         _step_block(method, scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
         # resolved when numba compiles: with ``contact`` None (a model without contact) the
-        # branch is pruned and contact.py is never compiled (~60% of a cold first step)
+        # branch is pruned and contact.py is never compiled (most of the dart's first step)
         if contact is not None and touching:
             _contact(scr_blk, nb, e0, n, model, data, work, pairs)
         for i in range(n):  # each environment's clock: its own slots only

@@ -22,6 +22,7 @@ from .world import World
 PARALLEL_MIN_BODIES = 1024  # below this many bodies the serial kernel wins (thread start-up)
 # groups every craft has for Simulator.set_sample_scale, beside its samples' names and its own
 BUILTIN_GROUPS = ("all", "plates", "control_surfaces", "cylinders", "buoyancy")
+_METHOD_ARG = 3  # the step kernels' integrator id: (model, samples, data, method, ...)
 
 
 def _entry_point(kernel, args, literal=()):
@@ -788,7 +789,7 @@ class Simulator:
                 self._pairs)  # fmt: skip
         if self._entry is None:  # the first call compiles (or loads) through the dispatcher
             self._kernel(*args)
-            literal = () if self.shared_kernel else (3,)  # the integrator id
+            literal = () if self.shared_kernel else (_METHOD_ARG,)
             self._entry = _entry_point(self._kernel, args, literal)
         else:
             self._entry(*args)
