@@ -51,6 +51,24 @@ class FactorTable:
             if np.all(self.factor[target] == 1.0):
                 self.row[which, users] = 0
 
+    def values(self, env_ids: np.ndarray) -> np.ndarray:
+        """Every sample's factors in environments ``env_ids``: ``[n, len(FACTORS), N]``."""
+        return np.moveaxis(self.factor[self.row][..., env_ids], -1, 0).copy()
+
+    def restore(self, values: np.ndarray, env_ids: np.ndarray) -> None:
+        """Give environments ``env_ids`` the factors ``values`` (``[n, len(FACTORS), N]``, as
+        :meth:`values` returns them); samples whose factors are unchanged are left alone."""
+        now = self.values(env_ids)
+        for which in range(values.shape[1]):
+            new = values[:, which, :]  # [n, N]
+            changed = np.flatnonzero(np.any(new != now[:, which, :], axis=0))
+            if not changed.size:
+                continue
+            # the samples that share a column of values are set (and keep a row) together
+            columns, group = np.unique(new[:, changed].T, axis=0, return_inverse=True)
+            for g, column in enumerate(columns):
+                self.set(which, changed[group.ravel() == g], env_ids, column)
+
     def _free_row(self) -> int:
         used = np.zeros(len(self.factor), dtype=bool)
         used[self.row.ravel()] = True

@@ -557,6 +557,85 @@ class Simulator:
             )
         return ids
 
+    # ---- snapshots ------------------------------------------------------------------------
+
+    def _env_arrays(self) -> dict[str, tuple[np.ndarray, int]]:
+        """Every array that holds something of one environment, and its environment axis:
+        what a snapshot copies. ``scr`` is scratch (rewritten before it is read), and the
+        samples' factors are in the :class:`FactorTable` (:meth:`get_state`)."""
+        d, m = self._data, self._model
+        arrays = {
+            "st": (d.st, 2),
+            "flow": (d.flow, 1),
+            "src": (d.src, 1),
+            "clock": (d.clock, 0),
+            "ctrl": (d.ctrl, 1),
+            "flap_now": (d.flap_now, 2),
+            "external": (d.external, 0),
+            "warm": (d.warm, 0),
+            "touch": (d.touch, 0),
+            "diverged": (d.diverged, 0),
+            "body": (m.body, 0),
+            "shape": (m.shape, 0),
+            "contact_body": (m.contact_body, 0),
+        }
+        for b, bd in enumerate(self._bodies):
+            arrays.update(
+                {
+                    f"mass_kg.{b}": (bd.mass_kg, 0),
+                    f"inertia.{b}": (bd.inertia, 0),
+                    f"com_m.{b}": (bd.com_m, 0),
+                }  # fmt: skip
+            )
+        if not d.warm.shape[0]:  # no body pairs: no warm starts to keep
+            del arrays["warm"], arrays["touch"]
+        # a read-only array is one row broadcast to every environment (model.pack: no
+        # collision shapes), nobody's own
+        return {k: (a, axis) for k, (a, axis) in arrays.items() if a.flags.writeable}
+
+    def get_state(self, env_ids=None) -> dict[str, np.ndarray]:
+        """A copy of everything that decides the future of environments ``env_ids`` (None:
+        all): the state, clocks, flows, wake sources, held forces, contact warm starts and
+        each environment's craft (mass properties, sample factors). Arrays with the
+        environment first, ``[n, ...]``; :meth:`set_state` puts them back, into these or other
+        environments of a Simulator of the same crafts and layout."""
+        ids = self._env_ids("get_state", env_ids)
+        state = {
+            name: np.moveaxis(arr, axis, 0)[ids].copy()
+            for name, (arr, axis) in self._env_arrays().items()
+        }
+        state["factors"] = self._factors.values(ids)
+        return state
+
+    def set_state(self, state: dict[str, np.ndarray], env_ids=None) -> None:
+        """Restore environments ``env_ids`` (None: all) from ``state`` (:meth:`get_state`'s,
+        one row per environment): they then step bit for bit as the ones it was taken from."""
+        ids = self._env_ids("set_state", env_ids)
+        arrays = self._env_arrays()
+        expected = {*arrays, "factors"}
+        if not isinstance(state, dict) or set(state) != expected:
+            got = sorted(state) if isinstance(state, dict) else type(state).__name__
+            raise ValueError(
+                f"set_state: not a snapshot of this Simulator's layout: expected the arrays "
+                f"{sorted(expected)}, got {got}"
+            )
+        arrays["factors"] = (self._factors.values(ids), 0)  # only its shape is checked here
+        for name, (arr, axis) in arrays.items():
+            want = (ids.size, *np.delete(arr.shape, axis))
+            got = np.asarray(state[name])
+            if got.shape != want or got.dtype != arr.dtype:
+                raise ValueError(
+                    f"set_state: snapshot array {name!r} is {got.dtype}{list(got.shape)}, "
+                    f"expected {arr.dtype}{list(want)} ({ids.size} environments of this "
+                    "Simulator's layout)"
+                )
+        for name, (arr, axis) in arrays.items():
+            if name != "factors":
+                np.moveaxis(arr, axis, 0)[ids] = state[name]
+        self._factors.restore(np.asarray(state["factors"]), ids)
+        if self._factors.factor is not self._samples.factor:  # the table grew
+            self._samples = self._samples._replace(factor=self._factors.factor)
+
     # ---- each environment's craft ----------------------------------------------------------
 
     @property

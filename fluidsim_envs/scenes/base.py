@@ -28,6 +28,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from ..physics import checks as CK
+from .snapshot import EnvState
 
 # --------------------------------------------------------------------------------------------
 # parameters
@@ -84,6 +85,11 @@ class FluidVectorEnv(VectorEnv):
     # the rgb_array viewer: View(env) with frame(env_index) -> [H, W, 3] uint8, made on the
     # first render() and owning whatever it keeps between frames
     View: type
+    # the scene's arrays that hold what decides a sub-env's future beyond the physics (the
+    # task: targets, routes, counters, last flags), each with its sub-env axis: what a
+    # snapshot (get_state) copies beside the base's own (_BASE_STATE). An array made in
+    # _build with a sub-env axis belongs here (tests/scenes/test_snapshot.py checks)
+    state_fields: tuple[tuple[str, int], ...] = ()
 
     def __init__(
         self, num_envs: int = 1, render_mode: str | None = None, autoreset: bool = True, **kwargs
@@ -258,6 +264,94 @@ class FluidVectorEnv(VectorEnv):
                 self._needs_reset[ended] = True
         return self._obs.copy(), reward, terminated, truncated, info
 
+    # ---- snapshots --------------------------------------------------------------------------
+
+    def get_state(self, env_ids=None) -> EnvState:
+        """A snapshot of sub-envs ``env_ids`` (None: all): their physics, task, episode
+        clocks and sums, last actions and observations, and generators; picklable."""
+        ids = self._ids("get_state", env_ids)
+        task = {
+            name: np.moveaxis(getattr(self, name), axis, 0)[ids].copy()
+            for name, axis in self._state_arrays()
+        }
+        return EnvState(
+            env=f"{type(self).__module__}:{type(self).__qualname__}",
+            params=self.params,
+            physics=self.sim.get_state(ids),
+            task=task,
+            rngs=tuple(
+                None if self._rngs[i] is None else self._rngs[i].bit_generator.state for i in ids
+            ),  # fmt: skip
+        )
+
+    def set_state(self, state: EnvState, env_ids=None) -> np.ndarray:
+        """Restore sub-envs ``env_ids`` (None: all) from ``state`` (one row each, in order; a
+        snapshot of this env class with equal parameters). From there they step bit for bit
+        as the sub-envs it was taken from did. Returns the observations of every sub-env
+        ``[E, obs_dim]`` (a copy), as reset does."""
+        ids = self._ids("set_state", env_ids)
+        here = f"{type(self).__module__}:{type(self).__qualname__}"
+        if not isinstance(state, EnvState):
+            raise TypeError(f"set_state: expected an EnvState (get_state), got {state!r:.80}")
+        if state.env != here:
+            raise ValueError(f"set_state: a snapshot of {state.env}, not of {here}")
+        if state.params != self.params:
+            theirs, ours = dataclasses.asdict(state.params), dataclasses.asdict(self.params)
+            diff = [f"{k}={v!r} (here {ours[k]!r})" for k, v in theirs.items() if v != ours[k]]
+            raise ValueError(f"set_state: the snapshot's env has other parameters: {diff}")
+        if len(state) != ids.size or np.unique(ids).size != ids.size:
+            raise ValueError(
+                f"set_state: a snapshot of {len(state)} sub-envs cannot fill env_ids of "
+                f"{ids.size} ({np.unique(ids).size} distinct): one row per sub-env, each once "
+                "(EnvState.repeat or clone_state copy one sub-env into many)"
+            )
+        self.sim.set_state(state.physics, ids)
+        for name, axis in self._state_arrays():
+            np.moveaxis(getattr(self, name), axis, 0)[ids] = state.task[name]
+        for i, rng_state in zip(ids, state.rngs, strict=True):
+            if rng_state is None:
+                self._rngs[i] = None
+                continue
+            if self._rngs[i] is None:
+                self._rngs[i] = np.random.Generator(np.random.PCG64())
+            self._rngs[i].bit_generator.state = rng_state
+        self._np_random = self._rngs[0]
+        return self._obs.copy()
+
+    def clone_state(self, src_env: int, dst_env_ids) -> None:
+        """Copy sub-env ``src_env`` into sub-envs ``dst_env_ids``: each then steps as it would."""
+        if not (
+            isinstance(src_env, (int, np.integer))
+            and not isinstance(src_env, bool)
+            and 0 <= src_env < self.num_envs
+        ):
+            raise ValueError(
+                f"clone_state: src_env must be a sub-env index in [0, {self.num_envs}), "
+                f"got {src_env!r}"
+            )
+        src = np.array([src_env], dtype=np.int64)
+        dst = self._ids("clone_state", dst_env_ids)
+        self.set_state(self.get_state(src).repeat(dst.size), dst)
+
+    def _state_arrays(self) -> tuple[tuple[str, int], ...]:
+        return _BASE_STATE + tuple(self.state_fields)
+
+    def _ids(self, what: str, env_ids) -> np.ndarray:
+        """``env_ids`` as int64 indices (None: every sub-env), or an error naming them."""
+        if env_ids is None:
+            return np.arange(self.num_envs)
+        ids = np.asarray(env_ids)
+        if (
+            ids.ndim != 1
+            or (ids.size and ids.dtype.kind not in "iu")
+            or (ids.size and (ids.min() < 0 or ids.max() >= self.num_envs))
+        ):
+            raise ValueError(
+                f"{what}: env_ids must be a list of sub-env indices in [0, {self.num_envs}), "
+                f"got {env_ids!r}"
+            )
+        return ids.astype(np.int64)
+
     def render(self):
         if self.render_mode is None:
             gym.logger.warn("render() called without render_mode; pass render_mode='rgb_array'")
@@ -279,6 +373,17 @@ class FluidVectorEnv(VectorEnv):
 
     def _info_after_reset(self) -> dict:
         return {}
+
+
+# what every scene's sub-env holds beyond its scene's state_fields: (attribute, sub-env axis)
+_BASE_STATE = (
+    ("_obs", 0),
+    ("_elapsed", 0),
+    ("_sums", 1),
+    ("_act", 0),
+    ("_needs_reset", 0),
+    ("_episodes", 0),
+)
 
 
 def _read_only(a: np.ndarray) -> np.ndarray:
@@ -325,6 +430,17 @@ class FluidEnv(gym.Env):
     def step(self, action):
         obs, reward, terminated, truncated, info = self.vector.step(np.asarray(action)[None])
         return obs[0], float(reward[0]), bool(terminated[0]), bool(truncated[0]), _first(info)
+
+    def get_state(self) -> EnvState:
+        """A snapshot of the env (:meth:`FluidVectorEnv.get_state`)."""
+        return self.vector.get_state()
+
+    def set_state(self, state: EnvState) -> np.ndarray:
+        """Restore a snapshot of this env (or of one sub-env of a vector env of it: take it
+        with ``EnvState.take([i])``); returns the observation."""
+        obs = self.vector.set_state(state)
+        self._np_random = self.vector._rngs[0]
+        return obs[0]
 
     def render(self):
         frames = self.vector.render()

@@ -132,6 +132,16 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
     obs_dim = len(OBSERVATION)
     reward_terms = REWARD_TERMS
     action_names = ("throttle", "rudder", "trim_tabs")
+    state_fields = (
+        ("_mooring", 0),
+        ("_hits", 0),
+        ("course", 0),
+        ("buoys", 0),
+        ("task", 1),
+        ("_ctrl", 0),
+        ("_terms", 1),
+        ("_flags", 1),
+    )
 
     def _build(self) -> None:
         p = self.params

@@ -102,6 +102,15 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
     obs_dim = len(OBSERVATION)
     reward_terms = REWARD_TERMS
     action_names = ("aileron", "elevator", "rudder")
+    state_fields = (
+        ("_v_prev", 0),
+        ("target", 0),
+        ("launch", 0),
+        ("_distance", 0),
+        ("_terms", 1),
+        ("_flags", 1),
+        ("_sink", 0),
+    )
 
     def _build(self) -> None:
         p = self.params

@@ -140,6 +140,19 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
     obs_dim = len(OBSERVATION)
     reward_terms = REWARD_TERMS
     action_names = ("thrust", "rudder", "dive_planes")
+    # _src is the Simulator's own with the wake (in its snapshot too: the same numbers)
+    state_fields = (
+        ("_ctrl", 0),
+        ("lead", 1),
+        ("route", 0),
+        ("station", 0),
+        ("noise_offset", 0),
+        ("_src", 1),
+        ("_terms", 1),
+        ("_flags", 1),
+        ("_distance", 0),
+        ("_on_station", 0),
+    )
 
     def _build(self) -> None:
         p = self.params
