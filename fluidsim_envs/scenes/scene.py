@@ -3,6 +3,7 @@ everything generic code needs to register, evaluate, log, demo and test it witho
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -13,6 +14,7 @@ import numpy as np
 
 from .base import FluidEnv, FluidVectorEnv
 from .mesh import craft_meshes
+from .planner import Planner, PlannerConfig
 
 
 def nan_state(venv: FluidVectorEnv, env_index: int) -> None:
@@ -50,6 +52,9 @@ class Scene:
     diverge: Callable[[FluidVectorEnv, int], None] = nan_state
     # the render mesh of each body (scenes/mesh.py): what the frames and recordings draw
     meshes: Callable[[FluidVectorEnv], tuple[Any, ...]] = craft_meshes
+    # the planner's default budget for this scene (docs/study_planner.csv): how far ahead
+    # the reward tells plans apart sets the look-ahead
+    planner_config: PlannerConfig = PlannerConfig()
 
     def __post_init__(self) -> None:
         own = f"Scene {self.id!r}"
@@ -70,6 +75,13 @@ class Scene:
             raise ValueError(f"{own}: success names no parameter of the env: {e}") from None
         object.__setattr__(self, "observation", tuple(tuple(c) for c in self.observation))
         object.__setattr__(self, "short_episodes", MappingProxyType(dict(self.short_episodes)))
+
+    def planner(self, venv, samples: int | None = None, horizon: int | None = None, **kwargs):
+        """The sampling planner on the true physics (:class:`~.planner.Planner`, a privileged
+        oracle) for every sub-env of ``venv``, at this scene's budget; ``samples``,
+        ``horizon`` and any other :class:`~.planner.PlannerConfig` field override it."""
+        budget = {k: v for k, v in (("samples", samples), ("horizon", horizon)) if v is not None}
+        return Planner(venv, dataclasses.replace(self.planner_config, **budget, **kwargs))
 
     def success_text(self, params=None) -> str:
         """:attr:`success` with the numbers of ``params`` (default: the env's defaults)."""

@@ -7,6 +7,7 @@
 - ``pilot.py``: the scripted baseline pilot and the demo.
 """
 
+from ..planner import PlannerConfig
 from ..scene import Scene
 from .env import GATES, BoatOnStepEnv, BoatOnStepParams, BoatOnStepVectorEnv
 from .kernel import OBS, OBS_NAMES, OBSERVATION
@@ -24,6 +25,7 @@ SCENE = Scene(
     params_cls=BoatOnStepParams,
     observation=OBSERVATION,
     pilot=make_pilot,
+    planner_config=PlannerConfig(samples=32, horizon=20, hold=10),
     view=BoatOnStepView,
     rerun=BoatOnStepRerun,
     demo=demo,

@@ -8,6 +8,7 @@
 
 import numpy as np
 
+from ..planner import PlannerConfig
 from ..scene import Scene
 from .env import PaperAirplaneEnv, PaperAirplaneParams, PaperAirplaneVectorEnv
 from .kernel import OBS, OBS_NAMES, OBSERVATION
@@ -33,6 +34,7 @@ SCENE = Scene(
     params_cls=PaperAirplaneParams,
     observation=OBSERVATION,
     pilot=make_pilot,
+    planner_config=PlannerConfig(samples=64, horizon=45, hold=1),
     view=PaperAirplaneView,
     rerun=PaperAirplaneRerun,
     demo=demo,

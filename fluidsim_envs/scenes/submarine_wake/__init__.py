@@ -8,6 +8,7 @@
 - ``pilot.py``: the scripted baseline pilot and the demo.
 """
 
+from ..planner import PlannerConfig
 from ..scene import Scene
 from .env import SubmarineWakeEnv, SubmarineWakeParams, SubmarineWakeVectorEnv
 from .kernel import OBS, OBS_NAMES, OBSERVATION
@@ -26,6 +27,7 @@ SCENE = Scene(
     params_cls=SubmarineWakeParams,
     observation=OBSERVATION,
     pilot=make_pilot,
+    planner_config=PlannerConfig(samples=16, horizon=20, hold=3),
     view=SubmarineWakeView,
     rerun=SubmarineWakeRerun,
     demo=demo,

@@ -1,0 +1,169 @@
+"""The planner's score against its planning budget, and where its time goes.
+
+For each scene, the sampling planner (``fluidsim_envs/scenes/planner.py``, a privileged oracle
+on the true physics) flies the same seeded episodes at several budgets around the scene's
+default (``Scene.planner_config``): fewer candidate plans (samples K) and a shorter plan
+(horizon H knots of ``hold`` actions each). Beside it, the scene's tuned scripted pilot on the
+same episodes. The episodes come from a tuning seed (``evaluation.TUNING_SEEDS[0]``), not the
+published evaluation's: this study is where the defaults were chosen.
+
+Rows of ``docs/study_planner.csv``: env, policy, samples, horizon, hold, look-ahead (s),
+budget (env-steps of rollouts per action flown per episode), episodes, the mean return and
+success rate each with its 95% bootstrap interval, the milliseconds per decision (one call
+for all episodes) and per episode-decision, and the shares of the planner's time in the
+rollouts' env steps and in their physics (``Simulator.step``). ``docs/study_planner.png``
+charts return and success against the budget.
+
+    python -m benchmarks.study_planner                    # every scene, 64 episodes each
+    python -m benchmarks.study_planner --env fluidsim/BoatOnStep-v0 --episodes 32
+    python -m benchmarks.study_planner --quick            # 8 episodes, two budgets, build/
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+
+from fluidsim_envs.evaluation import TUNING_SEEDS, check_tuning_seeds, first_episodes
+from fluidsim_envs.rl.evaluate import mean_interval
+from fluidsim_envs.scenes import SCENES
+
+from .common import arguments, describe, load_average, out_dir, write_csv
+
+COLUMNS = (
+    "env", "policy", "samples", "horizon", "hold", "lookahead_s", "budget", "episodes",
+    "return_mean", "return_lo", "return_hi", "success_rate", "success_lo", "success_hi",
+    "ms_per_decision", "ms_per_episode_decision", "rollout_share", "physics_share", "seconds",
+)  # fmt: skip
+
+
+def budgets(config, quick: bool) -> list:
+    """The default budget, a quarter and half of its samples, and half its horizon."""
+    K, H = config.samples, config.horizon
+    points = [(max(K // 4, config.elites), H), (K // 2, H), (K, H), (K, max(H // 2, 1))]
+    if quick:
+        points = [points[0], points[-1]]
+    return [dataclasses.replace(config, samples=k, horizon=h) for k, h in points]
+
+
+def row(scene_id, policy, config, results, seconds, timing, action_s, seed) -> list:
+    ret, success = results["return"], results["success"].astype(float)
+    E = len(ret)
+    decisions = max(timing.get("decisions", 0), 1)
+    total = timing.get("total", 0.0)
+    cells = [
+        scene_id,
+        policy,
+        *(
+            (
+                config.samples,
+                config.horizon,
+                config.hold,
+                config.lookahead * action_s,
+                config.budget,
+            )
+            if config is not None
+            else ("", "", "", "", 0)
+        ),
+        E,
+        float(ret.mean()),
+        *mean_interval(ret, seed),
+        float(success.mean()),
+        *mean_interval(success, seed),
+        1e3 * total / decisions if config is not None else "",
+        1e3 * total / decisions / E if config is not None else "",
+        timing.get("rollout", 0.0) / total if total else "",
+        timing.get("physics", 0.0) / total if total else "",
+        seconds,
+    ]
+    return cells
+
+
+def study(scene_id: str, episodes: int, quick: bool, seed: int) -> list[list]:
+    scene = SCENES[scene_id]
+    venv = scene.vector_cls(num_envs=episodes)
+    action_s = venv.params.dt * venv.params.substeps
+    rows = []
+    t0 = time.perf_counter()
+    pilot = first_episodes(venv, scene.pilot(venv), seed=seed)
+    rows.append(row(scene_id, "tuned pilot", None, pilot, time.perf_counter() - t0, {}, 0, seed))
+    print(f"{scene_id}: tuned pilot return {pilot['return'].mean():.2f}", flush=True)
+    for config in budgets(scene.planner_config, quick):
+        planner = scene.planner(venv, **dataclasses.asdict(config))
+        t0 = time.perf_counter()
+        results = first_episodes(venv, planner, seed=seed)
+        seconds = time.perf_counter() - t0
+        rows.append(
+            row(scene_id, "planner", config, results, seconds, planner.timing, action_s, seed)
+        )
+        r = rows[-1]
+        print(
+            f"{scene_id}: K={config.samples} H={config.horizon}x{config.hold} budget "
+            f"{config.budget}: return {r[8]:.2f} success {r[11]:.1%}, "
+            f"{r[14]:.0f} ms/decision, physics {r[17]:.0%}, {seconds:.0f} s",
+            flush=True,
+        )
+    return rows
+
+
+def chart(rows: list[list], path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ids = list(dict.fromkeys(r[0] for r in rows))
+    fig, axes = plt.subplots(2, len(ids), figsize=(4.2 * len(ids), 6.4), squeeze=False)
+    for j, sid in enumerate(ids):
+        mine = [r for r in rows if r[0] == sid]
+        pilot = next(r for r in mine if r[1] == "tuned pilot")
+        plans = [r for r in mine if r[1] == "planner"]
+        for i, (col, name) in enumerate(((8, "return"), (11, "success rate"))):
+            ax = axes[i, j]
+            for horizon in sorted({r[3] for r in plans}):
+                pts = sorted((r for r in plans if r[3] == horizon), key=lambda r: r[6])
+                x = [r[6] for r in pts]
+                y = np.array([r[col] for r in pts])
+                err = np.array(
+                    [[r[col] - r[col + 1] for r in pts], [r[col + 2] - r[col] for r in pts]]
+                )
+                look = pts[0][5]
+                ax.errorbar(x, y, yerr=err, marker="o", capsize=3,
+                            label=f"planner, {look:.1f} s look-ahead")  # fmt: skip
+            ax.axhline(pilot[col], color="gray", ls="--", label="tuned pilot")
+            ax.axhspan(pilot[col + 1], pilot[col + 2], color="gray", alpha=0.15)
+            ax.set_xscale("log")
+            ax.set_xlabel("budget (rollout env-steps per action flown)")
+            ax.set_ylabel(name)
+            if i == 0:
+                ax.set_title(sid.split("/")[1], fontsize=10)
+                ax.legend(fontsize=7)
+    fig.suptitle(
+        f"Planner (oracle) against its budget, {rows[0][7]} episodes per point, 95% intervals"
+    )
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+
+
+def main() -> None:
+    parser = arguments(__doc__, "8 episodes, two budgets per scene, into build/study_quick")
+    parser.add_argument("--env", action="append", choices=list(SCENES), help="scenes (all)")
+    parser.add_argument("--episodes", type=int, default=64)
+    args = parser.parse_args()
+    seed = check_tuning_seeds(TUNING_SEEDS[:1])[0]
+    episodes = 8 if args.quick else args.episodes
+    machine = describe()
+    rows = []
+    for sid in args.env or list(SCENES):
+        rows += study(sid, episodes, args.quick, seed)
+    folder = out_dir(args.out, args.quick)
+    notes = [*machine, f"episodes: reset(seed={seed}) (a tuning seed)", load_average()]
+    print(f"written: {write_csv(folder / 'study_planner.csv', COLUMNS, rows, notes)}")
+    chart(rows, folder / "study_planner.png")
+    print(f"written: {folder / 'study_planner.png'}")
+
+
+if __name__ == "__main__":
+    main()

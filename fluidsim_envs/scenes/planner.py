@@ -1,0 +1,196 @@
+"""A sampling model-predictive planner on the true physics: the reference a policy is measured
+against (how well could one do at all?).
+
+At each decision it copies the true state of every episode it flies (``get_state``: a
+privileged oracle, which knows the state and the episode's drawn physics, not only the
+observation) into ``samples`` rollouts each of a private vector env of the same scene and
+parameters, flies ``horizon`` actions of candidate plans there, and acts on the best plan.
+
+The method is the cross-entropy method in the form of iCEM (Pinneri et al., 2020, "Sample-
+efficient cross-entropy method for real-time planning"), chosen over MPPI because:
+
+- the model is the env itself, bit for bit (``tests/scenes/test_snapshot.py``), so a rollout's
+  return is exactly what flying that plan earns: acting on the best evaluated plan is exact,
+  where MPPI acts on a weighted average of plans that nobody evaluated (and the average of a
+  left turn and a right turn around a target is neither);
+- the best plan of the last decision, shifted by one action, is a candidate again (iCEM's
+  kept elite), so the plan's predicted return never drops to sampling noise;
+- time-correlated (coloured, 1/f^beta) noise gives smooth control-surface sequences at 20-30
+  actions per second, where white noise mostly cancels out over a few actions.
+
+The plan's score is the env's own reward summed over the horizon, up to the end of the
+episode (no value estimate beyond it): the horizon must reach far enough for the reward to
+tell plans apart.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from .base import FluidVectorEnv
+
+
+@dataclass(frozen=True)
+class PlannerConfig:
+    """The planner's budget and sampling (per episode it flies; ``samples * horizon *
+    iterations`` env-steps per decision)."""
+
+    samples: int = 32  # candidate plans per iteration (K)
+    horizon: int = 30  # knots per plan (H)
+    # actions each knot of a plan holds, and the actions flown between two plans: a plan
+    # sees horizon * hold actions ahead for the cost of horizon per action flown
+    hold: int = 1
+    iterations: int = 1  # CEM rounds per decision
+    elites: int = 4  # the best plans a round refits the sampling distribution to
+    noise_std: float = 0.5  # the first round's spread of each action (of [-1, 1])
+    noise_beta: float = 2.0  # coloured noise: power spectrum ~ 1/f^beta along the plan
+    momentum: float = 0.1  # share of the old mean and spread kept at each refit
+    seed: int = 0  # the planner's own generator (the episodes' are the env's)
+
+    def __post_init__(self) -> None:
+        for key in ("samples", "horizon", "hold", "iterations", "elites"):
+            value = getattr(self, key)
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+                raise ValueError(f"planner: {key} must be a positive integer, got {value!r}")
+        if self.elites > self.samples:
+            raise ValueError(
+                f"planner: elites ({self.elites}) must not exceed samples ({self.samples})"
+            )
+        for key, lo, hi in (("noise_std", 0.0, 2.0), ("noise_beta", 0.0, 4.0), ("momentum", 0, 1)):
+            value = getattr(self, key)
+            if not (isinstance(value, (int, float)) and lo <= value <= hi):
+                raise ValueError(f"planner: {key} must be in [{lo}, {hi}], got {value!r}")
+
+    @property
+    def budget(self) -> int:
+        """Env-steps of rollouts per action flown, per episode."""
+        return self.samples * self.horizon * self.iterations
+
+    @property
+    def lookahead(self) -> int:
+        """Actions a plan reaches ahead."""
+        return self.horizon * self.hold
+
+
+def coloured_noise(rng: np.random.Generator, shape: tuple[int, ...], beta: float) -> np.ndarray:
+    """Gaussian noise with unit variance whose power falls as 1/f^beta along axis -2 (the
+    plan's time axis): beta 0 is white, 2 is smooth (iCEM's choice)."""
+    steps = shape[-2]
+    freqs = np.fft.rfftfreq(steps)
+    freqs[0] = freqs[1] if steps > 1 else 1.0
+    scale = freqs ** (-beta / 2.0)
+    spectrum = rng.normal(size=(*shape[:-2], freqs.size, shape[-1], 2)) * scale[:, None, None]
+    noise = np.fft.irfft(spectrum[..., 0] + 1j * spectrum[..., 1], n=steps, axis=-2)
+    std = noise.std(axis=-2, keepdims=True)
+    return noise / np.where(std > 0, std, 1.0)
+
+
+class Planner:
+    """iCEM over a private copy of ``venv``: a policy ``obs -> actions`` for all its sub-envs,
+    with ``reset(mask)``, as the scripted pilots.
+
+    Args:
+        venv: the vector env the episodes run in (its ``unwrapped`` is read: get_state).
+        config: the budget and sampling (:class:`PlannerConfig`).
+
+    Every ``config.hold`` actions it plans again for all sub-envs; and at once after
+    ``reset(mask)`` (a sub-env started a new episode), so that no episode flies a plan made
+    for another. ``timing`` holds the seconds spent so far: ``total`` in calls, ``rollout``
+    in the private env's steps, ``physics`` in its ``Simulator.step`` (the planner is bound
+    by env speed); ``plans`` and ``decisions`` count plans made and actions returned.
+    """
+
+    def __init__(self, venv, config: PlannerConfig = PlannerConfig()) -> None:
+        env = venv.unwrapped
+        if not isinstance(env, FluidVectorEnv):
+            raise TypeError(f"planner: needs a fluidsim vector env, got {type(env).__name__}")
+        if not isinstance(config, PlannerConfig):
+            raise TypeError(f"planner: config must be a PlannerConfig, got {config!r}")
+        self.env, self.config = env, config
+        E, K, H = env.num_envs, config.samples, config.horizon
+        self.num_actions = A = len(env.action_names)
+        params = {f.name: getattr(env.params, f.name) for f in dataclasses.fields(env.params)}
+        # autoreset on: a rollout whose episode ends steps on harmlessly (masked in _score)
+        self.rollouts = type(env)(num_envs=E * K, **params)
+        self.rng = np.random.default_rng(config.seed)
+        self.mean = np.zeros((E, H, A))  # the sampling distribution's centre, in knots
+        self.best = np.zeros((E, H, A))  # the plan being flown
+        self.value = np.zeros(E)  # its return over the look-ahead, as the rollouts scored it
+        self.flown = config.hold  # actions flown of the first knot: plan at the first call
+        self.timing = {"total": 0.0, "rollout": 0.0, "physics": 0.0, "plans": 0, "decisions": 0}
+        step = self.rollouts.sim.step
+
+        def timed_step(*args, **kwargs):
+            t0 = time.perf_counter()
+            step(*args, **kwargs)
+            self.timing["physics"] += time.perf_counter() - t0
+
+        self.rollouts.sim.step = timed_step
+
+    def reset(self, mask=None) -> None:
+        """New episodes in the sub-envs of ``mask`` (all when None): forget their plans and
+        plan again at the next call."""
+        rows = slice(None) if mask is None else np.asarray(mask, dtype=bool)
+        self.mean[rows] = 0.0
+        self.best[rows] = 0.0
+        if mask is None or np.any(mask):
+            self.flown = self.config.hold
+
+    def __call__(self, obs) -> np.ndarray:
+        t0 = time.perf_counter()
+        if self.flown >= self.config.hold:
+            self._plan()
+            self.flown = 0
+        self.flown += 1
+        self.timing["decisions"] += 1
+        self.timing["total"] += time.perf_counter() - t0
+        return self.best[:, 0].copy()
+
+    def _plan(self) -> None:
+        cfg = self.config
+        E, K, H, A = self.env.num_envs, cfg.samples, cfg.horizon, self.num_actions
+        start = self.env.get_state().repeat(K)
+        # warm start: the last plan and the distribution's centre, one knot on, the last held
+        self.mean = np.concatenate([self.mean[:, 1:], self.mean[:, -1:]], axis=1)
+        best_plan = np.concatenate([self.best[:, 1:], self.best[:, -1:]], axis=1)
+        best_value = np.full(E, -np.inf)
+        std = np.full((E, H, A), cfg.noise_std)
+        rows = np.arange(E)
+        for _ in range(cfg.iterations):
+            noise = coloured_noise(self.rng, (E, K, H, A), cfg.noise_beta)
+            plans = np.clip(self.mean[:, None] + std[:, None] * noise, -1.0, 1.0)
+            plans[:, 0] = best_plan  # the incumbent, scored again
+            if K > 1:
+                plans[:, 1] = np.clip(self.mean, -1.0, 1.0)  # the distribution's centre
+            value = self._score(start, plans)
+            top = np.argsort(-value, axis=1)[:, : cfg.elites]
+            elite = np.take_along_axis(plans, top[:, :, None, None], axis=1)
+            self.mean = cfg.momentum * self.mean + (1 - cfg.momentum) * elite.mean(axis=1)
+            std = cfg.momentum * std + (1 - cfg.momentum) * elite.std(axis=1)
+            better = value[rows, top[:, 0]] > best_value
+            best_plan = np.where(better[:, None, None], elite[:, 0], best_plan)
+            best_value = np.where(better, value[rows, top[:, 0]], best_value)
+        self.best, self.value = best_plan, best_value
+        self.timing["plans"] += 1
+
+    def _score(self, start, plans: np.ndarray) -> np.ndarray:
+        """Each plan's return up to its look-ahead or its episode's end, ``[E, K]``."""
+        E, K, H, A = plans.shape
+        env, hold = self.rollouts, self.config.hold
+        env.set_state(start)
+        t0 = time.perf_counter()
+        value = np.zeros(E * K)
+        alive = np.ones(E * K, dtype=bool)
+        flat = plans.reshape(E * K, H, A)
+        for t in range(H * hold):
+            _, reward, terminated, truncated, _ = env.step(flat[:, t // hold])
+            value += np.where(alive, reward, 0.0)
+            alive &= ~(terminated | truncated)
+            if not alive.any():
+                break
+        self.timing["rollout"] += time.perf_counter() - t0
+        return value.reshape(E, K)

@@ -1,0 +1,92 @@
+"""The sampling planner (scenes/planner.py): an oracle whose rollouts are the env itself, so
+the return it predicts for its plan is the return flying that plan earns, bit for bit; its
+budget is checked; the same seed plans the same."""
+
+import numpy as np
+import pytest
+
+from fluidsim_envs.scenes import SCENES
+from fluidsim_envs.scenes.planner import Planner, PlannerConfig, coloured_noise
+
+IDS = list(SCENES)
+
+
+@pytest.mark.parametrize("sid", IDS, ids=[s.split("/")[1] for s in IDS])
+def test_a_plan_earns_what_its_rollouts_predicted(sid):
+    """Plan once, then fly the best plan open loop in the real env: the summed reward equals
+    the planner's score of that plan exactly (the planner's copy is the env, bit for bit)."""
+    scene = SCENES[sid]
+    venv = scene.vector_cls(num_envs=2)
+    venv.reset(seed=11)
+    cfg = PlannerConfig(samples=4, horizon=3, hold=2, elites=2, iterations=2)
+    planner = scene.planner(venv, **{k: getattr(cfg, k) for k in cfg.__dataclass_fields__})
+    planner(None)
+    earned, alive = np.zeros(2), np.ones(2, dtype=bool)
+    for t in range(cfg.lookahead):
+        _, reward, terminated, truncated, _ = venv.step(planner.best[:, t // cfg.hold])
+        earned += np.where(alive, reward, 0.0)
+        alive &= ~(terminated | truncated)
+    np.testing.assert_array_equal(earned, planner.value)
+    assert planner.timing["plans"] == 1 and planner.timing["physics"] > 0.0
+
+
+def test_the_same_seed_plans_the_same():
+    scene = SCENES["fluidsim/PaperAirplane-v0"]
+    actions = []
+    for _ in range(2):
+        venv = scene.vector_cls(num_envs=3)
+        obs, _ = venv.reset(seed=4)
+        planner = scene.planner(venv, samples=6, horizon=4, elites=2)
+        flown = []
+        for _ in range(3):
+            flown.append(planner(obs))
+            obs, *_ = venv.step(flown[-1])
+        actions.append(flown)
+    np.testing.assert_array_equal(actions[0], actions[1])
+
+
+def test_a_plan_is_kept_for_hold_actions_and_made_again_after_a_reset():
+    scene = SCENES["fluidsim/SubmarineWake-v0"]
+    venv = scene.vector_cls(num_envs=2)
+    obs, _ = venv.reset(seed=0)
+    planner = scene.planner(venv, samples=4, horizon=2, hold=3, elites=2)
+    for _ in range(4):
+        obs, *_ = venv.step(planner(obs))
+    assert planner.timing["plans"] == 2  # at actions 0 and 3
+    planner.reset(np.array([False, True]))
+    planner(obs)
+    assert planner.timing["plans"] == 3
+
+
+def test_coloured_noise_has_unit_spread_and_is_smooth():
+    rng = np.random.default_rng(0)
+    white = coloured_noise(rng, (2000, 30, 1), 0.0)
+    smooth = coloured_noise(rng, (2000, 30, 1), 2.0)
+    np.testing.assert_allclose(smooth.std(axis=1), 1.0, rtol=1e-9)
+
+    def lag1(x):  # correlation of neighbouring actions
+        return np.mean(x[:, 1:] * x[:, :-1])
+
+    assert abs(lag1(white)) < 0.1 and lag1(smooth) > 0.8
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"samples": 0}, "samples must be a positive integer, got 0"),
+        ({"horizon": 0}, "horizon must be a positive integer, got 0"),
+        ({"hold": 1.5}, "hold must be a positive integer, got 1.5"),
+        ({"samples": 2, "elites": 4}, r"elites \(4\) must not exceed samples \(2\)"),
+        ({"noise_std": -1.0}, r"noise_std must be in \[0.0, 2.0\], got -1.0"),
+    ],
+)
+def test_bad_budgets_are_named(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        PlannerConfig(**kwargs)
+
+
+def test_the_planner_needs_a_fluidsim_vector_env():
+    import gymnasium as gym
+
+    with pytest.raises(TypeError, match="needs a fluidsim vector env, got CartPoleEnv"):
+        Planner(gym.make("CartPole-v1"))
