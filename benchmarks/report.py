@@ -32,7 +32,17 @@ RESULTS_BEGIN = (
     "<!-- ppo-results: written by `python -m benchmarks.report` from docs/eval_*_ppo.csv -->"
 )
 RESULTS_END = "<!-- /ppo-results -->"
-POLICIES = ("trained PPO", "scripted pilot", "random")
+POLICIES = ("trained PPO", "scripted pilot", "random")  # the table's columns
+# each column's row in the evaluation CSVs: the first of these names present (the scripted
+# pilot's row is "tuned pilot" since fluidsim-evaluate added the other baselines)
+ROW_NAMES = {"scripted pilot": ("tuned pilot", "scripted pilot")}
+
+
+def _policy_row(by: dict[str, dict], policy: str) -> dict | None:
+    """``policy``'s row of an evaluation CSV (rows ``by`` name), or None."""
+    return next((by[n] for n in ROW_NAMES.get(policy, (policy,)) if n in by), None)
+
+
 COLUMNS = (
     "env_id", "summary", "observations", "actions", "action_names", "control_hz",
     "horizon_steps", "horizon_s", "success", "pilot_success", "pilot_return",
@@ -55,10 +65,11 @@ def _scores(env_id: str) -> dict[str, str]:
     by = {r["policy"]: r for r in rows}
     out = {}
     for key, policy in (("pilot", "scripted pilot"), ("ppo", "trained PPO")):
-        if policy in by:
-            out[f"{key}_success"] = by[policy]["success_rate"]
-            out[f"{key}_return"] = by[policy]["return_mean"]
-            out["evaluated_episodes"] = by[policy]["episodes"]
+        row = _policy_row(by, policy)
+        if row is not None:
+            out[f"{key}_success"] = row["success_rate"]
+            out[f"{key}_return"] = row["return_mean"]
+            out["evaluated_episodes"] = row["episodes"]
     return out
 
 
@@ -121,7 +132,7 @@ def results_markdown() -> str:
         by = {r["policy"]: r for r in read_csv(path)[1]}
         cells = []
         for p in POLICIES:
-            r = by.get(p)
+            r = _policy_row(by, p)
             cells += (
                 [f"{float(r['return_mean']):.2f} +- {float(r['return_std']):.2f}",
                  _pct(r["success_rate"])]

@@ -33,19 +33,26 @@ from fluidsim_envs.scenes import SCENES
 from .common import arguments, describe, load_average, out_dir, write_csv
 
 COLUMNS = (
-    "env", "policy", "samples", "horizon", "hold", "lookahead_s", "budget", "episodes",
+    "env", "policy", "guided", "samples", "horizon", "hold", "lookahead_s", "budget", "episodes",
     "return_mean", "return_lo", "return_hi", "success_rate", "success_lo", "success_hi",
     "ms_per_decision", "ms_per_episode_decision", "rollout_share", "physics_share", "seconds",
 )  # fmt: skip
 
 
 def budgets(config, quick: bool) -> list:
-    """The default budget, a quarter and half of its samples, and half its horizon."""
+    """The scene's default, with a quarter and half of its samples, with half its horizon,
+    and unguided (plans of actions, without the pilot under them: planner.py)."""
     K, H = config.samples, config.horizon
-    points = [(max(K // 4, config.elites), H), (K // 2, H), (K, H), (K, max(H // 2, 1))]
+    points = [
+        dict(samples=max(K // 4, config.elites)),
+        dict(samples=K // 2),
+        dict(),
+        dict(horizon=max(H // 2, 1)),
+        dict(guided=not config.guided),
+    ]
     if quick:
         points = [points[0], points[-1]]
-    return [dataclasses.replace(config, samples=k, horizon=h) for k, h in points]
+    return [dataclasses.replace(config, **p) for p in points]
 
 
 def row(scene_id, policy, config, results, seconds, timing, action_s, seed) -> list:
@@ -56,6 +63,7 @@ def row(scene_id, policy, config, results, seconds, timing, action_s, seed) -> l
     cells = [
         scene_id,
         policy,
+        config.guided if config is not None else "",
         *(
             (
                 config.samples,
@@ -98,11 +106,13 @@ def study(scene_id: str, episodes: int, quick: bool, seed: int) -> list[list]:
         rows.append(
             row(scene_id, "planner", config, results, seconds, planner.timing, action_s, seed)
         )
-        r = rows[-1]
+        r = dict(zip(COLUMNS, rows[-1], strict=True))
         print(
-            f"{scene_id}: K={config.samples} H={config.horizon}x{config.hold} budget "
-            f"{config.budget}: return {r[8]:.2f} success {r[11]:.1%}, "
-            f"{r[14]:.0f} ms/decision, physics {r[17]:.0%}, {seconds:.0f} s",
+            f"{scene_id}: {'guided ' if config.guided else ''}K={config.samples} "
+            f"H={config.horizon}x{config.hold} budget {config.budget}: return "
+            f"{r['return_mean']:.2f} success {r['success_rate']:.1%}, "
+            f"{r['ms_per_decision']:.0f} ms/decision, physics {r['physics_share']:.0%}, "
+            f"{seconds:.0f} s",
             flush=True,
         )
     return rows
@@ -114,34 +124,45 @@ def chart(rows: list[list], path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    ids = list(dict.fromkeys(r[0] for r in rows))
-    fig, axes = plt.subplots(2, len(ids), figsize=(4.2 * len(ids), 6.4), squeeze=False)
+    records = [dict(zip(COLUMNS, r, strict=True)) for r in rows]
+    ids = list(dict.fromkeys(r["env"] for r in records))
+    fig, axes = plt.subplots(2, len(ids), figsize=(4.4 * len(ids), 6.6), squeeze=False)
     for j, sid in enumerate(ids):
-        mine = [r for r in rows if r[0] == sid]
-        pilot = next(r for r in mine if r[1] == "tuned pilot")
-        plans = [r for r in mine if r[1] == "planner"]
-        for i, (col, name) in enumerate(((8, "return"), (11, "success rate"))):
+        mine = [r for r in records if r["env"] == sid]
+        pilot = next(r for r in mine if r["policy"] == "tuned pilot")
+        plans = [r for r in mine if r["policy"] == "planner"]
+        for i, (mean, lo, hi, name) in enumerate(
+            (
+                ("return_mean", "return_lo", "return_hi", "return"),
+                ("success_rate", "success_lo", "success_hi", "success rate"),
+            )
+        ):
             ax = axes[i, j]
-            for horizon in sorted({r[3] for r in plans}):
-                pts = sorted((r for r in plans if r[3] == horizon), key=lambda r: r[6])
-                x = [r[6] for r in pts]
-                y = np.array([r[col] for r in pts])
-                err = np.array(
-                    [[r[col] - r[col + 1] for r in pts], [r[col + 2] - r[col] for r in pts]]
+            lines = sorted({(r["guided"], r["lookahead_s"]) for r in plans}, reverse=True)
+            for guided, look in lines:
+                pts = sorted(
+                    (r for r in plans if (r["guided"], r["lookahead_s"]) == (guided, look)),
+                    key=lambda r: r["budget"],
                 )
-                look = pts[0][5]
-                ax.errorbar(x, y, yerr=err, marker="o", capsize=3,
-                            label=f"planner, {look:.1f} s look-ahead")  # fmt: skip
-            ax.axhline(pilot[col], color="gray", ls="--", label="tuned pilot")
-            ax.axhspan(pilot[col + 1], pilot[col + 2], color="gray", alpha=0.15)
+                y = np.array([r[mean] for r in pts])
+                err = np.array([y - [r[lo] for r in pts], [r[hi] for r in pts] - y])
+                label = f"{'guided' if guided else 'unguided'}, {look:.1f} s look-ahead"
+                ax.errorbar([r["budget"] for r in pts], y, yerr=err, marker="o", capsize=3,
+                            label=label)  # fmt: skip
+            ax.axhline(pilot[mean], color="gray", ls="--", label="tuned pilot")
+            ax.axhspan(pilot[lo], pilot[hi], color="gray", alpha=0.15)
             ax.set_xscale("log")
+            budgets_here = sorted({r["budget"] for r in plans})
+            ax.set_xticks(budgets_here, [str(b) for b in budgets_here])
+            ax.minorticks_off()
             ax.set_xlabel("budget (rollout env-steps per action flown)")
             ax.set_ylabel(name)
             if i == 0:
                 ax.set_title(sid.split("/")[1], fontsize=10)
                 ax.legend(fontsize=7)
     fig.suptitle(
-        f"Planner (oracle) against its budget, {rows[0][7]} episodes per point, 95% intervals"
+        f"Planner (oracle) against its budget, {records[0]['episodes']} episodes per point, "
+        "95% bootstrap intervals"
     )
     fig.tight_layout()
     fig.savefig(path, dpi=90)

@@ -3,6 +3,10 @@
 Used by the tests (the baseline pilot against doing nothing), the benchmarks and the
 training CLI's evaluation. A policy maps observations [E, obs_dim] to actions [E, n]; it may
 have a ``reset(mask)`` method, called with the sub-envs whose episode just ended.
+
+Seeds: the published evaluation flies ``reset(seed=EVAL_SEED)`` (``fluidsim-evaluate``'s
+default ``--seed``); the scripted pilots' gains are tuned on episodes from other seeds,
+:data:`TUNING_SEEDS` (``benchmarks/tune_pilots.py``), checked by :func:`check_tuning_seeds`.
 """
 
 from __future__ import annotations
@@ -12,6 +16,40 @@ from collections.abc import Callable
 import numpy as np
 
 from .scenes.base import FluidVectorEnv
+
+#: the seed of the published evaluation: ``fluidsim-evaluate --seed``'s default, the seed of
+#: the docs' tables
+EVAL_SEED = 0
+
+#: the seeds the scripted pilots' gains are tuned on. Apart from :data:`EVAL_SEED` because
+#: ``reset(seed=s)`` draws sub-env i from ``SeedSequence(s).spawn(E)[i]``, and SeedSequences of
+#: different base seeds (entropy) give independent streams for any number of sub-envs: unlike
+#: ``seed + i`` schemes, no episode of one seed is an episode of another
+TUNING_SEEDS = (1, 2)
+
+
+def check_tuning_seeds(seeds, eval_seed: int = EVAL_SEED) -> tuple[int, ...]:
+    """``seeds`` as a tuple of ints, after checking that none is ``eval_seed`` (tuning on the
+    evaluation's episodes would grade the tuning on its own training set) and none repeats.
+
+    >>> check_tuning_seeds([1, 2])
+    (1, 2)
+    >>> check_tuning_seeds([0, 1])
+    Traceback (most recent call last):
+    ...
+    ValueError: tuning seeds [0, 1] include the evaluation seed 0: tune on other seeds
+    """
+    seeds = tuple(int(s) for s in seeds)
+    if not seeds:
+        raise ValueError("no tuning seeds")
+    if int(eval_seed) in seeds:
+        raise ValueError(
+            f"tuning seeds {list(seeds)} include the evaluation seed {eval_seed}: "
+            "tune on other seeds"
+        )
+    if len(set(seeds)) != len(seeds):
+        raise ValueError(f"tuning seeds {list(seeds)} repeat a seed (its episodes twice)")
+    return seeds
 
 
 def first_episodes(

@@ -1,24 +1,61 @@
-"""Evaluate a trained run beside the scripted pilot and a random policy.
+"""Evaluate a trained run beside every baseline, or the baselines alone, on the same seeded
+episodes, with 95% confidence intervals.
 
-    fluidsim-evaluate RUN [--model final|best] [--episodes N] [--seed S] [--rerun FILE.rrd]
+    fluidsim-evaluate RUN [--model final|best] [--episodes N] [--seed S] [--env KEY=VALUE ...]
+                      [--planner-samples K] [--planner-horizon H] [--no-planner]
+                      [--out DIR] [--rerun FILE.rrd]
+    fluidsim-evaluate --env-id ID --out DIR [--episodes N] [--seed S] [--env KEY=VALUE ...]
+                      [--planner-samples K] [--planner-horizon H] [--no-planner]
 
-(also ``python -m fluidsim_envs.rl.evaluate`` and ``python training/evaluate.py``). ``--model``
-picks the run's final model (``model.zip``) or the best evaluated one (``best/``), each with
-the normalization statistics saved beside it. Each policy flies the same N seeded episodes,
-one in each sub-env of one native vector env
-(:func:`fluidsim_envs.evaluation.first_episodes`); the trained model acts deterministically on
-observations normalized with the run's saved statistics. The table (mean and std of the
-return, success rate, and the mean of every scalar entry of the episodes' final info) is
-printed and written to ``RUN/evaluation.csv``. With ``--rerun``, the trained policy's episodes
-of the first few sub-envs are logged to a Rerun recording.
+(also ``python -m fluidsim_envs.rl.evaluate`` and ``python training/evaluate.py``). Each
+policy flies the same N seeded episodes, one in each sub-env of one native vector env
+(:func:`fluidsim_envs.evaluation.first_episodes`). The rows, in this order:
+
+``trained PPO`` (or SAC; ``(best)`` for ``--model best``)
+    the run's final model (``model.zip``) or the best evaluated one (``best/``), acting
+    deterministically on observations normalized with the statistics saved beside it
+``planner (oracle)``
+    the scene's sampling planner (``Scene.planner(venv, samples=K, horizon=H)``). It reads
+    the true state of the env it flies, not the observations: a bound on what the task
+    allows rather than a policy to deploy. It costs minutes for 256 episodes; ``--no-planner``
+    skips it, and it is skipped for a scene that has none
+``tuned pilot``
+    the scene's scripted pilot with its tuned gains (``Scene.pilot``)
+``hand-set pilot``
+    the same pilot with the gains set by hand (``make_hand_pilot`` in the scene's pilot
+    module; skipped where there is none)
+``random``
+    uniform random actions from a generator seeded with ``--seed``
+
+The table (the mean and std of the return, the success rate, and the mean of every scalar
+entry of the episodes' final info) is printed and written to ``RUN/evaluation.csv``
+(``evaluation_best.csv`` for ``--model best``; ``DIR/evaluation.csv`` with ``--out DIR``),
+one row per policy, after ``#`` lines that say which command, run, env overrides and git
+revision wrote it. Each mean column ``C`` has its 95% confidence interval beside it, ``C_lo``
+and ``C_hi``: a BCa bootstrap over the episodes (:func:`mean_interval`, seeded, so a command
+writes the same table each time). The interval is over these episodes' draws (launch, wind,
+targets) for this one model, not over training seeds; the printed table shows
+``mean [lo, hi]``.
+
+``--env KEY=VALUE`` (repeatable) sets an env parameter on top of the run's (or, with
+``--env-id``, the env's defaults), for out-of-distribution evaluation: the value is read as
+YAML (``--env wind_speed_mps=[0,3] --env integrator=rk4 --env dt=0.005``); an unknown key or
+a bad value is an error that names it. ``--env-id ID --out DIR`` without a run folder
+evaluates the baselines alone. With ``--rerun``, the trained policy's episodes of the first
+few sub-envs are logged to a Rerun recording.
 """
 
 from __future__ import annotations
 
 import argparse
 import csv
+import json
+import re
+import shlex
 import sys
-from collections.abc import Callable
+import time
+import warnings
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -34,6 +71,18 @@ MODELS = {
 }
 
 RERUN_ENVS = 4  # sub-envs logged with --rerun
+
+# the baselines' rows, in the table's order (after the trained model's)
+PLANNER = "planner (oracle)"  # knows the true state
+TUNED_PILOT = "tuned pilot"
+HAND_PILOT = "hand-set pilot"
+RANDOM = "random"
+
+CONFIDENCE = 0.95  # of the intervals
+RESAMPLES = 9999  # bootstrap resamples per interval
+# the bootstrap generator is seeded with (BOOTSTRAP_STREAM, --seed): a stream of its own,
+# apart from the random policy's (seeded with --seed alone)
+BOOTSTRAP_STREAM = 0xB007
 
 
 # --------------------------------------------------------------------------------------------
@@ -151,47 +200,230 @@ def scripted_pilot(env_id: str, venv) -> Callable:
     return SCENES[env_id].pilot(venv)
 
 
+def find_scene(env_id: str):
+    """The registered scene ``env_id`` (``fluidsim/`` may be left out)."""
+    from fluidsim_envs.scenes import SCENES
+
+    for key in (env_id, f"fluidsim/{env_id}"):
+        if key in SCENES:
+            return SCENES[key]
+    raise RunError(f"unknown env id {env_id!r}; the registered ones: {', '.join(SCENES)}")
+
+
+# --------------------------------------------------------------------------------------------
+# env overrides (--env KEY=VALUE)
+
+# a number in exponent form without a dot (5e-3): a string to YAML 1.1, a number to us
+_EXPONENT = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)[eE][+-]?\d+")
+
+
+def parse_env_overrides(items: Sequence[str]) -> dict[str, Any]:
+    """``KEY=VALUE`` strings as a dict, each value read as YAML (``[0, 3]`` a list, ``rk4`` a
+    string, ``0.005`` and ``5e-3`` numbers).
+
+    >>> parse_env_overrides(["wind_speed_mps=[0,3]", "integrator=rk4", "dt=5e-3"])
+    {'wind_speed_mps': [0, 3], 'integrator': 'rk4', 'dt': 0.005}
+    """
+    import yaml
+
+    out: dict[str, Any] = {}
+    for item in items:
+        key, sep, text = item.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            raise ConfigError(f"--env expects KEY=VALUE, got {item!r}")
+        try:
+            value = yaml.safe_load(text)
+        except yaml.YAMLError as e:
+            raise ConfigError(f"--env {item!r}: the value is not valid YAML: {e}") from None
+        if isinstance(value, str) and _EXPONENT.fullmatch(value.strip()):
+            value = float(value)
+        out[key] = value
+    return out
+
+
+def env_kwargs_with(env_id: str, base: Mapping[str, Any], env: Mapping[str, Any]) -> dict:
+    """``base`` (the run's env kwargs, or none: the defaults) with the overrides ``env`` on
+    top, checked by the env's parameter class: an unknown key or a bad value is a
+    :class:`ConfigError` that names it."""
+    from fluidsim_envs.scenes.base import make_params
+
+    kwargs = {**base, **env}
+    if env:
+        try:
+            make_params(find_scene(env_id).vector_cls.Params, kwargs)
+        except (TypeError, ValueError) as e:
+            raise ConfigError(f"--env: {e}") from None
+    return kwargs
+
+
+def format_overrides(env: Mapping[str, Any]) -> list[str]:
+    """``KEY=VALUE`` strings that :func:`parse_env_overrides` reads back as ``env``."""
+    import yaml
+
+    out = []
+    for key, value in env.items():
+        text = json.dumps(list(value) if isinstance(value, tuple) else value)
+        if isinstance(value, str) and yaml.safe_load(value) == value:
+            text = value
+        out.append(f"{key}={text}")
+    return out
+
+
 # --------------------------------------------------------------------------------------------
 # evaluating
 
 
-def summarize(name: str, results: dict[str, np.ndarray]) -> dict[str, Any]:
-    """One table row: return mean and std, success rate, the mean of every other entry."""
-    row: dict[str, Any] = {
-        "policy": name,
-        "episodes": len(results["return"]),
-        "return_mean": float(np.mean(results["return"])),
-        "return_std": float(np.std(results["return"])),
-        "success_rate": float(np.mean(results["success"])) if "success" in results else np.nan,
-    }
+def mean_interval(values, seed: int, confidence: float = CONFIDENCE) -> tuple[float, float]:
+    """The ``confidence`` bootstrap interval of the mean of ``values`` (BCa,
+    ``scipy.stats.bootstrap``; percentile where BCa cannot be computed), resampled by a
+    generator seeded with ``seed``: the same values and seed give the same interval. Every
+    interval of one seed resamples the same episodes (paired across metrics and policies).
+    All-equal values (or one, or a non-finite one) give ``(mean, mean)``.
+
+    >>> mean_interval([1.0, 1.0, 1.0], seed=0)
+    (1.0, 1.0)
+    >>> lo, hi = mean_interval(np.arange(100.0), seed=0)
+    >>> lo < 49.5 < hi
+    True
+    """
+    from scipy import stats
+
+    x = np.asarray(values, dtype=float)
+    mean = float(np.mean(x))
+    if x.size < 2 or not np.isfinite(x).all() or np.ptp(x) == 0.0:
+        return mean, mean
+    for method in ("BCa", "percentile"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # scipy's DegenerateDataWarning: NaN, handled below
+            ci = stats.bootstrap(
+                (x,),
+                np.mean,
+                n_resamples=RESAMPLES,
+                confidence_level=confidence,
+                method=method,
+                rng=np.random.default_rng((BOOTSTRAP_STREAM, seed)),
+            ).confidence_interval
+        if np.isfinite(ci.low) and np.isfinite(ci.high):
+            return float(ci.low), float(ci.high)
+    return mean, mean
+
+
+def summarize(name: str, results: dict[str, np.ndarray], seed: int = 0) -> dict[str, Any]:
+    """One table row: return mean and std, success rate, the mean of every other entry; each
+    mean column ``C`` with its interval ``C_lo``, ``C_hi`` (:func:`mean_interval`)."""
+    row: dict[str, Any] = {"policy": name, "episodes": len(results["return"])}
+
+    def mean(column: str, values) -> None:
+        if values is None:
+            row[column] = row[f"{column}_lo"] = row[f"{column}_hi"] = np.nan
+            return
+        row[column] = float(np.mean(values))
+        row[f"{column}_lo"], row[f"{column}_hi"] = mean_interval(values, seed)
+
+    mean("return_mean", results["return"])
+    row["return_std"] = float(np.std(results["return"]))
+    mean("success_rate", results.get("success"))
     for key, values in results.items():
         # episode_steps (= length) says nothing new
         if key not in ("return", "success", "episode_steps") and not key.startswith("_"):
-            row[f"{key}_mean"] = float(np.mean(values))
+            mean(f"{key}_mean", values)
     return row
 
 
-def evaluate(
-    run_dir: Path, episodes: int, seed: int, rerun: Path | None = None, which: str = "final"
-) -> list[dict[str, Any]]:
-    """Evaluate the run's model (``which``: final or best), the scripted pilot and a random
-    policy on the same ``episodes`` seeded episodes; write ``evaluation.csv`` (``which`` best:
-    ``evaluation_best.csv``) into the run and return its rows."""
+def _fly(name: str, venv, make_policy: Callable[[], Callable], seed: int, say) -> dict:
+    """``make_policy()``'s row over the first episode of each sub-env of ``venv``, with what
+    it is doing and how long it took said."""
+    from fluidsim_envs.evaluation import first_episodes
+
+    say(f"{name}: {venv.num_envs} episodes ...")
+    start = time.perf_counter()
+    row = summarize(name, first_episodes(venv, make_policy(), seed=seed), seed)
+    say(
+        f"{name}: done in {time.perf_counter() - start:.1f} s (return {row['return_mean']:.4g}"
+        f", success {row['success_rate']:.3g})"
+    )
+    return row
+
+
+def baseline_rows(
+    env_id: str,
+    venv,
+    seed: int,
+    planner: bool = True,
+    planner_kwargs: Mapping[str, int] | None = None,
+    say: Callable[[str], None] = lambda text: None,
+) -> tuple[list[dict[str, Any]], list[str]]:
+    """The baselines' rows on ``venv`` (planner, tuned pilot, hand-set pilot, random), and
+    a line for each one skipped, saying why. The planner gets ``venv`` itself: it reads the
+    state of the very env the episodes run in."""
+    from fluidsim_envs.evaluation import random_policy
+
+    scene = find_scene(env_id)
+    rows, skipped = [], []
+    if not planner:
+        skipped.append(f"{PLANNER} (--no-planner)")
+        say(f"skipped: {skipped[-1]}")
+    else:
+        kwargs = dict(planner_kwargs or {})
+
+        def build_planner():
+            try:
+                return scene.planner(venv, **kwargs)
+            except (TypeError, ValueError) as e:  # a budget it refuses (--planner-*)
+                raise RunError(f"{PLANNER}: {e}") from None
+
+        rows.append(_fly(PLANNER, venv, build_planner, seed, say))
+    rows.append(_fly(TUNED_PILOT, venv, lambda: scene.pilot(venv), seed, say))
+    rows.append(_fly(HAND_PILOT, venv, lambda: scene.hand_pilot(venv), seed, say))
+    rows.append(_fly(RANDOM, venv, lambda: random_policy(venv, seed), seed, say))
+    return rows, skipped
+
+
+def _make_venv(env_id: str, episodes: int, env_kwargs: Mapping[str, Any]):
+    """The env, one sub-env per episode."""
     import gymnasium as gym
 
     import fluidsim_envs  # noqa: F401  (registers the ids)
-    from fluidsim_envs.evaluation import first_episodes, random_policy
 
+    return gym.make_vec(
+        env_id, num_envs=episodes, vectorization_mode="vector_entry_point", **env_kwargs
+    )
+
+
+def _check_counts(episodes: int, planner_kwargs: Mapping[str, int] | None) -> None:
     if episodes < 1:
         raise RunError(f"--episodes must be at least 1, got {episodes}")
+    for key, value in (planner_kwargs or {}).items():
+        if value < 1:
+            raise RunError(f"--planner-{key} must be at least 1, got {value}")
+
+
+def evaluate(
+    run_dir: Path,
+    episodes: int,
+    seed: int,
+    rerun: Path | None = None,
+    which: str = "final",
+    *,
+    env: Mapping[str, Any] | None = None,
+    planner: bool = True,
+    planner_kwargs: Mapping[str, int] | None = None,
+    out: Path | None = None,
+    say: Callable[[str], None] = lambda text: None,
+) -> list[dict[str, Any]]:
+    """Evaluate the run's model (``which``: final or best) and the baselines
+    (:func:`baseline_rows`) on the same ``episodes`` seeded episodes of the run's env, with
+    the parameters ``env`` on top of the run's; write ``evaluation.csv`` (``which`` best:
+    ``evaluation_best.csv``) into the run, or into ``out``, and return its rows. ``say``
+    hears what is being evaluated and how long each policy took."""
+    env = dict(env or {})
+    _check_counts(episodes, planner_kwargs)
     cfg, model = load_run(run_dir, which)
+    env_kwargs = env_kwargs_with(cfg.env_id, cfg.env_kwargs, env)
+    label = f"trained {cfg.algorithm.name.upper()}" + (" (best)" if which == "best" else "")
 
-    def make():  # the run's env, one sub-env per episode
-        return gym.make_vec(
-            cfg.env_id, num_envs=episodes, vectorization_mode="vector_entry_point", **cfg.env_kwargs
-        )
-
-    venv = make()
+    venv = _make_venv(cfg.env_id, episodes, env_kwargs)
     trained_env = venv
     if rerun is not None:
         try:
@@ -206,25 +438,71 @@ def evaluate(
             )
         except ImportError as e:
             raise RunError(f"--rerun needs the Rerun logger and rerun-sdk: {e}") from e
-    rows = []
     try:
-        trained = model_policy(cfg, model, run_dir, venv, which)
-        results = first_episodes(trained_env, trained, seed=seed)
-        label = f"trained {cfg.algorithm.name.upper()}" + (" (best)" if which == "best" else "")
-        rows.append(summarize(label, results))
+        policy = model_policy(cfg, model, run_dir, venv, which)
+        rows = [_fly(label, trained_env, lambda: policy, seed, say)]
     finally:
         if trained_env is not venv:
             trained_env.close()  # closes the recording (and the env under it)
     if trained_env is not venv:  # the logger closed it: a fresh one for the baselines
-        venv = make()
-    for name, policy in (
-        ("scripted pilot", scripted_pilot(cfg.env_id, venv)),
-        ("random", random_policy(venv, seed)),
-    ):
-        rows.append(summarize(name, first_episodes(venv, policy, seed=seed)))
-    venv.close()
-    comments = provenance(run_dir, which, episodes, seed)
-    write_csv(rows, run_dir / csv_name(which), seed, comments)
+        venv = _make_venv(cfg.env_id, episodes, env_kwargs)
+    try:
+        baselines, skipped = baseline_rows(cfg.env_id, venv, seed, planner, planner_kwargs, say)
+    finally:
+        venv.close()
+    rows += baselines
+    command = _command(
+        [run_dir.name, "--model", which], episodes, seed, env, planner, planner_kwargs, out
+    )
+    comments = [
+        *run_provenance(run_dir, which, command),
+        _env_line(env, "the run's env_kwargs"),
+        *_method_lines(rows, skipped),
+    ]
+    if out is not None:
+        out.mkdir(parents=True, exist_ok=True)
+    write_csv(rows, (out or run_dir) / csv_name(which), seed, comments)
+    return rows
+
+
+def evaluate_baselines(
+    env_id: str,
+    episodes: int,
+    seed: int,
+    out: Path,
+    *,
+    env: Mapping[str, Any] | None = None,
+    planner: bool = True,
+    planner_kwargs: Mapping[str, int] | None = None,
+    say: Callable[[str], None] = lambda text: None,
+) -> list[dict[str, Any]]:
+    """Evaluate the baselines alone (:func:`baseline_rows`) on ``episodes`` seeded episodes
+    of ``env_id`` with the parameters ``env`` on top of its defaults; write
+    ``out/evaluation.csv`` (the layout of a run's) and return its rows."""
+    from .train import git_revision
+
+    env = dict(env or {})
+    _check_counts(episodes, planner_kwargs)
+    scene = find_scene(env_id)
+    env_kwargs = env_kwargs_with(scene.id, {}, env)
+    if out.exists() and not out.is_dir():
+        raise RunError(f"--out {out}: not a folder")
+    venv = _make_venv(scene.id, episodes, env_kwargs)
+    try:
+        rows, skipped = baseline_rows(scene.id, venv, seed, planner, planner_kwargs, say)
+    finally:
+        venv.close()
+    git = git_revision() or {}
+    dirty = " (dirty)" if git.get("dirty") else ""
+    command = _command(["--env-id", scene.id], episodes, seed, env, planner, planner_kwargs, out)
+    comments = [
+        f"command: {command}",
+        f"baselines only: {scene.id}, git {git.get('revision', '?')}{dirty}",
+        _env_line(env, "the env's defaults"),
+        *_method_lines(rows, skipped),
+    ]
+    out.mkdir(parents=True, exist_ok=True)
+    write_csv(rows, out / csv_name("final"), seed, comments)
     return rows
 
 
@@ -233,9 +511,48 @@ def csv_name(which: str) -> str:
     return "evaluation.csv" if which == "final" else f"evaluation_{which}.csv"
 
 
-def provenance(run_dir: Path, which: str, episodes: int, seed: int) -> list[str]:
-    """The ``#`` lines an evaluation table starts with: the command that wrote it and the run
-    and model it evaluated, so a copy of the table (in docs/) says where it came from."""
+def _command(
+    head: list[str],
+    episodes: int,
+    seed: int,
+    env: Mapping[str, Any],
+    planner: bool,
+    planner_kwargs: Mapping[str, int] | None,
+    out: Path | None,
+) -> str:
+    """The command line that evaluates this again."""
+    words = ["fluidsim-evaluate", *head, "--episodes", episodes, "--seed", seed]
+    for item in format_overrides(env):
+        words += ["--env", item]
+    if not planner:
+        words.append("--no-planner")
+    for key, value in (planner_kwargs or {}).items():
+        words += [f"--planner-{key}", value]
+    if out is not None:
+        words += ["--out", out]
+    return shlex.join(map(str, words))
+
+
+def _env_line(env: Mapping[str, Any], base: str) -> str:
+    if not env:
+        return f"env overrides: none ({base})"
+    return f"env overrides: {' '.join(format_overrides(env))} (on {base})"
+
+
+def _method_lines(rows: list[dict[str, Any]], skipped: list[str]) -> list[str]:
+    lines = [
+        f"rows: {', '.join(r['policy'] for r in rows)}"
+        + (f"; skipped: {', '.join(skipped)}" if skipped else ""),
+        f"intervals: each mean's {CONFIDENCE:.0%} BCa bootstrap interval over the episodes "
+        f"(_lo, _hi; scipy.stats.bootstrap, {RESAMPLES} resamples, seeded)",
+    ]
+    return lines
+
+
+def run_provenance(run_dir: Path, which: str, command: str) -> list[str]:
+    """The ``#`` lines an evaluation table of a run starts with: the command that wrote it
+    and the run and model it evaluated, so a copy of the table (in docs/) says where it came
+    from."""
     import yaml
 
     path = run_dir / "run.yaml"
@@ -243,8 +560,7 @@ def provenance(run_dir: Path, which: str, episodes: int, seed: int) -> list[str]
     git = meta.get("git") or {}
     dirty = " (dirty)" if git.get("dirty") else ""
     return [
-        f"command: fluidsim-evaluate {run_dir.name} --model {which} --episodes {episodes} "
-        f"--seed {seed}",
+        f"command: {command}",
         f"run: {run_dir.name}, trained by: {meta.get('command_line', '?')}",
         f"model: {which} at {meta.get('num_timesteps', '?')} timesteps of "
         f"{meta.get('env_id', '?')}, git {git.get('revision', '?')}{dirty}",
@@ -252,7 +568,8 @@ def provenance(run_dir: Path, which: str, episodes: int, seed: int) -> list[str]
 
 
 def write_csv(rows: list[dict[str, Any]], path: Path, seed: int, comments: list[str] = ()) -> None:
-    """The table (``#`` lines first: :func:`provenance`); readers skip lines starting ``#``."""
+    """The table (``#`` lines first: :func:`run_provenance`); readers skip lines starting
+    ``#``."""
     columns = ["seed", *dict.fromkeys(k for row in rows for k in row)]
     with path.open("w", newline="") as f:
         f.writelines(f"# {line}\n" for line in comments)
@@ -262,48 +579,195 @@ def write_csv(rows: list[dict[str, Any]], path: Path, seed: int, comments: list[
             writer.writerow({"seed": seed, **row})
 
 
+def _number(value) -> str:
+    return f"{value:d}" if isinstance(value, int) else f"{value:.4g}"
+
+
 def format_table(rows: list[dict[str, Any]]) -> str:
-    """Metrics down, policies across."""
-    keys = [k for k in dict.fromkeys(k for row in rows for k in row) if k != "policy"]
+    """Metrics down, policies across; a mean with an interval as ``mean [lo, hi]``."""
+    keys = list(dict.fromkeys(k for row in rows for k in row))
+    bounds = {f"{k}_{end}" for k in keys for end in ("lo", "hi") if f"{k}_lo" in keys}
+    keys = [k for k in keys if k != "policy" and k not in bounds]
+    cells = {}
+    for row in rows:
+        for key in keys:
+            value = row.get(key, np.nan)
+            text = _number(value)
+            if f"{key}_lo" in row and np.isfinite(value):
+                text += f" [{_number(row[f'{key}_lo'])}, {_number(row[f'{key}_hi'])}]"
+            cells[row["policy"], key] = text
     width = max(len(k) for k in keys)
-    col = max(12, *(len(row["policy"]) for row in rows))
+    col = max(12, *(len(row["policy"]) for row in rows), *(len(t) for t in cells.values()))
     lines = [" " * width + "".join(f"  {row['policy']:>{col}}" for row in rows)]
     for key in keys:
-        cells = []
-        for row in rows:
-            value = row.get(key, np.nan)
-            text = f"{value:d}" if isinstance(value, int) else f"{value:.4g}"
-            cells.append(f"  {text:>{col}}")
-        lines.append(f"{key:<{width}}" + "".join(cells))
+        lines.append(
+            f"{key:<{width}}" + "".join(f"  {cells[row['policy'], key]:>{col}}" for row in rows)
+        )
     return "\n".join(lines)
 
 
 # --------------------------------------------------------------------------------------------
 # the command line
 
+USAGE = """%(prog)s RUN [--model final|best] [options]
+       %(prog)s --env-id ID --out DIR [options]"""
 
-def main(argv: list[str] | None = None, prog: str = "fluidsim-evaluate") -> int:
+DESCRIPTION = """\
+Evaluate a training run beside the baselines (the planner, which knows the true state; the
+tuned and the hand-set pilot; a random policy), or the baselines alone, on the same seeded
+episodes, with 95% confidence intervals. It says which policy it is flying and how long each
+took (the planner: minutes for 256 episodes)."""
+
+EPILOG = """\
+examples:
+  {prog} runs/demo --model best --episodes 256 --rerun runs/demo/ep.rrd
+  {prog} runs/demo --episodes 256 --env wind_speed_mps=[0,3] --out runs/demo/windy
+  {prog} --env-id {example} --episodes 256 --out baselines/{short} --no-planner
+
+The CSV holds one row per policy: the mean of the return, the success rate and each scalar
+info entry, each with its {confidence:.0%} bootstrap interval over the episodes (columns
+<mean>_lo, <mean>_hi; printed as mean [lo, hi]), and the return's std.
+"""
+
+
+def parse_args(argv: list[str] | None, prog: str) -> argparse.Namespace:
+    from fluidsim_envs.evaluation import EVAL_SEED
+    from fluidsim_envs.scenes import SCENES
+
+    example = next(iter(SCENES))  # the help's example env: the first registered
     parser = argparse.ArgumentParser(
         prog=prog,
-        description="Evaluate a training run beside the scripted pilot and a random policy.",
-        epilog=f"Example: {prog} runs/demo --model best --episodes 256 --rerun runs/demo/ep.rrd",
+        usage=USAGE,
+        description=DESCRIPTION,
+        epilog=EPILOG.format(
+            prog=prog, confidence=CONFIDENCE, example=example, short=example.split("/")[1]
+        ),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument("run", type=Path, help="the run folder (written by fluidsim-train)")
-    parser.add_argument(
-        "--model", choices=list(MODELS), default="final", help="which model (default: final)"
+    what = parser.add_argument_group("what to evaluate (a run folder, or --env-id and --out)")
+    what.add_argument(
+        "run", type=Path, nargs="?", help="the run folder (written by fluidsim-train)"
     )
-    parser.add_argument("--episodes", type=int, default=100, help="seeded episodes per policy")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the episodes")
-    parser.add_argument("--rerun", type=Path, metavar="FILE.rrd", help="log to a Rerun file")
-    args = parser.parse_args(argv)
+    what.add_argument(
+        "--env-id",
+        metavar="ID",
+        help=f"no run: evaluate the baselines alone on this env (e.g. {example})",
+    )
+    what.add_argument(
+        "--model", choices=list(MODELS), help="which model of the run (default: final)"
+    )
+    episodes = parser.add_argument_group("the episodes")
+    episodes.add_argument(
+        "--episodes",
+        type=int,
+        default=100,
+        metavar="N",
+        help="seeded episodes per policy (default: 100)",
+    )
+    episodes.add_argument(
+        "--seed",
+        type=int,
+        default=EVAL_SEED,
+        metavar="S",
+        help=f"seed of the episodes (default: {EVAL_SEED}, the docs' tables' seed)",
+    )
+    episodes.add_argument(
+        "--env",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="set an env parameter on top of the run's (or the env's defaults), the value "
+        "read as YAML; repeatable (e.g. --env wind_speed_mps=[0,3] --env integrator=rk4)",
+    )
+    planner = parser.add_argument_group("the planner (oracle: it reads the true state)")
+    planner.add_argument(
+        "--planner-samples",
+        type=int,
+        metavar="K",
+        help="candidate plans per decision (default: its own)",
+    )
+    planner.add_argument(
+        "--planner-horizon",
+        type=int,
+        metavar="H",
+        help="the length of each plan (default: its own)",
+    )
+    planner.add_argument(
+        "--no-planner", action="store_true", help="skip the planner (it takes minutes)"
+    )
+    output = parser.add_argument_group("output")
+    output.add_argument(
+        "--out",
+        type=Path,
+        metavar="DIR",
+        help="write DIR/evaluation.csv (needed with --env-id; with a run, instead of the run "
+        "folder: keeps an out-of-distribution table apart)",
+    )
+    output.add_argument("--rerun", type=Path, metavar="FILE.rrd", help="log to a Rerun file")
+    return parser.parse_args(argv)
+
+
+def _argument_error(args: argparse.Namespace) -> str | None:
+    """What is wrong with the combination of arguments, or None."""
+    if args.run is not None and args.env_id is not None:
+        return (
+            "pass a run folder or --env-id, not both (a run is evaluated on its own env: "
+            "change its parameters with --env KEY=VALUE)"
+        )
+    if args.run is None and args.env_id is None:
+        return (
+            "pass a run folder (its model beside the baselines) or --env-id ID --out DIR "
+            "(the baselines alone)"
+        )
+    if args.env_id is not None:
+        if args.out is None:
+            return "--env-id needs --out DIR (where evaluation.csv goes)"
+        given = [f for f, v in (("--model", args.model), ("--rerun", args.rerun)) if v]
+        if given:
+            verb = "needs" if len(given) == 1 else "need"
+            return f"{' and '.join(given)} {verb} a run folder (--env-id evaluates no model)"
+    if args.no_planner and (args.planner_samples, args.planner_horizon) != (None, None):
+        return "--planner-samples and --planner-horizon set the planner that --no-planner skips"
+    return None
+
+
+def main(argv: list[str] | None = None, prog: str = "fluidsim-evaluate") -> int:
+    args = parse_args(argv, prog)
+    problem = _argument_error(args)
+    if problem:
+        print(f"{prog}: error: {problem}", file=sys.stderr)
+        return 2
+    planner_kwargs = {
+        key: value
+        for key, value in (("samples", args.planner_samples), ("horizon", args.planner_horizon))
+        if value is not None
+    }
+    options = dict(
+        planner=not args.no_planner,
+        planner_kwargs=planner_kwargs,
+        say=lambda text: print(text, flush=True),
+    )
+    which = args.model or "final"
     try:
-        rows = evaluate(args.run, args.episodes, args.seed, args.rerun, args.model)
+        env = parse_env_overrides(args.env)
+        what = args.run if args.run is not None else args.env_id
+        overrides = f", env overrides: {' '.join(format_overrides(env))}" if env else ""
+        print(f"{what}: {args.episodes} episodes, seed {args.seed}{overrides}", flush=True)
+        if args.run is not None:
+            rows = evaluate(
+                args.run, args.episodes, args.seed, args.rerun, which, env=env, out=args.out,
+                **options,
+            )  # fmt: skip
+        else:
+            rows = evaluate_baselines(
+                args.env_id, args.episodes, args.seed, args.out, env=env, **options
+            )
     except (ConfigError, RunError) as e:
         print(f"{prog}: error: {e}", file=sys.stderr)
         return 2
-    print(f"{args.run}: {args.episodes} episodes, seed {args.seed}")
+    print(f"means with their {CONFIDENCE:.0%} bootstrap intervals over the episodes:")
     print(format_table(rows))
-    print(f"written: {args.run / csv_name(args.model)}")
+    print(f"written: {(args.out or args.run) / csv_name(which)}")
     if args.rerun is not None:
         print(
             f"rerun recording: {args.rerun}  (view it: rerun {args.rerun}; on a machine "

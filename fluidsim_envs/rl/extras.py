@@ -7,8 +7,9 @@ import importlib.util
 
 #: each extra of pyproject.toml and the modules the commands import from it
 EXTRAS = {
-    "train": ("stable_baselines3", "torch", "yaml", "tensorboard", "tqdm", "rich"),
+    "train": ("stable_baselines3", "torch", "yaml", "tensorboard", "tqdm", "rich", "scipy"),
     "rerun": ("rerun",),
+    "tune": ("optuna",),
 }
 
 

@@ -159,6 +159,12 @@ class FluidVectorEnv(VectorEnv):
         return _read_only(self._act)
 
     @property
+    def observation(self) -> np.ndarray:
+        """The current observation of every sub-env [E, obs_dim] (read-only): what the last
+        reset or step returned, the autoreset's first observation for an ended episode."""
+        return _read_only(self._obs)
+
+    @property
     def episode_steps(self) -> np.ndarray:
         """Steps taken in each sub-env's current episode [E] (read-only)."""
         return _read_only(self._elapsed)

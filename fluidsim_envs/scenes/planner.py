@@ -21,12 +21,22 @@ efficient cross-entropy method for real-time planning"), chosen over MPPI becaus
 The plan's score is the env's own reward summed over the horizon, up to the end of the
 episode (no value estimate beyond it): the horizon must reach far enough for the reward to
 tell plans apart.
+
+Guided (``PlannerConfig.guided``, each scene's default): a plan is a sequence of offsets added
+to the scene's tuned pilot, which flies closed loop in every rollout (from a copy of its
+memory: a pilot keeps its per-episode memory in arrays with the episode first). The pilot
+alone, all offsets zero, is then the first incumbent, so the planner starts from the pilot's
+plan and keeps it unless a sampled plan earns more over the look-ahead; the pilot's feedback
+carries what a look-ahead of seconds cannot see (a course of gates, a station held for a
+minute). Unguided, plans are the actions themselves.
 """
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -49,6 +59,7 @@ class PlannerConfig:
     noise_std: float = 0.5  # the first round's spread of each action (of [-1, 1])
     noise_beta: float = 2.0  # coloured noise: power spectrum ~ 1/f^beta along the plan
     momentum: float = 0.1  # share of the old mean and spread kept at each refit
+    guided: bool = False  # plans are offsets to the scene's pilot flying closed loop
     seed: int = 0  # the planner's own generator (the episodes' are the env's)
 
     def __post_init__(self) -> None:
@@ -60,6 +71,8 @@ class PlannerConfig:
             raise ValueError(
                 f"planner: elites ({self.elites}) must not exceed samples ({self.samples})"
             )
+        if not isinstance(self.guided, bool):
+            raise ValueError(f"planner: guided must be True or False, got {self.guided!r}")
         for key, lo, hi in (("noise_std", 0.0, 2.0), ("noise_beta", 0.0, 4.0), ("momentum", 0, 1)):
             value = getattr(self, key)
             if not (isinstance(value, (int, float)) and lo <= value <= hi):
@@ -96,6 +109,8 @@ class Planner:
     Args:
         venv: the vector env the episodes run in (its ``unwrapped`` is read: get_state).
         config: the budget and sampling (:class:`PlannerConfig`).
+        pilot: with ``config.guided``, the pilot factory (``pilot(venv) -> policy``, a
+            scene's ``Scene.pilot``) whose actions the plans' offsets add to.
 
     Every ``config.hold`` actions it plans again for all sub-envs; and at once after
     ``reset(mask)`` (a sub-env started a new episode), so that no episode flies a plan made
@@ -104,7 +119,9 @@ class Planner:
     by env speed); ``plans`` and ``decisions`` count plans made and actions returned.
     """
 
-    def __init__(self, venv, config: PlannerConfig = PlannerConfig()) -> None:
+    def __init__(
+        self, venv, config: PlannerConfig = PlannerConfig(), pilot: Callable | None = None
+    ) -> None:
         env = venv.unwrapped
         if not isinstance(env, FluidVectorEnv):
             raise TypeError(f"planner: needs a fluidsim vector env, got {type(env).__name__}")
@@ -121,6 +138,11 @@ class Planner:
         self.best = np.zeros((E, H, A))  # the plan being flown
         self.value = np.zeros(E)  # its return over the look-ahead, as the rollouts scored it
         self.flown = config.hold  # actions flown of the first knot: plan at the first call
+        if config.guided and pilot is None:
+            raise ValueError("planner: guided plans need the pilot they add to (pilot=)")
+        # the pilot of the episodes, and one for the rollouts (its memory copied at each plan)
+        self.pilot = pilot(env) if config.guided else None
+        self.rollout_pilot = pilot(self.rollouts) if config.guided else None
         self.timing = {"total": 0.0, "rollout": 0.0, "physics": 0.0, "plans": 0, "decisions": 0}
         step = self.rollouts.sim.step
 
@@ -137,18 +159,25 @@ class Planner:
         rows = slice(None) if mask is None else np.asarray(mask, dtype=bool)
         self.mean[rows] = 0.0
         self.best[rows] = 0.0
+        if self.pilot is not None and hasattr(self.pilot, "reset"):
+            self.pilot.reset(mask)
         if mask is None or np.any(mask):
             self.flown = self.config.hold
 
     def __call__(self, obs) -> np.ndarray:
+        """The actions for the env's current state (``obs`` is not read: the planner reads
+        the true state, and its pilot the env's own observation)."""
         t0 = time.perf_counter()
         if self.flown >= self.config.hold:
             self._plan()
             self.flown = 0
+        action = self.best[:, 0]
+        if self.pilot is not None:  # the pilot's memory moves on with the episode's
+            action = np.clip(self.pilot(self.env.observation) + action, -1.0, 1.0)
         self.flown += 1
         self.timing["decisions"] += 1
         self.timing["total"] += time.perf_counter() - t0
-        return self.best[:, 0].copy()
+        return np.array(action)
 
     def _plan(self) -> None:
         cfg = self.config
@@ -181,16 +210,31 @@ class Planner:
         """Each plan's return up to its look-ahead or its episode's end, ``[E, K]``."""
         E, K, H, A = plans.shape
         env, hold = self.rollouts, self.config.hold
-        env.set_state(start)
+        obs = env.set_state(start)
+        pilot = None
+        if self.pilot is not None:
+            pilot = copy.copy(self.rollout_pilot)
+            _copy_memory(self.pilot, pilot, K)
         t0 = time.perf_counter()
         value = np.zeros(E * K)
         alive = np.ones(E * K, dtype=bool)
         flat = plans.reshape(E * K, H, A)
         for t in range(H * hold):
-            _, reward, terminated, truncated, _ = env.step(flat[:, t // hold])
+            action = flat[:, t // hold]
+            if pilot is not None:
+                action = np.clip(pilot(obs) + action, -1.0, 1.0)
+            obs, reward, terminated, truncated, _ = env.step(action)
             value += np.where(alive, reward, 0.0)
             alive &= ~(terminated | truncated)
             if not alive.any():
                 break
         self.timing["rollout"] += time.perf_counter() - t0
         return value.reshape(E, K)
+
+
+def _copy_memory(src, dst, k: int) -> None:
+    """Give pilot ``dst`` (for ``k`` rollouts of each episode) ``src``'s per-episode memory:
+    each of ``src``'s arrays with the episodes first, each row repeated ``k`` times."""
+    for name, value in vars(src).items():
+        if isinstance(value, np.ndarray) and value.ndim >= 1:
+            setattr(dst, name, np.repeat(value, k, axis=0))

@@ -41,6 +41,8 @@ class Scene:
     # the scripted baseline for a vector env (or a wrapper of one): a policy obs -> actions,
     # with reset(mask) for the sub-envs whose episode ended
     pilot: Callable[[Any], Callable[[np.ndarray], np.ndarray]]
+    # the same pilot with its hand-set gains (the tuned ones: benchmarks/tune_pilots.py)
+    hand_pilot: Callable[[Any], Callable[[np.ndarray], np.ndarray]]
     view: type  # the rgb_array viewer: view(env).frame(env_index) -> [H, W, 3] uint8
     # the Rerun hooks: rerun(logger) -> RerunHooks (world, episode, step; see scenes/rerun.py)
     rerun: Callable[[Any], Any]
@@ -81,7 +83,8 @@ class Scene:
         oracle) for every sub-env of ``venv``, at this scene's budget; ``samples``,
         ``horizon`` and any other :class:`~.planner.PlannerConfig` field override it."""
         budget = {k: v for k, v in (("samples", samples), ("horizon", horizon)) if v is not None}
-        return Planner(venv, dataclasses.replace(self.planner_config, **budget, **kwargs))
+        config = dataclasses.replace(self.planner_config, **budget, **kwargs)
+        return Planner(venv, config, pilot=self.pilot)
 
     def success_text(self, params=None) -> str:
         """:attr:`success` with the numbers of ``params`` (default: the env's defaults)."""

@@ -25,6 +25,7 @@ from fluidsim_envs.rl.config import shipped_configs
 
 REPO = Path(__file__).resolve().parents[2]
 CONFIG = shipped_configs()["paper_airplane_ppo"]
+CONFIG_ENV = "fluidsim/PaperAirplane-v0"
 # 2 PPO rollouts of 8 envs x 128 steps (2000 asked: rounded up to whole rollouts), evaluated
 # (2 episodes) and checkpointed after each
 TINY = [
@@ -177,7 +178,7 @@ def test_evaluate_the_best_model_with_its_own_statistics(run, tmp_path):
     assert counts[0] == counts[1]
     run = copy_run(run, tmp_path)
     (run / "vecnormalize.pkl").unlink()  # the final model's: the best one must not need it
-    rows = evaluate_cli.evaluate(run, 4, 0, which="best")
+    rows = evaluate_cli.evaluate(run, 4, 0, which="best", planner=False)
     assert rows[0]["policy"] == "trained PPO (best)"
     assert (run / "evaluation_best.csv").is_file() and not (run / "evaluation.csv").exists()
 
@@ -210,28 +211,67 @@ def test_python_m_prints_help(module):
         assert "shipped configs: boat_on_step_ppo, paper_airplane_ppo" in done.stdout
 
 
-def test_evaluate_compares_the_model_with_the_pilot_and_random(run, tmp_path):
+def baselines() -> list[str]:
+    """The baselines' rows without the planner."""
+    return ["tuned pilot", "hand-set pilot", "random"]
+
+
+def read_table(path: Path) -> tuple[list[str], dict[str, dict[str, str]]]:
+    lines = path.read_text().splitlines()
+    comments = [line for line in lines if line.startswith("#")]
+    return comments, {r["policy"]: r for r in csv.DictReader(lines[len(comments) :])}
+
+
+def test_evaluate_compares_the_model_with_the_baselines(run, tmp_path):
     run = copy_run(run, tmp_path)
-    done = run_script("evaluate.py", run, "--episodes", 6, "--seed", 5, cwd=tmp_path)
+    args = ("--episodes", 6, "--seed", 5, "--no-planner")
+    done = run_script("evaluate.py", run, *args, cwd=tmp_path)
     assert done.returncode == 0, done.stderr[-3000:]
     table = done.stdout
-    assert "trained PPO" in table and "scripted pilot" in table and "random" in table
+    assert all(p in table for p in ("trained PPO", *baselines()))
     for metric in ("return_mean", "return_std", "success_rate", "landed_mean", "distance_m_mean"):
         assert metric in table
+    assert "trained PPO: 6 episodes ..." in table and "trained PPO: done in " in table
     text = (run / "evaluation.csv").read_text()
-    comments = [line for line in text.splitlines() if line.startswith("#")]
+    comments, rows = read_table(run / "evaluation.csv")
     assert comments[0].startswith("# command: fluidsim-evaluate") and "model: final at 2048" in text
-    rows = {r["policy"]: r for r in csv.DictReader(text.splitlines()[len(comments) :])}
-    assert set(rows) == {"trained PPO", "scripted pilot", "random"}
+    assert "# env overrides: none (the run's env_kwargs)" in comments
+    assert list(rows) == ["trained PPO", *baselines()]
     for r in rows.values():
         assert r["seed"] == "5" and r["episodes"] == "6"
         assert 0.0 <= float(r["success_rate"]) <= 1.0
         assert np.isfinite(float(r["return_mean"])) and float(r["return_std"]) >= 0.0
+        for c in ("return_mean", "success_rate", "distance_m_mean"):  # with its interval
+            assert float(r[f"{c}_lo"]) <= float(r[c]) <= float(r[f"{c}_hi"])
     # the same seeded episodes for every policy, and deterministic: a rerun gives the same
-    again = evaluate_cli.evaluate(run, 6, 5)
+    again = evaluate_cli.evaluate(run, 6, 5, planner=False)
     assert {r["policy"]: r["return_mean"] for r in again} == pytest.approx(
         {p: float(r["return_mean"]) for p, r in rows.items()}, rel=1e-6
     )
+    assert (run / "evaluation.csv").read_text() == text  # intervals included
+
+
+def test_evaluate_a_run_out_of_distribution(run, tmp_path, capsys):
+    """--env sets env parameters on top of the run's, and --out keeps the table apart."""
+    run = copy_run(run, tmp_path)
+    out = tmp_path / "ood"
+    args = [str(run), "--episodes", "3", "--no-planner", "--out", str(out)]
+    assert evaluate_cli.main([*args, "--env", "max_episode_steps=7", "--env=dt=5e-3"]) == 0
+    assert "3 episodes, seed 0, env overrides: max_episode_steps=7 dt=0.005" in (
+        capsys.readouterr().out
+    )
+    assert not (run / "evaluation.csv").exists()
+    comments, rows = read_table(out / "evaluation.csv")
+    assert list(rows) == ["trained PPO", *baselines()]
+    for r in rows.values():  # the override reached the env: every episode cut at 7 steps
+        assert float(r["length_mean"]) == 7.0 and float(r["truncated_mean"]) == 1.0
+    assert "--env max_episode_steps=7 --env dt=0.005" in comments[0]
+    assert "# env overrides: max_episode_steps=7 dt=0.005 (on the run's env_kwargs)" in comments
+    assert evaluate_cli.main([*args, "--env", "max_episode_stepz=7"]) == 2
+    err = capsys.readouterr().err
+    assert "--env: PaperAirplaneParams: unknown parameter(s) ['max_episode_stepz']" in err
+    assert evaluate_cli.main([str(run), "--env-id", "fluidsim/PaperAirplane-v0"]) == 2
+    assert "pass a run folder or --env-id, not both" in capsys.readouterr().err
 
 
 def test_evaluate_writes_a_rerun_recording(run, tmp_path):
@@ -239,10 +279,12 @@ def test_evaluate_writes_a_rerun_recording(run, tmp_path):
     pytest.importorskip("fluidsim_envs.wrappers.rerun_logger")
     run = copy_run(run, tmp_path)
     rrd = tmp_path / "eval.rrd"
-    assert evaluate_cli.main([str(run), "--episodes", "3", "--rerun", str(rrd)]) == 0
+    args = [str(run), "--episodes", "3", "--rerun", str(rrd), "--no-planner"]
+    assert evaluate_cli.main(args) == 0
     assert rrd.is_file() and rrd.stat().st_size > 1000
     # the baselines still ran after the logger closed its env
-    assert (run / "evaluation.csv").read_text().count("\n") == 4 + 3  # 3 # lines
+    _, rows = read_table(run / "evaluation.csv")
+    assert list(rows) == ["trained PPO", *baselines()]
 
 
 def test_resume_continues_an_interrupted_run(run, tmp_path):
@@ -408,5 +450,5 @@ def test_sac_config_trains_and_evaluates(tmp_path):
 
     model = SAC.load(run / "model.zip", device="cpu")
     assert model.num_timesteps == 200 and model.policy.actor.latent_pi[0].out_features == 256
-    rows = evaluate_cli.evaluate(run, 2, 0)
-    assert [r["policy"] for r in rows] == ["trained SAC", "scripted pilot", "random"]
+    rows = evaluate_cli.evaluate(run, 2, 0, planner=False)
+    assert [r["policy"] for r in rows] == ["trained SAC", *baselines()]

@@ -12,7 +12,7 @@ from ..scene import Scene
 from .env import GATES, BoatOnStepEnv, BoatOnStepParams, BoatOnStepVectorEnv
 from .kernel import OBS, OBS_NAMES, OBSERVATION
 from .mesh import meshes
-from .pilot import BoatOnStepPilot, HelmGains, demo, make_pilot
+from .pilot import BoatOnStepPilot, HelmGains, demo, make_hand_pilot, make_pilot
 from .rerun import BoatOnStepRerun
 from .view import BoatOnStepView
 
@@ -25,7 +25,8 @@ SCENE = Scene(
     params_cls=BoatOnStepParams,
     observation=OBSERVATION,
     pilot=make_pilot,
-    planner_config=PlannerConfig(samples=32, horizon=20, hold=10),
+    hand_pilot=make_hand_pilot,
+    planner_config=PlannerConfig(samples=16, horizon=20, hold=10, noise_std=0.3, guided=True),
     view=BoatOnStepView,
     rerun=BoatOnStepRerun,
     demo=demo,

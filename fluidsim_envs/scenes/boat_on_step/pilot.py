@@ -10,6 +10,12 @@
   (porpoising).
 
 The bar a trained policy must beat.
+
+Gains: :class:`HelmGains`' defaults are the hand-set gains (:func:`make_hand_pilot`); the
+registry's pilot (:func:`make_pilot`) flies ``HelmGains.tuned()``, the gains in
+``tuned_gains.json`` beside this file, which ``python -m benchmarks.tune_pilots
+fluidsim/BoatOnStep-v0 --write`` found by searching :data:`SEARCH_SPACE` on episodes of other
+seeds than the evaluation's (``fluidsim_envs.evaluation.TUNING_SEEDS``).
 """
 
 from __future__ import annotations
@@ -18,11 +24,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..gains import TunableGains
 from .kernel import OBS
 
 
 @dataclass(frozen=True)
-class HelmGains:
+class HelmGains(TunableGains):
+    """The pilot's gains; the defaults are the hand-set ones, :meth:`tuned` the tuned ones."""
+
     cruise_throttle: float = 0.45  # throttle at the target speed (before the PI correction)
     kp_speed: float = 0.15  # throttle per m/s of speed error
     ki_speed: float = 0.03  # throttle per m/s s
@@ -36,24 +45,42 @@ class HelmGains:
     step_s: float = 0.05  # the env's action period
 
 
+#: the gains class the tuner (benchmarks/tune_pilots.py) builds
+GAINS = HelmGains
+
+#: the range the tuner searches for each gain, around the hand-set value (step_s is the env's,
+#: not a gain): the loop gains from none (or a third) to about three times the hand-set value,
+#: the cruise throttle, the planing margin and the held trim (0.5-5 degrees) each side of it
+SEARCH_SPACE: dict[str, tuple[float, float]] = {
+    "cruise_throttle": (0.2, 0.8),
+    "kp_speed": (0.0, 0.45),
+    "ki_speed": (0.0, 0.1),
+    "plane_margin_mps": (0.5, 6.0),
+    "approach": (0.0, 2.0),
+    "kp_heading": (1.0, 7.0),
+    "kd_yaw": (0.0, 2.0),
+    "trim_deg": (0.5, 5.0),
+    "k_tabs": (0.0, 4.0),
+    "k_porpoise": (0.0, 8.0),
+}
+
+
 class BoatOnStepPilot:
     """PID autopilot over a batch of observations ``[N, 18]`` (BoatOnStep-v0's layout, read
-        by name through ``OBS``).
+    by name through ``OBS``).
 
-        Keeps an integrator per env: call :meth:`reset` with a mask of the envs that start a new
-        episode (all of them when ``mask`` is None).
+    Keeps an integrator per env: call :meth:`reset` with a mask of the envs that start a new
+    episode (all of them when ``mask`` is None).
 
-        Examples:
-            >>> import numpy as np
-
-    from .kernel import OBS
-            >>> from fluidsim_envs.scenes.boat_on_step import BoatOnStepVectorEnv
-            >>> envs = BoatOnStepVectorEnv(num_envs=4)
-            >>> pilot = BoatOnStepPilot()
-            >>> obs, _ = envs.reset(seed=0)
-            >>> for _ in range(5):
-            ...     obs, reward, terminated, truncated, info = envs.step(pilot(obs))
-            ...     pilot.reset(terminated | truncated)
+    Examples:
+        >>> import numpy as np
+        >>> from fluidsim_envs.scenes.boat_on_step import BoatOnStepVectorEnv
+        >>> envs = BoatOnStepVectorEnv(num_envs=4)
+        >>> pilot = BoatOnStepPilot()
+        >>> obs, _ = envs.reset(seed=0)
+        >>> for _ in range(5):
+        ...     obs, reward, terminated, truncated, info = envs.step(pilot(obs))
+        ...     pilot.reset(terminated | truncated)
     """
 
     def __init__(self, gains: HelmGains = HelmGains()) -> None:
@@ -99,14 +126,20 @@ class BoatOnStepPilot:
         return np.clip(np.stack([throttle, rudder, tabs], axis=1), -1.0, 1.0)
 
 
-def make_pilot(venv) -> BoatOnStepPilot:
-    """The pilot for every sub-env of ``venv`` (it sizes its integrators on first use)."""
-    return BoatOnStepPilot()
+def make_pilot(venv, gains: HelmGains | None = None) -> BoatOnStepPilot:
+    """The pilot for every sub-env of ``venv`` (it sizes its integrators on first use), with
+    ``gains`` (default: the tuned gains, ``HelmGains.tuned()``)."""
+    return BoatOnStepPilot(HelmGains.tuned() if gains is None else gains)
+
+
+def make_hand_pilot(venv) -> BoatOnStepPilot:
+    """:func:`make_pilot` with the hand-set gains (``HelmGains()``)."""
+    return make_pilot(venv, HelmGains())
 
 
 def demo(num_envs: int = 256, seed: int = 0) -> None:
-    """The pilot (in calm water and in swell), a random policy and idle controls on
-    ``num_envs`` seeded courses."""
+    """The hand-set pilot (in calm water and in swell), the tuned pilot, a random policy and
+    idle controls on ``num_envs`` seeded courses."""
     from ...evaluation import first_episodes, random_policy, zero_policy
     from .env import BoatOnStepVectorEnv
 
@@ -119,6 +152,7 @@ def demo(num_envs: int = 256, seed: int = 0) -> None:
     for name, waves, policy in (
         ("scripted pilot", (), BoatOnStepPilot()),
         ("  (in swell)", swell, BoatOnStepPilot()),
+        ("tuned pilot", (), BoatOnStepPilot(HelmGains.tuned())),
         ("random", (), None),
         ("zero controls", (), None),
     ):

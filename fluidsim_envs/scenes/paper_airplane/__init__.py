@@ -13,7 +13,7 @@ from ..scene import Scene
 from .env import PaperAirplaneEnv, PaperAirplaneParams, PaperAirplaneVectorEnv
 from .kernel import OBS, OBS_NAMES, OBSERVATION
 from .mesh import meshes
-from .pilot import PaperAirplanePilot, PilotGains, demo, make_pilot
+from .pilot import PaperAirplanePilot, PilotGains, demo, make_hand_pilot, make_pilot
 from .rerun import PaperAirplaneRerun
 from .view import PaperAirplaneView
 
@@ -34,7 +34,8 @@ SCENE = Scene(
     params_cls=PaperAirplaneParams,
     observation=OBSERVATION,
     pilot=make_pilot,
-    planner_config=PlannerConfig(samples=64, horizon=45, hold=1),
+    hand_pilot=make_hand_pilot,
+    planner_config=PlannerConfig(samples=64, horizon=45, hold=1, noise_std=0.3, guided=True),
     view=PaperAirplaneView,
     rerun=PaperAirplaneRerun,
     demo=demo,

@@ -13,7 +13,7 @@ from ..scene import Scene
 from .env import SubmarineWakeEnv, SubmarineWakeParams, SubmarineWakeVectorEnv
 from .kernel import OBS, OBS_NAMES, OBSERVATION
 from .mesh import meshes
-from .pilot import StationGains, SubmarineWakePilot, demo, make_pilot
+from .pilot import StationGains, SubmarineWakePilot, demo, make_hand_pilot, make_pilot
 from .rerun import SubmarineWakeRerun
 from .view import SubmarineWakeView
 
@@ -27,7 +27,8 @@ SCENE = Scene(
     params_cls=SubmarineWakeParams,
     observation=OBSERVATION,
     pilot=make_pilot,
-    planner_config=PlannerConfig(samples=16, horizon=20, hold=3),
+    hand_pilot=make_hand_pilot,
+    planner_config=PlannerConfig(samples=16, horizon=20, hold=3, noise_std=0.3, guided=True),
     view=SubmarineWakeView,
     rerun=SubmarineWakeRerun,
     demo=demo,

@@ -10,6 +10,12 @@ Three decoupled loops, each from the observation alone:
   pitch-rate damping.
 
 It ignores the wake (the flow sensor is unused): the bar a trained policy must beat.
+
+Gains: :class:`StationGains`' defaults are the hand-set gains (:func:`make_hand_pilot`); the
+registry's pilot (:func:`make_pilot`) flies ``StationGains.tuned()``, the gains in
+``tuned_gains.json`` beside this file, which ``python -m benchmarks.tune_pilots
+fluidsim/SubmarineWake-v0 --write`` found by searching :data:`SEARCH_SPACE` on episodes of
+other seeds than the evaluation's (``fluidsim_envs.evaluation.TUNING_SEEDS``).
 """
 
 from __future__ import annotations
@@ -19,11 +25,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...physics import Craft
+from ..gains import TunableGains
 from .kernel import OBS
 
 
 @dataclass(frozen=True)
-class StationGains:
+class StationGains(TunableGains):
+    """The pilot's gains; the defaults are the hand-set ones, :meth:`tuned` the tuned ones."""
+
     kp_along: float = 0.15  # m/s^2 of commanded acceleration per m of along-track error
     kd_along: float = 0.6  # per m/s of closing speed error
     k_los: float = 0.12  # rad of heading correction per m of lateral error
@@ -36,6 +45,28 @@ class StationGains:
     max_pitch_rad: float = 0.35
     kp_pitch: float = 2.5
     kd_pitch: float = 1.5
+
+
+#: the gains class the tuner (benchmarks/tune_pilots.py) builds
+GAINS = StationGains
+
+#: the range the tuner searches for each gain, around the hand-set value: loop gains from a
+#: quarter or a third of it to three to five times it (the lateral and depth damping down to
+#: none), the heading-correction and pitch-command limits from half to twice
+SEARCH_SPACE: dict[str, tuple[float, float]] = {
+    "kp_along": (0.05, 0.5),
+    "kd_along": (0.2, 1.5),
+    "k_los": (0.03, 0.6),
+    "kd_los": (0.0, 1.2),
+    "max_correction_rad": (0.3, 1.2),
+    "kp_heading": (0.7, 6.0),
+    "kd_yaw": (0.5, 4.5),
+    "kp_depth": (0.02, 0.3),
+    "kd_depth": (0.0, 1.0),
+    "max_pitch_rad": (0.15, 0.7),
+    "kp_pitch": (0.8, 7.0),
+    "kd_pitch": (0.5, 4.5),
+}
 
 
 class SubmarineWakePilot:
@@ -95,14 +126,20 @@ class SubmarineWakePilot:
         return np.clip(np.stack([a_thrust, a_rudder, a_planes], axis=1), -1.0, 1.0)
 
 
-def make_pilot(venv) -> SubmarineWakePilot:
-    """The pilot for every sub-env of ``venv`` (it keeps no per-env state)."""
-    return SubmarineWakePilot()
+def make_pilot(venv, gains: StationGains | None = None) -> SubmarineWakePilot:
+    """The pilot for every sub-env of ``venv`` (it keeps no per-env state), with ``gains``
+    (default: the tuned gains, ``StationGains.tuned()``)."""
+    return SubmarineWakePilot(StationGains.tuned() if gains is None else gains)
+
+
+def make_hand_pilot(venv) -> SubmarineWakePilot:
+    """:func:`make_pilot` with the hand-set gains (``StationGains()``)."""
+    return make_pilot(venv, StationGains())
 
 
 def demo(num_envs: int = 256, seed: int = 0) -> None:
-    """The pilot (with and without the wake), a random policy and idle controls on
-    ``num_envs`` seeded episodes."""
+    """The hand-set pilot (with and without the wake), the tuned pilot, a random policy and
+    idle controls on ``num_envs`` seeded episodes."""
     from ...evaluation import first_episodes, random_policy, zero_policy
     from .env import SubmarineWakeVectorEnv
 
@@ -111,6 +148,7 @@ def demo(num_envs: int = 256, seed: int = 0) -> None:
     for name, wake, policy in (
         ("scripted pilot", True, SubmarineWakePilot()),
         ("  (no wake)", False, SubmarineWakePilot()),
+        ("tuned pilot", True, SubmarineWakePilot(StationGains.tuned())),
         ("random", True, None),
         ("zero controls", True, None),
     ):
