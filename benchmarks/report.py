@@ -6,12 +6,12 @@ evaluation CSVs.
 
 One row per registered env (:data:`fluidsim_envs.scenes.SCENES`): its observation and action
 sizes, control rate and horizon (from the env's default parameters), what success means (the
-scene's ``success``, with its numbers), and the scripted pilot's and trained PPO's success
-rate and mean return from ``docs/eval_<scene>_ppo.csv`` (what ``fluidsim-evaluate RUN
---episodes 256`` wrote for the shipped PPO config's run; blank where no such file exists).
-The README's table sits between the two ``envs-table`` markers, and docs/training.md's table
-of PPO against the baselines (return mean +- std and success of each policy in those CSVs)
-between the ``ppo-results`` markers; neither is edited by hand.
+scene's ``success``, with its numbers), and the success rate and mean return, each with its
+95% bootstrap interval, of the planner (oracle), the tuned pilot and trained PPO from
+``docs/eval_<scene>_ppo.csv`` (what ``fluidsim-evaluate RUN --episodes 256`` wrote for the
+shipped PPO config's run, every baseline beside it; blank where no such file exists). The
+README's table sits between the two ``envs-table`` markers, and docs/training.md's table of
+every policy in those CSVs between the ``ppo-results`` markers; neither is edited by hand.
 """
 
 from __future__ import annotations
@@ -32,21 +32,21 @@ RESULTS_BEGIN = (
     "<!-- ppo-results: written by `python -m benchmarks.report` from docs/eval_*_ppo.csv -->"
 )
 RESULTS_END = "<!-- /ppo-results -->"
-POLICIES = ("trained PPO", "scripted pilot", "random")  # the table's columns
-# each column's row in the evaluation CSVs: the first of these names present (the scripted
-# pilot's row is "tuned pilot" since fluidsim-evaluate added the other baselines)
-ROW_NAMES = {"scripted pilot": ("tuned pilot", "scripted pilot")}
-
-
-def _policy_row(by: dict[str, dict], policy: str) -> dict | None:
-    """``policy``'s row of an evaluation CSV (rows ``by`` name), or None."""
-    return next((by[n] for n in ROW_NAMES.get(policy, (policy,)) if n in by), None)
-
+# the policies of an evaluation CSV (fluidsim-evaluate's rows) in the tables, by row name
+POLICIES = ("trained PPO", "planner (oracle)", "tuned pilot", "hand-set pilot", "random")
+# the README's table: (column title, row name, envs.csv key)
+README_POLICIES = (
+    ("planner (oracle)", "planner (oracle)", "planner"),
+    ("tuned pilot", "tuned pilot", "pilot"),
+    ("PPO (one seed)", "trained PPO", "ppo"),
+)
 
 COLUMNS = (
     "env_id", "summary", "observations", "actions", "action_names", "control_hz",
-    "horizon_steps", "horizon_s", "success", "pilot_success", "pilot_return",
-    "ppo_success", "ppo_return", "evaluated_episodes",
+    "horizon_steps", "horizon_s", "success",
+    *(f"{key}_{m}" for _, _, key in README_POLICIES
+      for m in ("success", "success_lo", "success_hi", "return", "return_lo", "return_hi")),
+    "evaluated_episodes",
 )  # fmt: skip
 
 
@@ -57,19 +57,21 @@ def scene_slug(env_id: str) -> str:
 
 
 def _scores(env_id: str) -> dict[str, str]:
-    """The pilot's and PPO's success rate and mean return from the evaluation CSV."""
+    """Each README policy's success rate and mean return, with their intervals, from the
+    env's evaluation CSV."""
     path = DOCS / f"eval_{scene_slug(env_id)}_ppo.csv"
     if not path.is_file():
         return {}
-    _, rows = read_csv(path)
-    by = {r["policy"]: r for r in rows}
+    by = {r["policy"]: r for r in read_csv(path)[1]}
     out = {}
-    for key, policy in (("pilot", "scripted pilot"), ("ppo", "trained PPO")):
-        row = _policy_row(by, policy)
-        if row is not None:
-            out[f"{key}_success"] = row["success_rate"]
-            out[f"{key}_return"] = row["return_mean"]
-            out["evaluated_episodes"] = row["episodes"]
+    for _, policy, key in README_POLICIES:
+        if policy not in by:
+            continue
+        row = by[policy]
+        for mine, theirs in (("success", "success_rate"), ("return", "return_mean")):
+            for tail in ("", "_lo", "_hi"):
+                out[f"{key}_{mine}{tail}"] = row.get(f"{theirs}{tail}", "")
+        out["evaluated_episodes"] = row["episodes"]
     return out
 
 
@@ -99,47 +101,59 @@ def _pct(x: str) -> str:
     return f"{100.0 * float(x):.1f}%" if x else "n/a"
 
 
-def _num(x: str) -> str:
-    return f"{float(x):.1f}" if x else "n/a"
+def _interval(mean: str, lo: str, hi: str, percent: bool) -> str:
+    """``mean [lo, hi]`` (the 95% interval, where the CSV has one)."""
+    if not mean:
+        return "n/a"
+    form = (lambda x: f"{100.0 * float(x):.0f}") if percent else (lambda x: f"{float(x):.1f}")
+    unit = "%" if percent else ""
+    return f"{form(mean)}{unit} [{form(lo)}, {form(hi)}]" if lo and hi else f"{form(mean)}{unit}"
 
 
 def markdown(table: list[dict[str, str]]) -> str:
     """The README's table: one row per env."""
+    titles = " | ".join(title for title, _, _ in README_POLICIES)
     lines = [
-        "| env | task | obs | actions | control | horizon | success means | scripted pilot | PPO |",
-        "|---|---|---:|---|---:|---:|---|---:|---:|",
+        f"| env | task | obs | actions | control | horizon | success means | {titles} |",
+        "|---|---|---:|---|---:|---:|---|" + "---:|" * len(README_POLICIES),
     ]
     for r in table:
+        cells = [
+            _interval(*(r[f"{key}_success{t}"] for t in ("", "_lo", "_hi")), percent=True)
+            for _, _, key in README_POLICIES
+        ]
         lines.append(
             f"| `{r['env_id']}` | {r['summary']} | {r['observations']} | {r['actions']}: "
             f"{r['action_names'].replace(' ', ', ')} | {r['control_hz']} Hz | "
-            f"{r['horizon_s']} s | {r['success']} | {_pct(r['pilot_success'])} "
-            f"({_num(r['pilot_return'])}) | {_pct(r['ppo_success'])} ({_num(r['ppo_return'])}) |"
+            f"{r['horizon_s']} s | {r['success']} | " + " | ".join(cells) + " |"
         )
     return "\n".join(lines)
 
 
 def results_markdown() -> str:
-    """docs/training.md's table: each env's PPO run against the pilot and random."""
+    """docs/training.md's table: each env's PPO run against every baseline, the mean return
+    and success rate of each with its 95% interval."""
     from fluidsim_envs.scenes import SCENES
 
-    head = " | ".join(f"{p} return | {p} success" for p in POLICIES)
-    lines = [f"| env | episodes | {head} |", "|---|---:|" + "---:|---:|" * len(POLICIES)]
+    lines = [
+        "| env | policy | return [95% interval] | success [95% interval] |",
+        "|---|---|---:|---:|",
+    ]
     for env_id in SCENES:
         path = DOCS / f"eval_{scene_slug(env_id)}_ppo.csv"
         if not path.is_file():
             continue
         by = {r["policy"]: r for r in read_csv(path)[1]}
-        cells = []
         for p in POLICIES:
-            r = _policy_row(by, p)
-            cells += (
-                [f"{float(r['return_mean']):.2f} +- {float(r['return_std']):.2f}",
-                 _pct(r["success_rate"])]
-                if r else ["n/a", "n/a"]
-            )  # fmt: skip
-        episodes = by[POLICIES[0]]["episodes"] if POLICIES[0] in by else "n/a"
-        lines.append(f"| {env_id.split('/')[1]} | {episodes} | " + " | ".join(cells) + " |")
+            if p not in by:
+                continue
+            r = by[p]
+            ret = _interval(r["return_mean"], r.get("return_mean_lo"), r.get("return_mean_hi"),
+                            percent=False)  # fmt: skip
+            success = _interval(
+                r["success_rate"], r.get("success_rate_lo"), r.get("success_rate_hi"), True
+            )
+            lines.append(f"| {env_id.split('/')[1]} | {p} | {ret} | {success} |")
     return "\n".join(lines)
 
 

@@ -17,6 +17,7 @@ charts return and success against the budget.
     python -m benchmarks.study_planner                    # every scene, 64 episodes each
     python -m benchmarks.study_planner --env fluidsim/BoatOnStep-v0 --episodes 32
     python -m benchmarks.study_planner --quick            # 8 episodes, two budgets, build/
+    python -m benchmarks.study_planner --replot           # the chart again from the CSV
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ from fluidsim_envs.evaluation import TUNING_SEEDS, check_tuning_seeds, first_epi
 from fluidsim_envs.rl.evaluate import mean_interval
 from fluidsim_envs.scenes import SCENES
 
-from .common import arguments, describe, load_average, out_dir, write_csv
+from .common import arguments, describe, load_average, out_dir, read_csv, write_csv
 
 COLUMNS = (
     "env", "policy", "guided", "samples", "horizon", "hold", "lookahead_s", "budget", "episodes",
@@ -153,7 +154,12 @@ def chart(rows: list[list], path) -> None:
             ax.axhspan(pilot[lo], pilot[hi], color="gray", alpha=0.15)
             ax.set_xscale("log")
             budgets_here = sorted({r["budget"] for r in plans})
-            ax.set_xticks(budgets_here, [str(b) for b in budgets_here])
+            # a label per budget, except one within 10% of the last labelled (1408 and 1440)
+            labels, last = [], -1.0
+            for b in budgets_here:
+                labels.append(str(b) if b > 1.1 * last else "")
+                last = b if labels[-1] else last
+            ax.set_xticks(budgets_here, labels)
             ax.minorticks_off()
             ax.set_xlabel("budget (rollout env-steps per action flown)")
             ax.set_ylabel(name)
@@ -168,11 +174,33 @@ def chart(rows: list[list], path) -> None:
     fig.savefig(path, dpi=90)
 
 
+def read_rows(path) -> list[list]:
+    """The CSV's rows with the types :func:`row` gives them (what :func:`chart` reads)."""
+
+    def cell(column: str, text: str):
+        if column in ("env", "policy") or text == "":
+            return text
+        if column == "guided":
+            return text == "True"
+        number = float(text)
+        return int(number) if number.is_integer() and column != "lookahead_s" else number
+
+    return [[cell(c, r[c]) for c in COLUMNS] for r in read_csv(path)[1]]
+
+
 def main() -> None:
     parser = arguments(__doc__, "8 episodes, two budgets per scene, into build/study_quick")
     parser.add_argument("--env", action="append", choices=list(SCENES), help="scenes (all)")
     parser.add_argument("--episodes", type=int, default=64)
+    parser.add_argument(
+        "--replot", action="store_true", help="only draw the chart again from the CSV in --out"
+    )
     args = parser.parse_args()
+    if args.replot:
+        folder = out_dir(args.out, args.quick)
+        chart(read_rows(folder / "study_planner.csv"), folder / "study_planner.png")
+        print(f"written: {folder / 'study_planner.png'}")
+        return
     seed = check_tuning_seeds(TUNING_SEEDS[:1])[0]
     episodes = 8 if args.quick else args.episodes
     machine = describe()

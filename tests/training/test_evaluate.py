@@ -222,11 +222,10 @@ def test_the_env_id_may_leave_out_the_prefix(tmp_path):
     assert f"--env-id {BOAT}" in comments[0]
 
 
-def test_the_report_reads_old_and_new_tables():
-    """benchmarks/report.py's 'scripted pilot' column: the tuned pilot's row, or the row of
-    that name in the tables written before the other baselines came."""
-    row = {"return_mean": "1"}
-    assert report._policy_row({"tuned pilot": row, "hand-set pilot": {}}, "scripted pilot") is row
-    assert report._policy_row({"scripted pilot": row}, "scripted pilot") is row
-    assert report._policy_row({"trained PPO": row}, "trained PPO") is row
-    assert report._policy_row({}, "random") is None
+def test_the_report_quotes_each_mean_with_its_interval():
+    """benchmarks/report.py's cells: ``mean [lo, hi]`` from an evaluation CSV's columns, the
+    mean alone where a table has no interval."""
+    assert report._interval("0.5", "0.4", "0.61", percent=True) == "50% [40, 61]"
+    assert report._interval("23.79", "22.91", "24.61", percent=False) == "23.8 [22.9, 24.6]"
+    assert report._interval("1.26", None, None, percent=False) == "1.3"
+    assert report._interval("", "", "", percent=True) == "n/a"
