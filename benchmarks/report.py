@@ -97,10 +97,6 @@ def rows() -> list[dict[str, str]]:
     return out
 
 
-def _pct(x: str) -> str:
-    return f"{100.0 * float(x):.1f}%" if x else "n/a"
-
-
 def _interval(mean: str, lo: str, hi: str, percent: bool) -> str:
     """``mean [lo, hi]`` (the 95% interval, where the CSV has one)."""
     if not mean:

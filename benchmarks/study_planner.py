@@ -46,7 +46,7 @@ def budgets(config, quick: bool) -> list:
     K, H = config.samples, config.horizon
     points = [
         dict(samples=max(K // 4, config.elites)),
-        dict(samples=K // 2),
+        dict(samples=max(K // 2, config.elites)),
         dict(),
         dict(horizon=max(H // 2, 1)),
         dict(guided=not config.guided),

@@ -611,6 +611,8 @@ class Simulator:
         """Restore environments ``env_ids`` (None: all) from ``state`` (:meth:`get_state`'s,
         one row per environment): they then step bit for bit as the ones it was taken from."""
         ids = self._env_ids("set_state", env_ids)
+        if np.unique(ids).size != ids.size:
+            raise ValueError(f"set_state: env_ids repeat an environment: {env_ids!r}")
         arrays = self._env_arrays()
         expected = {*arrays, "factors"}
         if not isinstance(state, dict) or set(state) != expected:

@@ -16,14 +16,14 @@ policy flies the same N seeded episodes, one in each sub-env of one native vecto
     deterministically on observations normalized with the statistics saved beside it
 ``planner (oracle)``
     the scene's sampling planner (``Scene.planner(venv, samples=K, horizon=H)``). It reads
-    the true state of the env it flies, not the observations: a bound on what the task
-    allows rather than a policy to deploy. It costs minutes for 256 episodes; ``--no-planner``
-    skips it, and it is skipped for a scene that has none
+    the true state of the env it flies, not the observations: a reference for what a search
+    of a few seconds ahead reaches, not a policy to deploy (nor a bound: a policy trained on
+    whole episodes can do better). It costs minutes for 256 episodes; ``--no-planner``
+    skips it
 ``tuned pilot``
     the scene's scripted pilot with its tuned gains (``Scene.pilot``)
 ``hand-set pilot``
-    the same pilot with the gains set by hand (``make_hand_pilot`` in the scene's pilot
-    module; skipped where there is none)
+    the same pilot with the gains set by hand (``Scene.hand_pilot``)
 ``random``
     uniform random actions from a generator seeded with ``--seed``
 
@@ -391,9 +391,18 @@ def _make_venv(env_id: str, episodes: int, env_kwargs: Mapping[str, Any]):
     )
 
 
-def _check_counts(episodes: int, planner_kwargs: Mapping[str, int] | None) -> None:
+def _check_counts(
+    episodes: int, planner_kwargs: Mapping[str, int] | None, seed: int, say=print
+) -> None:
+    from fluidsim_envs.evaluation import TUNING_SEEDS
+
     if episodes < 1:
         raise RunError(f"--episodes must be at least 1, got {episodes}")
+    if not 0 <= seed < 2**63:
+        raise RunError(f"--seed must be a non-negative integer, got {seed}")
+    if seed in TUNING_SEEDS:  # allowed (a check of the tuning), but not an honest score
+        say(f"warning: --seed {seed} is a tuning seed of the pilots: they were tuned on these "
+            "episodes")  # fmt: skip
     for key, value in (planner_kwargs or {}).items():
         if value < 1:
             raise RunError(f"--planner-{key} must be at least 1, got {value}")
@@ -418,7 +427,7 @@ def evaluate(
     ``evaluation_best.csv``) into the run, or into ``out``, and return its rows. ``say``
     hears what is being evaluated and how long each policy took."""
     env = dict(env or {})
-    _check_counts(episodes, planner_kwargs)
+    _check_counts(episodes, planner_kwargs, seed, say)
     cfg, model = load_run(run_dir, which)
     env_kwargs = env_kwargs_with(cfg.env_id, cfg.env_kwargs, env)
     label = f"trained {cfg.algorithm.name.upper()}" + (" (best)" if which == "best" else "")
@@ -482,7 +491,7 @@ def evaluate_baselines(
     from .train import git_revision
 
     env = dict(env or {})
-    _check_counts(episodes, planner_kwargs)
+    _check_counts(episodes, planner_kwargs, seed, say)
     scene = find_scene(env_id)
     env_kwargs = env_kwargs_with(scene.id, {}, env)
     if out.exists() and not out.is_dir():
@@ -543,8 +552,9 @@ def _method_lines(rows: list[dict[str, Any]], skipped: list[str]) -> list[str]:
     lines = [
         f"rows: {', '.join(r['policy'] for r in rows)}"
         + (f"; skipped: {', '.join(skipped)}" if skipped else ""),
-        f"intervals: each mean's {CONFIDENCE:.0%} BCa bootstrap interval over the episodes "
-        f"(_lo, _hi; scipy.stats.bootstrap, {RESAMPLES} resamples, seeded)",
+        f"intervals: each mean's {CONFIDENCE:.0%} bootstrap interval over the episodes "
+        f"(_lo, _hi; scipy.stats.bootstrap, BCa, percentile where BCa fails; {RESAMPLES} "
+        "resamples, seeded; all-equal values give [mean, mean])",
     ]
     return lines
 

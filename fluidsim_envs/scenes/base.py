@@ -311,8 +311,22 @@ class FluidVectorEnv(VectorEnv):
                 f"{ids.size} ({np.unique(ids).size} distinct): one row per sub-env, each once "
                 "(EnvState.repeat or clone_state copy one sub-env into many)"
             )
-        self.sim.set_state(state.physics, ids)
-        for name, axis in self._state_arrays():
+        fields = self._state_arrays()
+        if set(state.task) != {name for name, _ in fields}:
+            raise ValueError(
+                f"set_state: the snapshot's task arrays {sorted(state.task)} are not this "
+                f"env's {sorted(name for name, _ in fields)}"
+            )
+        for name, axis in fields:  # every check before the first write
+            arr, got = getattr(self, name), np.asarray(state.task[name])
+            want = (ids.size, *np.delete(arr.shape, axis))
+            if got.shape != want or got.dtype != arr.dtype:
+                raise ValueError(
+                    f"set_state: snapshot array {name!r} is {got.dtype}{list(got.shape)}, "
+                    f"expected {arr.dtype}{list(want)}"
+                )
+        self.sim.set_state(state.physics, ids)  # checks its own arrays before writing
+        for name, axis in fields:
             np.moveaxis(getattr(self, name), axis, 0)[ids] = state.task[name]
         for i, rng_state in zip(ids, state.rngs, strict=True):
             if rng_state is None:

@@ -54,7 +54,10 @@ def read_tuned(path: str | Path) -> dict[str, Any]:
             f"{path}: no tuned gains (written by `python -m benchmarks.tune_pilots ENV_ID "
             "--write`; shipped as package data)"
         )
-    record = json.loads(path.read_text())
+    try:
+        record = json.loads(path.read_text())
+    except json.JSONDecodeError as e:
+        raise ValueError(f"{path}: not a tuned-gains record (unreadable JSON: {e})") from None
     if not isinstance(record, dict) or not isinstance(record.get("gains"), dict):
         raise ValueError(f"{path}: not a tuned-gains record (no 'gains' table)")
     return record

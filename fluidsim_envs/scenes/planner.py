@@ -13,8 +13,8 @@ efficient cross-entropy method for real-time planning"), chosen over MPPI becaus
   return is exactly what flying that plan earns: acting on the best evaluated plan is exact,
   where MPPI acts on a weighted average of plans that nobody evaluated (and the average of a
   left turn and a right turn around a target is neither);
-- the best plan of the last decision, shifted by one action, is a candidate again (iCEM's
-  kept elite), so the plan's predicted return never drops to sampling noise;
+- the best plan of the last decision, one knot on, is a candidate again (iCEM's kept
+  elite), so a good plan is not lost to sampling noise;
 - time-correlated (coloured, 1/f^beta) noise gives smooth control-surface sequences at 20-30
   actions per second, where white noise mostly cancels out over a few actions.
 
@@ -24,7 +24,7 @@ tell plans apart.
 
 Guided (``PlannerConfig.guided``, each scene's default): a plan is a sequence of offsets added
 to the scene's tuned pilot, which flies closed loop in every rollout (from a copy of its
-memory: a pilot keeps its per-episode memory in arrays with the episode first). The pilot
+memory: the arrays its ``memory`` names, the episode first). The pilot
 alone, all offsets zero, is then the first incumbent, so the planner starts from the pilot's
 plan and keeps it unless a sampled plan earns more over the look-ahead; the pilot's feedback
 carries what a look-ahead of seconds cannot see (a course of gates, a station held for a
@@ -75,7 +75,8 @@ class PlannerConfig:
             raise ValueError(f"planner: guided must be True or False, got {self.guided!r}")
         for key, lo, hi in (("noise_std", 0.0, 2.0), ("noise_beta", 0.0, 4.0), ("momentum", 0, 1)):
             value = getattr(self, key)
-            if not (isinstance(value, (int, float)) and lo <= value <= hi):
+            number = isinstance(value, (int, float, np.floating)) and not isinstance(value, bool)
+            if not (number and lo <= value <= hi):
                 raise ValueError(f"planner: {key} must be in [{lo}, {hi}], got {value!r}")
 
     @property
@@ -114,7 +115,9 @@ class Planner:
 
     Every ``config.hold`` actions it plans again for all sub-envs; and at once after
     ``reset(mask)`` (a sub-env started a new episode), so that no episode flies a plan made
-    for another. ``timing`` holds the seconds spent so far: ``total`` in calls, ``rollout``
+    for another (the others' plans are scored again from where they are). A sub-env whose
+    episode the caller no longer counts is planned for all the same: the batch is stepped
+    whole. ``timing`` holds the seconds spent so far: ``total`` in calls, ``rollout``
     in the private env's steps, ``physics`` in its ``Simulator.step`` (the planner is bound
     by env speed); ``plans`` and ``decisions`` count plans made and actions returned.
     """
@@ -137,12 +140,18 @@ class Planner:
         self.mean = np.zeros((E, H, A))  # the sampling distribution's centre, in knots
         self.best = np.zeros((E, H, A))  # the plan being flown
         self.value = np.zeros(E)  # its return over the look-ahead, as the rollouts scored it
-        self.flown = config.hold  # actions flown of the first knot: plan at the first call
+        self.flown = 0  # actions flown of the plan's first knot
+        self.stale = True  # plan at the next call: the first, or after a reset
         if config.guided and pilot is None:
             raise ValueError("planner: guided plans need the pilot they add to (pilot=)")
         # the pilot of the episodes, and one for the rollouts (its memory copied at each plan)
         self.pilot = pilot(env) if config.guided else None
         self.rollout_pilot = pilot(self.rollouts) if config.guided else None
+        if config.guided and not isinstance(getattr(self.pilot, "memory", None), tuple):
+            raise TypeError(
+                f"planner: guided plans need a pilot that names its per-episode memory "
+                f"(a tuple 'memory' of array attributes), not {type(self.pilot).__name__}"
+            )
         self.timing = {"total": 0.0, "rollout": 0.0, "physics": 0.0, "plans": 0, "decisions": 0}
         step = self.rollouts.sim.step
 
@@ -162,15 +171,17 @@ class Planner:
         if self.pilot is not None and hasattr(self.pilot, "reset"):
             self.pilot.reset(mask)
         if mask is None or np.any(mask):
-            self.flown = self.config.hold
+            self.stale = True
 
     def __call__(self, obs) -> np.ndarray:
         """The actions for the env's current state (``obs`` is not read: the planner reads
         the true state, and its pilot the env's own observation)."""
         t0 = time.perf_counter()
-        if self.flown >= self.config.hold:
-            self._plan()
-            self.flown = 0
+        if self.flown >= self.config.hold or self.stale:
+            # a plan made after a reset, mid-knot, keeps the knots as they are: the first
+            # one then runs a whole knot from here
+            self._plan(shift=self.flown >= self.config.hold)
+            self.flown, self.stale = 0, False
         action = self.best[:, 0]
         if self.pilot is not None:  # the pilot's memory moves on with the episode's
             action = np.clip(self.pilot(self.env.observation) + action, -1.0, 1.0)
@@ -179,13 +190,16 @@ class Planner:
         self.timing["total"] += time.perf_counter() - t0
         return np.array(action)
 
-    def _plan(self) -> None:
+    def _plan(self, shift: bool) -> None:
         cfg = self.config
         E, K, H, A = self.env.num_envs, cfg.samples, cfg.horizon, self.num_actions
         start = self.env.get_state().repeat(K)
-        # warm start: the last plan and the distribution's centre, one knot on, the last held
-        self.mean = np.concatenate([self.mean[:, 1:], self.mean[:, -1:]], axis=1)
-        best_plan = np.concatenate([self.best[:, 1:], self.best[:, -1:]], axis=1)
+        # warm start: the last plan and the distribution's centre, one knot on (the last
+        # held) when the first knot was flown
+        if shift:
+            self.mean = np.concatenate([self.mean[:, 1:], self.mean[:, -1:]], axis=1)
+            self.best = np.concatenate([self.best[:, 1:], self.best[:, -1:]], axis=1)
+        best_plan = self.best
         best_value = np.full(E, -np.inf)
         std = np.full((E, H, A), cfg.noise_std)
         rows = np.arange(E)
@@ -234,7 +248,6 @@ class Planner:
 
 def _copy_memory(src, dst, k: int) -> None:
     """Give pilot ``dst`` (for ``k`` rollouts of each episode) ``src``'s per-episode memory:
-    each of ``src``'s arrays with the episodes first, each row repeated ``k`` times."""
-    for name, value in vars(src).items():
-        if isinstance(value, np.ndarray) and value.ndim >= 1:
-            setattr(dst, name, np.repeat(value, k, axis=0))
+    the arrays its class names in ``memory`` (the episode first), each row ``k`` times."""
+    for name in src.memory:
+        setattr(dst, name, np.repeat(getattr(src, name), k, axis=0))

@@ -161,6 +161,18 @@ def test_bad_snapshots_and_ids_are_named():
     with pytest.raises(ValueError, match=r"rows must be indices in \[0, 3\)"):
         snap.take([4])
     assert isinstance(snap, EnvState) and len(snap) == 3
+    # a task array of another shape is refused before anything is written
+    import dataclasses
+
+    bad = dataclasses.replace(snap, task=dict(snap.task, target=snap.task["target"][:, :1]))
+    dart.step(np.zeros((3, 3)))  # now unlike the snapshot: a write would show
+    before = dart.get_state()
+    with pytest.raises(ValueError, match=r"snapshot array 'target' is float64\[3, 1\]"):
+        dart.set_state(bad)
+    after = dart.get_state()
+    assert all(np.array_equal(before.physics[k], after.physics[k]) for k in before.physics)
+    with pytest.raises(ValueError, match="env_ids repeat an environment"):
+        dart.sim.set_state(snap.physics, env_ids=[0, 0, 1])
     # the Simulator's own check: a snapshot of another layout
     physics = dict(snap.physics, st=snap.physics["st"][:, :5])
     with pytest.raises(ValueError, match="snapshot array 'st' is float64"):

@@ -37,7 +37,7 @@ def read_table(path) -> tuple[list[str], dict[str, dict[str, str]]]:
     return comments, {r["policy"]: r for r in rows}
 
 
-def expected_rows(env_id: str, planner: bool) -> list[str]:
+def expected_rows(planner: bool) -> list[str]:
     """The baselines' rows, in order."""
     rows = [evaluate_cli.PLANNER] if planner else []
     return [*rows, evaluate_cli.TUNED_PILOT, evaluate_cli.HAND_PILOT, evaluate_cli.RANDOM]
@@ -47,7 +47,7 @@ def test_the_baselines_alone(tmp_path, capsys):
     assert baselines(tmp_path, "--no-planner") == 0
     out = capsys.readouterr().out
     comments, rows = read_table(tmp_path / "evaluation.csv")
-    assert list(rows) == expected_rows(BOAT, planner=False)
+    assert list(rows) == expected_rows(planner=False)
     assert comments[0].startswith(f"# command: fluidsim-evaluate --env-id {BOAT} --episodes 4")
     assert any(c.startswith(f"# baselines only: {BOAT}, git ") for c in comments)
     assert any("skipped: planner (oracle) (--no-planner)" in c for c in comments)
@@ -185,7 +185,7 @@ def test_the_scenes_planner_flies(tmp_path, env_id):
     args = ("--planner-samples", "4", "--planner-horizon", "3", "--env=max_episode_steps=8")
     assert baselines(tmp_path, *args, env_id=env_id, episodes=2) == 0
     _, rows = read_table(tmp_path / "evaluation.csv")
-    assert list(rows) == expected_rows(env_id, planner=True)
+    assert list(rows) == expected_rows(planner=True)
     assert 1.0 <= float(rows[evaluate_cli.PLANNER]["length_mean"]) <= 8.0
 
 

@@ -83,6 +83,10 @@ class BoatOnStepPilot:
         ...     pilot.reset(terminated | truncated)
     """
 
+    # its per-episode memory, arrays with the episode first (what a planner copies; sized on
+    # the first call)
+    memory = ("_integral",)
+
     def __init__(self, gains: HelmGains = HelmGains()) -> None:
         self.gains = gains
         self._integral = np.zeros(0)

@@ -50,7 +50,7 @@ class PilotGains(TunableGains):
     # the dart (zero controls)
     trim_speed_mps: float = 6.6  # airspeed it is flown at on the glide (m/s)
     # the glide planned on (1); with trim_speed_mps it also sets the sink rate the elevator
-    # holds: the tuned 4.45 flies a little slower than trim, near the best glide (about 4.1)
+    # holds: above trim's 4:1 flies a little slower than trim, near the best glide (about 4.1)
     glide_ratio: float = 4.45
     # energy management
     burn_time_s: float = 2.4  # time constant for flying off the excess height (s)
@@ -80,9 +80,9 @@ class PilotGains(TunableGains):
     k_yaw_rate: float = 0.2  # rudder per yaw rate (1 per rad/s)
 
 
-# (low, high) for the gains worth searching, around the defaults above
 GAINS = PilotGains  # what benchmarks/tune_pilots.py searches (scenes/gains.py)
 
+# (low, high) for the gains worth searching, around the defaults above
 SEARCH_SPACE: dict[str, tuple[float, float]] = {
     "glide_ratio": (3.5, 5.0),
     "burn_time_s": (1.0, 4.0),
@@ -120,6 +120,9 @@ class PaperAirplanePilot:
         >>> pilot(obs).shape
         (8, 3)
     """
+
+    # its per-episode memory, arrays with the episode first (what a planner copies)
+    memory = ("speed_integral", "side")
 
     def __init__(self, num_envs: int = 1, dt: float = 1.0 / 30.0, gains=PilotGains()) -> None:
         self.gains = gains

@@ -83,6 +83,8 @@ class SubmarineWakePilot:
         ...     obs, reward, terminated, truncated, info = envs.step(pilot(obs))
     """
 
+    memory = ()  # no per-episode memory (what a planner copies)
+
     def __init__(self, gains: StationGains = StationGains()) -> None:
         self.gains = gains
         uuv = Craft.load("uuv")
