@@ -24,11 +24,11 @@ tell plans apart.
 
 Guided (``PlannerConfig.guided``, each scene's default): a plan is a sequence of offsets added
 to the scene's tuned pilot, which flies closed loop in every rollout (from a copy of its
-memory: the arrays its ``memory`` names, the episode first). The pilot
-alone, all offsets zero, is then the first incumbent, so the planner starts from the pilot's
-plan and keeps it unless a sampled plan earns more over the look-ahead; the pilot's feedback
-carries what a look-ahead of seconds cannot see (a course of gates, a station held for a
-minute). Unguided, plans are the actions themselves.
+memory: the arrays its ``memory`` names, the episode first). The pilot alone, all offsets
+zero, is then the first incumbent, so the planner starts from the pilot's plan and keeps it
+unless a sampled plan earns more over the look-ahead; the pilot's feedback carries what a
+look-ahead of seconds cannot see (a course of gates, a station held for a minute).
+Unguided, plans are the actions themselves.
 """
 
 from __future__ import annotations
