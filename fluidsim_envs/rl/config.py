@@ -20,6 +20,7 @@ overrides reach nested keys through dots (``algorithm.learning_rate=1.0e-4``,
 from __future__ import annotations
 
 import dataclasses
+import re
 import types
 import typing
 from dataclasses import dataclass, field
@@ -233,19 +234,37 @@ def load_config(path: str | Path, overrides: typing.Sequence[str] = ()) -> Train
         raise ConfigError(f"{path}: {e}") from None
 
 
+# a number in exponent form without a dot (5e-3): a string to YAML 1.1, a number to us
+_EXPONENT = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)[eE][+-]?\d+")
+
+
+def parse_assignment(item: str, flag: str) -> tuple[str, Any]:
+    """``KEY=VALUE`` as ``(key, value)``, the value read as YAML (``[0, 3]`` a list, ``rk4`` a
+    string, ``0.005`` and ``5e-3`` numbers); ``flag`` names the option in errors.
+
+    >>> parse_assignment("dt=5e-3", "--env")
+    ('dt', 0.005)
+    """
+    key, sep, text = item.partition("=")
+    key = key.strip()
+    if not sep or not key:
+        raise ConfigError(f"{flag} expects KEY=VALUE, got {item!r}")
+    try:
+        value = yaml.safe_load(text)
+    except yaml.YAMLError as e:
+        raise ConfigError(f"{flag} {item!r}: the value is not valid YAML: {e}") from None
+    if isinstance(value, str) and _EXPONENT.fullmatch(value.strip()):
+        value = float(value)
+    return key, value
+
+
 def apply_overrides(raw: dict[str, Any], overrides: typing.Sequence[str]) -> dict[str, Any]:
     """A copy of ``raw`` with each ``a.b.c=value`` set (``value`` read as YAML)."""
     import copy
 
     out = copy.deepcopy(raw)
     for item in overrides:
-        key, sep, text = item.partition("=")
-        if not sep or not key:
-            raise ConfigError(f"--set expects key=value, got {item!r}")
-        try:
-            value = yaml.safe_load(text)
-        except yaml.YAMLError as e:
-            raise ConfigError(f"--set {item!r}: the value is not valid YAML: {e}") from e
+        key, value = parse_assignment(item, "--set")
         *parents, last = key.split(".")
         node = out
         for depth, part in enumerate(parents):

@@ -50,7 +50,6 @@ from __future__ import annotations
 import argparse
 import csv
 import json
-import re
 import shlex
 import sys
 import time
@@ -61,7 +60,7 @@ from typing import Any
 
 import numpy as np
 
-from .config import ConfigError, TrainConfig, load_config
+from .config import ConfigError, TrainConfig, load_config, parse_assignment
 from .train import RunError, algorithm_class
 
 #: the models a run folder holds: (model, its normalization statistics), by --model name
@@ -213,33 +212,15 @@ def find_scene(env_id: str):
 # --------------------------------------------------------------------------------------------
 # env overrides (--env KEY=VALUE)
 
-# a number in exponent form without a dot (5e-3): a string to YAML 1.1, a number to us
-_EXPONENT = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)[eE][+-]?\d+")
-
 
 def parse_env_overrides(items: Sequence[str]) -> dict[str, Any]:
     """``KEY=VALUE`` strings as a dict, each value read as YAML (``[0, 3]`` a list, ``rk4`` a
-    string, ``0.005`` and ``5e-3`` numbers).
+    string, ``0.005`` and ``5e-3`` numbers: :func:`~.config.parse_assignment`).
 
     >>> parse_env_overrides(["wind_speed_mps=[0,3]", "integrator=rk4", "dt=5e-3"])
     {'wind_speed_mps': [0, 3], 'integrator': 'rk4', 'dt': 0.005}
     """
-    import yaml
-
-    out: dict[str, Any] = {}
-    for item in items:
-        key, sep, text = item.partition("=")
-        key = key.strip()
-        if not sep or not key:
-            raise ConfigError(f"--env expects KEY=VALUE, got {item!r}")
-        try:
-            value = yaml.safe_load(text)
-        except yaml.YAMLError as e:
-            raise ConfigError(f"--env {item!r}: the value is not valid YAML: {e}") from None
-        if isinstance(value, str) and _EXPONENT.fullmatch(value.strip()):
-            value = float(value)
-        out[key] = value
-    return out
+    return dict(parse_assignment(item, "--env") for item in items)
 
 
 def env_kwargs_with(env_id: str, base: Mapping[str, Any], env: Mapping[str, Any]) -> dict:

@@ -357,20 +357,9 @@ class FluidVectorEnv(VectorEnv):
         return _BASE_STATE + tuple(self.state_fields)
 
     def _ids(self, what: str, env_ids) -> np.ndarray:
-        """``env_ids`` as int64 indices (None: every sub-env), or an error naming them."""
-        if env_ids is None:
-            return np.arange(self.num_envs)
-        ids = np.asarray(env_ids)
-        if (
-            ids.ndim != 1
-            or (ids.size and ids.dtype.kind not in "iu")
-            or (ids.size and (ids.min() < 0 or ids.max() >= self.num_envs))
-        ):
-            raise ValueError(
-                f"{what}: env_ids must be a list of sub-env indices in [0, {self.num_envs}), "
-                f"got {env_ids!r}"
-            )
-        return ids.astype(np.int64)
+        """``env_ids`` as indices (None: every sub-env), or an error naming them (the
+        Simulator's check: its environments are the sub-envs)."""
+        return self.sim._env_ids(what, env_ids).astype(np.int64)
 
     def render(self):
         if self.render_mode is None:
