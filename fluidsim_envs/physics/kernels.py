@@ -1056,10 +1056,16 @@ def _advance_block(blk, model, samples, data, method, steps, contact, pairs):
     touching = model.cprm[C_ON] != 0.0
     prm, wprm, ctrl, flap_now, external = _forces(model, data)
     work = np.empty((num_pairs(nb) if touching else 0, NW), dtype=data.scr.dtype)  # contact.py
-    if touching:  # the contacts' impulses over this call
+    # the contacts' impulses over this call. Written through a local name: numba 0.68 drops
+    # the writes of ``data.touch[...] = 0`` in this loop nest once inlined into the prange
+    # of step_parallel (the impulses of the last touchdown stayed, and every dart of a
+    # parallel batch "landed" again each step after its first landing; reproduced in
+    # tests/physics/test_determinism.py)
+    touch = data.touch
+    if touching:
         for i in range(n):
-            for c in range(data.touch.shape[1]):
-                data.touch[e0 + i, c] = 0.0
+            for c in range(touch.shape[1]):
+                touch[e0 + i, c] = 0.0
     for _ in range(steps):
         if sea:  # the waves' time phases at the step's start
             for b in range(nb):
@@ -1084,21 +1090,66 @@ def _advance_block(blk, model, samples, data, method, steps, contact, pairs):
                 src[k, e0 + i] = scr_blk[0, (SOURCE + k) * BLOCK + i]
     for i in range(n):
         diverged[e0 + i] = False
+    # before st is overwritten: it still holds the call's starting positions
+    _flag_runaways(scr_blk, nb, n, e0, st, model.prm, steps, diverged)
     for b in range(nb):
         for k in range(st.shape[0]):
             for i in range(n):
                 x = scr_blk[b, (STATE + k) * BLOCK + i]
                 st[k, b, e0 + i] = x
                 diverged[e0 + i] |= not math.isfinite(x)
-    # faster than the fluid samples' speed clamp is outside the model (every sample saturated):
-    # a runaway that the clamps keep finite is flagged as diverged too (docs/study.md)
-    vmax2 = model.prm[P_VMAX] * model.prm[P_VMAX]
+
+
+@njit(**_INLINE)
+def _flag_runaways(scr_blk, nb, n, e0, st, prm, steps, diverged):
+    """Flag a finite state that has left the model (docs/study.md, Reading the clamps): the
+    clamps keep every force finite, so an integrator past its stability limit runs away
+    without ever producing a NaN. A body is a runaway when, over this call, it
+
+    - ends faster than the fluid samples' speed clamp (every sample saturated);
+    - moved farther than that speed allows in the call's time: within a call of several
+      steps a body can overshoot and come back below the clamp (rk2's midpoint velocity can
+      be far beyond it), the distance it jumped tells;
+    - spins with more rotational energy than its mass would hold at the clamp speed,
+      ``L . w > m vmax^2``: its samples then move far beyond the clamp from the turn alone.
+
+    ``st`` holds the call's starting state, the block's scratch its end."""
+    vmax = prm[P_VMAX]
+    vmax2 = vmax * vmax
+    reach = vmax * prm[P_DT] * steps
+    reach2 = reach * reach * 1.0001  # the clamp's distance, and a rounding's worth beyond
     for b in range(nb):
         for i in range(n):
             vx = scr_blk[b, (STATE + OV) * BLOCK + i]
             vy = scr_blk[b, (STATE + OV + 1) * BLOCK + i]
             vz = scr_blk[b, (STATE + OV + 2) * BLOCK + i]
-            diverged[e0 + i] |= vx * vx + vy * vy + vz * vz > vmax2
+            dx = scr_blk[b, (STATE + OX) * BLOCK + i] - st[OX, b, e0 + i]
+            dy = scr_blk[b, (STATE + OX + 1) * BLOCK + i] - st[OX + 1, b, e0 + i]
+            dz = scr_blk[b, (STATE + OX + 2) * BLOCK + i] - st[OX + 2, b, e0 + i]
+            lx = scr_blk[b, (STATE + OL) * BLOCK + i]
+            ly = scr_blk[b, (STATE + OL + 1) * BLOCK + i]
+            lz = scr_blk[b, (STATE + OL + 2) * BLOCK + i]
+            rot = quat_to_matrix(
+                scr_blk[b, (STATE + OQ) * BLOCK + i],
+                scr_blk[b, (STATE + OQ + 1) * BLOCK + i],
+                scr_blk[b, (STATE + OQ + 2) * BLOCK + i],
+                scr_blk[b, (STATE + OQ + 3) * BLOCK + i],
+            )
+            inv = (
+                scr_blk[b, (BODY + B_INV_INERTIA) * BLOCK + i],
+                scr_blk[b, (BODY + B_INV_INERTIA + 1) * BLOCK + i],
+                scr_blk[b, (BODY + B_INV_INERTIA + 2) * BLOCK + i],
+                scr_blk[b, (BODY + B_INV_INERTIA + 3) * BLOCK + i],
+                scr_blk[b, (BODY + B_INV_INERTIA + 4) * BLOCK + i],
+                scr_blk[b, (BODY + B_INV_INERTIA + 5) * BLOCK + i],
+            )
+            w = world_omega(rot, lx, ly, lz, inv)
+            spin = lx * w[0] + ly * w[1] + lz * w[2]  # twice the rotational energy
+            mass = scr_blk[b, (BODY + B_MASS) * BLOCK + i]
+            runaway = vx * vx + vy * vy + vz * vz > vmax2
+            runaway |= dx * dx + dy * dy + dz * dz > reach2
+            runaway |= spin > mass * vmax2
+            diverged[e0 + i] |= runaway
 
 
 @njit(**_JIT)

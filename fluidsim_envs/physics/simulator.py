@@ -359,9 +359,11 @@ class Simulator:
 
     @property
     def diverged(self) -> np.ndarray:
-        """[E] True where the last step left a non-finite state, or a body faster than
-        ``World.max_fluid_speed_mps`` (beyond the fluid model: the clamps would keep such a
-        runaway finite, not sane). That env needs a reset."""
+        """[E] True where the last ``step`` call left a non-finite state or a runaway: a body
+        faster than ``World.max_fluid_speed_mps``, one that moved farther in the call than
+        that speed allows (``max_fluid_speed_mps * dt * steps``), or one spinning with more
+        rotational energy than its mass holds at that speed (beyond the fluid model: the
+        clamps would keep such a runaway finite, not sane). That env needs a reset."""
         v = self._data.diverged.view()
         v.flags.writeable = False
         return v

@@ -54,3 +54,25 @@ def test_body_alone_equals_body_in_batch(dtype, integrator):
     for i in picks:
         alone = run(np.array([i]), False, 1)
         assert np.array_equal(alone[0], batch2[i]), f"body {i} differs alone vs in batch"
+
+
+def test_contact_impulses_and_runaway_flags_agree_serial_and_parallel():
+    """The ground's impulse is per call: a dart lifted off the floor reads 0 the next call,
+    serial or parallel. (numba dropped the parallel kernel's reset of it: every dart of a
+    batch of 1024 or more kept its last touchdown's impulse and "landed" each step after.)"""
+    from fluidsim_envs.physics import Ground
+
+    plane = Craft.load("paper_airplane")
+    out = {}
+    for parallel in (False, True):
+        sim = Simulator(plane, World(ground=Ground()), num_envs=130, dt=1 / 120, parallel=parallel)
+        sim.reset(pos=[0.0, 0.0, 0.01])
+        sim.step(steps=4)
+        landed = sim.ground_impulse[:, 0].copy()
+        sim.reset(pos=[0.0, 0.0, 5.0])
+        sim.step(steps=4)
+        out[parallel] = (landed, sim.ground_impulse[:, 0].copy(), sim.diverged.copy())
+    assert (out[False][0] > 0).all()  # on the floor: pushed
+    for a, b in zip(out[False], out[True], strict=True):
+        np.testing.assert_array_equal(a, b)
+    assert not out[True][1].any()  # lifted: nothing touches
