@@ -11,7 +11,10 @@ scene's ``success``, with its numbers), and the success rate and mean return, ea
 ``docs/eval_<scene>_ppo.csv`` (what ``fluidsim-evaluate RUN --episodes 256`` wrote for the
 shipped PPO config's run, every baseline beside it; blank where no such file exists). The
 README's table sits between the two ``envs-table`` markers, and docs/training.md's table of
-every policy in those CSVs between the ``ppo-results`` markers; neither is edited by hand.
+every policy in those CSVs between the ``ppo-results`` markers, and docs/environments.md's
+table of every env parameter (its default and what it may be, from each parameter class's
+``RANGES``: ``scenes/limits.py``) between the ``params-table`` markers, and docs/reliability.md's
+fuzz table from docs/fuzz.csv between the ``fuzz-table`` markers; none is edited by hand.
 """
 
 from __future__ import annotations
@@ -32,6 +35,15 @@ RESULTS_BEGIN = (
     "<!-- ppo-results: written by `python -m benchmarks.report` from docs/eval_*_ppo.csv -->"
 )
 RESULTS_END = "<!-- /ppo-results -->"
+ENVIRONMENTS = DOCS / "environments.md"
+PARAMS_BEGIN = (
+    "<!-- params-table: written by `python -m benchmarks.report` from each scene's RANGES -->"
+)
+PARAMS_END = "<!-- /params-table -->"
+RELIABILITY = DOCS / "reliability.md"
+FUZZ_CSV = DOCS / "fuzz.csv"
+FUZZ_BEGIN = "<!-- fuzz-table: written by `python -m benchmarks.report` from docs/fuzz.csv -->"
+FUZZ_END = "<!-- /fuzz-table -->"
 # the policies of an evaluation CSV (fluidsim-evaluate's rows) in the tables, by row name
 POLICIES = ("trained PPO", "planner (oracle)", "tuned pilot", "hand-set pilot", "random")
 # the README's table: (column title, row name, envs.csv key)
@@ -153,6 +165,63 @@ def results_markdown() -> str:
     return "\n".join(lines)
 
 
+def params_markdown() -> str:
+    """Every env parameter: its default and the values it may take (scenes/limits.py)."""
+    import dataclasses
+
+    from fluidsim_envs.physics.kernels import INTEGRATORS
+    from fluidsim_envs.scenes import SCENES
+    from fluidsim_envs.scenes import limits as LIM
+
+    lines = []
+    for env_id, scene in SCENES.items():
+        own = env_id.split("/")[1]
+        cls = scene.params_cls
+        steps = ", ".join(f"{m} {dt:g}" for m, dt in LIM.DT_LIMIT_S.get(own, {}).items())
+        lines += [f"**{own}** (`{cls.__name__}`)", "", "| parameter | default | allowed |"]
+        lines.append("|---|---|---|")
+        for f in dataclasses.fields(cls):
+            rule = cls.RANGES.get(f.name)
+            if rule is not None:
+                allowed = rule.text()
+            elif f.name == "integrator":
+                allowed = ", ".join(sorted(INTEGRATORS))
+            elif f.name == "dtype":
+                allowed = "float32, float64"
+            elif isinstance(f.default, bool):
+                allowed = "True, False"
+            else:
+                allowed = "see the class docstring"
+            if f.name == "dt" and steps:
+                allowed += f"; at most (s): {steps}"
+            lines.append(f"| `{f.name}` | `{f.default!r}` | {allowed} |")
+        lines.append("")
+    return "\n".join(lines).rstrip()
+
+
+def fuzz_markdown() -> str:
+    """docs/fuzz.csv as a table: each case's steps, divergence rate and the checks."""
+    if not FUZZ_CSV.is_file():
+        return "(no docs/fuzz.csv yet: run python -m benchmarks.fuzz)"
+    comments, table = read_csv(FUZZ_CSV)
+    lines = [
+        "| env | parameters | dtype | integrator | dt (s) | env-steps | episodes | diverged "
+        "| non-finite | unflagged runaways | max \\|reward\\| |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in table:
+        lines.append(
+            f"| {r['env'].split('/')[1]} | {r['params']} | {r['dtype']} | {r['integrator']} "
+            f"| {float(r['dt_s']):.4g} | {int(r['env_steps']):,} | {int(r['episodes']):,} "
+            f"| {float(r['divergence_rate']):.3%} | {r['nonfinite']} "
+            f"| {r['unflagged_runaways']} | {float(r['max_reward']):.3g} |"
+        )
+    steps = sum(int(r["env_steps"]) for r in table)
+    command = next((c[len("command: ") :] for c in comments if c.startswith("command: ")), "")
+    lines += ["", f"{steps:,} env-steps in all (`{command}`)."]
+    return "\n".join(lines)
+
+
 def with_block(text: str, begin: str, end: str, block: str, where: Path) -> str:
     """``text`` with what lies between the markers ``begin`` and ``end`` replaced."""
     if begin not in text or end not in text:
@@ -176,6 +245,12 @@ def main(argv: list[str] | None = None) -> int:
         TRAINING: with_block(
             TRAINING.read_text(), RESULTS_BEGIN, RESULTS_END, results_markdown(), TRAINING
         ),
+        ENVIRONMENTS: with_block(
+            ENVIRONMENTS.read_text(), PARAMS_BEGIN, PARAMS_END, params_markdown(), ENVIRONMENTS
+        ),
+        RELIABILITY: with_block(
+            RELIABILITY.read_text(), FUZZ_BEGIN, FUZZ_END, fuzz_markdown(), RELIABILITY
+        ),
     }
     if args.check:
         _, on_disk = read_csv(CSV) if CSV.is_file() else ([], [])
@@ -191,7 +266,10 @@ def main(argv: list[str] | None = None) -> int:
         path.write_text(text)
     print(markdown(table))
     print(results_markdown())
-    print(f"written: {CSV.relative_to(ROOT)}, README.md, docs/training.md")
+    print(
+        f"written: {CSV.relative_to(ROOT)}, README.md, docs/training.md, docs/environments.md, "
+        "docs/reliability.md"
+    )
     return 0
 
 

@@ -4,6 +4,7 @@ run a course of gates."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -11,7 +12,8 @@ from ...craft.buoy import MarkerBuoy
 from ...physics import Craft, Simulator, World
 from ...physics.hydrostatics import static_float
 from ...physics.kernels import INTEGRATORS
-from ..base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
+from ..base import FluidEnv, FluidVectorEnv, check_choice
+from ..limits import WEIGHT, Bound, Span, check_params, check_step
 from . import kernel as TK
 from .kernel import OBSERVATION, REWARD_TERMS
 from .view import BoatOnStepView
@@ -23,7 +25,9 @@ GATES = 6  # per course (a fixed count, so that an episode's draws never depend 
 class BoatOnStepParams:
     """Parameters of BoatOnStep-v0 (``gym.make(id, **kwargs)`` overrides any of them).
 
-    Ranges are (low, high) pairs drawn uniformly per episode.
+    Ranges are (low, high) pairs drawn uniformly per episode. What each field may be is
+    declared once, in ``RANGES`` (and ``dt`` at most the integrator's measured stability
+    limit, ``scenes/limits.py``); docs/environments.md's parameter table is written from it.
     """
 
     # rk2 at 1/100 s: as cheap as symplectic Euler at 1/200 s (two force evaluations a step)
@@ -68,35 +72,38 @@ class BoatOnStepParams:
     w_fuel: float = 0.01  # per step, times the throttle ahead
     w_crash: float = 20.0  # capsize, bow stuffed, off the course, diverged
 
+    RANGES: ClassVar[dict] = {
+        "dt": Bound(1e-5, 0.05),  # and the integrator's limit (limits.DT_LIMIT_S)
+        "substeps": Bound(1, 1000, integer=True),
+        "max_episode_steps": Bound(1, 10**7, integer=True),
+        "engine_power_w": Bound(1.0, 1e7),
+        "target_speed_mps": Span(0.0, 40.0),
+        "first_leg_m": Span(10.0, 1e4),
+        "leg_m": Span(10.0, 1e4),
+        "turn_deg": Span(-120.0, 120.0),
+        "start_heading_deg": Bound(0.0, 180.0),
+        "gate_half_width_m": Bound(1.0, 100.0),
+        "buoy_radius_m": Bound(0.0, 10.0),
+        "course_half_width_m": Bound(5.0, 1e4),
+        "capsize_heel_deg": Bound(10.0, 180.0),
+        "porpoise_deg": Bound(1e-3, 90.0),
+        "porpoise_min_speed_mps": Bound(0.0, 40.0),
+        "porpoise_window_s": Bound(0.05, 60.0),
+        "speed_scale_mps": Bound(1e-3, 100.0),
+        **dict.fromkeys(
+            ("w_speed", "w_progress", "w_gate", "w_buoy", "w_porpoise", "w_fuel", "w_crash"),
+            WEIGHT,
+        ),
+    }
+
     def __post_init__(self) -> None:
         own = "BoatOnStep-v0"
-        check_number(own, "dt", self.dt, 1e-5, 0.05)
-        check_number(own, "substeps", self.substeps, 1, 1000, integer=True)
+        check_params(self, own, self.RANGES)
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
+        check_step(own, self.dt, self.integrator, own)
         check_choice(own, "dtype", self.dtype, ("float32", "float64"))
-        check_number(own, "max_episode_steps", self.max_episode_steps, 1, integer=True)
-        check_number(own, "engine_power_w", self.engine_power_w, 1.0, 1e7)
-        for key, lo, hi in (
-            ("target_speed_mps", 0.0, 40.0),
-            ("first_leg_m", 10.0, 1e4),
-            ("leg_m", 10.0, 1e4),
-            ("turn_deg", -120.0, 120.0),
-        ):
-            object.__setattr__(self, key, check_range(own, key, getattr(self, key), lo, hi))
-        check_number(own, "start_heading_deg", self.start_heading_deg, 0.0, 180.0)
-        check_number(own, "gate_half_width_m", self.gate_half_width_m, 1.0, 100.0)
-        check_number(own, "buoy_radius_m", self.buoy_radius_m, 0.0, 10.0)
         if not isinstance(self.buoy_bodies, (bool, np.bool_)):
             raise ValueError(f"{own}: buoy_bodies must be True or False, got {self.buoy_bodies!r}")
-        check_number(own, "course_half_width_m", self.course_half_width_m, 5.0, 1e4)
-        check_number(own, "capsize_heel_deg", self.capsize_heel_deg, 10.0, 180.0)
-        check_number(own, "porpoise_deg", self.porpoise_deg, 1e-3, 90.0)
-        check_number(own, "porpoise_min_speed_mps", self.porpoise_min_speed_mps, 0.0)
-        check_number(own, "porpoise_window_s", self.porpoise_window_s, 0.05, 60.0)
-        check_number(own, "speed_scale_mps", self.speed_scale_mps, 1e-3)
-        for key in ("w_speed", "w_progress", "w_gate", "w_buoy", "w_porpoise", "w_fuel"):
-            check_number(own, key, getattr(self, key), 0.0)
-        check_number(own, "w_crash", self.w_crash, 0.0)
         try:
             swell = World(water=True, swell=self.swell).swell
         except ValueError as err:

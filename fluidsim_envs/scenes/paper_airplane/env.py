@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
 from ...physics import Craft, Ground, Simulator, World
 from ...physics.kernels import INTEGRATORS, quat_matrices
-from ..base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
+from ..base import FluidEnv, FluidVectorEnv, check_choice
+from ..limits import WEIGHT, Bound, Span, check_params, check_step
 from . import kernel as TK
 from .kernel import OBSERVATION, REWARD_TERMS
 from .view import PaperAirplaneView
@@ -18,7 +20,9 @@ from .view import PaperAirplaneView
 class PaperAirplaneParams:
     """Parameters of PaperAirplane-v0 (``gym.make(id, **kwargs)`` overrides any of them).
 
-    Ranges are (low, high) pairs drawn uniformly per episode.
+    Ranges are (low, high) pairs drawn uniformly per episode. What each field may be is
+    declared once, in ``RANGES`` (and ``dt`` at most the integrator's measured stability
+    limit, ``scenes/limits.py``); docs/environments.md's parameter table is written from it.
     """
 
     # rk2 at 1/120 s: as cheap as symplectic Euler at 1/240 s (two force evaluations a step)
@@ -48,30 +52,36 @@ class PaperAirplaneParams:
     w_crash: float = 10.0  # crash, leaving the arena or a diverged state
     w_effort: float = 0.01  # per step, times the mean squared action
 
+    RANGES: ClassVar[dict] = {
+        "dt": Bound(1e-5, 0.1),  # and the integrator's limit (limits.DT_LIMIT_S)
+        "substeps": Bound(1, 1000, integer=True),
+        "max_episode_steps": Bound(1, 10**7, integer=True),
+        "launch_height_m": Span(0.5, 1000.0),
+        # a hand throw is at most about 20 m/s, and a paper dart in more than a 15 m/s wind
+        # (a strong breeze) is beyond its flight envelope: faster air stiffens its rate damping
+        # past the default step's stability limit (docs/env_stability.csv, benchmarks/fuzz.py)
+        "launch_speed_mps": Span(0.0, 20.0),
+        "launch_pitch_deg": Span(-90.0, 90.0),
+        "launch_roll_deg": Span(-180.0, 180.0),
+        "target_distance_ratio": Span(0.0, 100.0),
+        "target_bearing_deg": Span(-180.0, 180.0),
+        "wind_speed_mps": Span(0.0, 15.0),
+        "arena_radius_m": Bound(1e-6, 1e4),
+        "ceiling_m": Bound(1e-6, 1e4),
+        "crash_sink_mps": Bound(1e-6, 100.0),
+        "crash_speed_mps": Bound(1e-6, 200.0),
+        "upright_min": Bound(-1.0, 1.0),
+        "success_radius_m": Bound(0.0, 1e3),
+        "accuracy_scale_m": Bound(1e-6, 1e3),
+        **dict.fromkeys(("w_progress", "w_accuracy", "w_softness", "w_crash", "w_effort"), WEIGHT),
+    }
+
     def __post_init__(self) -> None:
         own = "PaperAirplane-v0"
-        check_number(own, "dt", self.dt, 1e-5, 0.1)
-        check_number(own, "substeps", self.substeps, 1, 1000, integer=True)
+        check_params(self, own, self.RANGES)
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
+        check_step(own, self.dt, self.integrator, own)
         check_choice(own, "dtype", self.dtype, ("float32", "float64"))
-        check_number(own, "max_episode_steps", self.max_episode_steps, 1, integer=True)
-        for key, lo, hi in (
-            ("launch_height_m", 0.5, 1000.0),
-            ("launch_speed_mps", 0.0, 50.0),
-            ("launch_pitch_deg", -90.0, 90.0),
-            ("launch_roll_deg", -180.0, 180.0),
-            ("target_distance_ratio", 0.0, 100.0),
-            ("target_bearing_deg", -180.0, 180.0),
-            ("wind_speed_mps", 0.0, 30.0),
-        ):
-            object.__setattr__(self, key, check_range(own, key, getattr(self, key), lo, hi))
-        for key in ("arena_radius_m", "ceiling_m", "crash_sink_mps", "crash_speed_mps"):
-            check_number(own, key, getattr(self, key), 1e-6)
-        check_number(own, "success_radius_m", self.success_radius_m, 0.0)
-        check_number(own, "accuracy_scale_m", self.accuracy_scale_m, 1e-6)
-        check_number(own, "upright_min", self.upright_min, -1.0, 1.0)
-        for key in ("w_progress", "w_accuracy", "w_softness", "w_crash", "w_effort"):
-            check_number(own, key, getattr(self, key), 0.0)
         if self.ceiling_m <= self.launch_height_m[1]:
             raise ValueError(
                 f"{own}: ceiling_m ({self.ceiling_m}) must be above the highest launch "

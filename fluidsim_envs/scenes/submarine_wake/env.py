@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -12,7 +13,8 @@ from ...physics import Craft, Simulator, WakeField, World
 from ...physics.forces import thrust_control
 from ...physics.kernels import INTEGRATORS
 from ...physics.wake import NSRC as WAKE_SOURCE_ROWS
-from ..base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
+from ..base import FluidEnv, FluidVectorEnv, check_choice
+from ..limits import WEIGHT, Bound, Span, check_params, check_step
 from . import kernel as TK
 from .kernel import OBSERVATION, REWARD_TERMS
 from .view import SubmarineWakeView
@@ -26,8 +28,11 @@ ROUTE_SEGMENTS = 8
 class SubmarineWakeParams:
     """Parameters of SubmarineWake-v0 (``gym.make(id, **kwargs)`` overrides any of them).
 
-    Ranges are (low, high) pairs drawn uniformly per episode. Offsets are in the lead's
-    frame (x forward from its center, y to port, z up); its hull spans x in [-20, 20] m.
+    Ranges are (low, high) pairs drawn uniformly per episode. What each field may be is
+    declared once, in ``RANGES`` (and ``dt`` at most the integrator's measured stability
+    limit, ``scenes/limits.py``); docs/environments.md's parameter table is written from it.
+    Offsets are in the lead's frame (x forward from its center, y to port, z up); its hull
+    spans x in [-20, 20] m.
     """
 
     # rk2 at 1/20 s: 0.8 times the force evaluations of symplectic Euler at 1/50 s and more
@@ -69,36 +74,43 @@ class SubmarineWakeParams:
     w_effort: float = 0.05  # per step, times the mean squared action
     w_crash: float = 100.0  # hitting the hull or the floor, losing the lead, diverging
 
+    RANGES: ClassVar[dict] = {
+        "dt": Bound(1e-5, 0.5),  # and the integrator's limit (limits.DT_LIMIT_S)
+        "substeps": Bound(1, 1000, integer=True),
+        "max_episode_steps": Bound(1, 10**7, integer=True),
+        "lead_depth_m": Span(5.0, 1000.0),
+        "lead_speed_mps": Span(0.0, 5.0),
+        "lead_turn_deg_s": Span(-10.0, 10.0),
+        "straight_fraction": Bound(0.0, 1.0),
+        "segment_s": Span(1.0, 1e4),
+        "route_lag_s": Bound(1e-6, 1e4),
+        "floor_depth_m": Bound(1e-6, 1e4),
+        "station_behind_m": Span(-200.0, 200.0),
+        "station_side_m": Span(0.0, 100.0),
+        "station_up_m": Span(-100.0, 100.0),
+        "start_error_m": Bound(0.0, 100.0),
+        "start_heading_deg": Bound(0.0, 180.0),
+        "screws": Bound(1, 2, integer=True),
+        # a wake's vortices and turbulence stronger than these move the water faster than the
+        # lead itself, which no submarine's wake does: beyond them the UUV's rate damping
+        # stiffens past the default step's stability limit (benchmarks/env_stability.py)
+        "circulation": Bound(0.0, 3.0),
+        "noise": Bound(0.0, 1.0),
+        "wake_dipoles": Bound(1, 32, integer=True),
+        "lost_distance_m": Bound(1e-6, 1e4),
+        "success_radius_m": Bound(0.0, 1e3),
+        "success_fraction": Bound(0.0, 1.0),
+        "station_scale_m": Bound(1e-6, 1e3),
+        **dict.fromkeys(("w_station", "w_effort", "w_crash"), WEIGHT),
+    }
+
     def __post_init__(self) -> None:
         own = "SubmarineWake-v0"
-        check_number(own, "dt", self.dt, 1e-5, 0.5)
-        check_number(own, "substeps", self.substeps, 1, 1000, integer=True)
+        check_params(self, own, self.RANGES)
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
+        check_step(own, self.dt, self.integrator, own)
         check_choice(own, "dtype", self.dtype, ("float32", "float64"))
-        check_number(own, "max_episode_steps", self.max_episode_steps, 1, integer=True)
-        for key, lo, hi in (
-            ("lead_depth_m", 5.0, 1000.0),
-            ("lead_speed_mps", 0.0, 5.0),
-            ("lead_turn_deg_s", -10.0, 10.0),
-            ("segment_s", 1.0, 1e4),
-            ("station_behind_m", -200.0, 200.0),
-            ("station_side_m", 0.0, 100.0),
-            ("station_up_m", -100.0, 100.0),
-        ):
-            object.__setattr__(self, key, check_range(own, key, getattr(self, key), lo, hi))
-        check_number(own, "straight_fraction", self.straight_fraction, 0.0, 1.0)
-        for key in ("route_lag_s", "floor_depth_m", "lost_distance_m", "station_scale_m"):
-            check_number(own, key, getattr(self, key), 1e-6)
-        for key in ("start_error_m", "start_heading_deg", "success_radius_m"):
-            check_number(own, key, getattr(self, key), 0.0)
-        check_number(own, "success_fraction", self.success_fraction, 0.0, 1.0)
         check_choice(own, "wake", self.wake, (True, False))
-        check_number(own, "screws", self.screws, 1, 2, integer=True)
-        check_number(own, "circulation", self.circulation, 0.0, 10.0)
-        check_number(own, "noise", self.noise, 0.0, 10.0)
-        check_number(own, "wake_dipoles", self.wake_dipoles, 1, 32, integer=True)
-        for key in ("w_station", "w_effort", "w_crash"):
-            check_number(own, key, getattr(self, key), 0.0)
         if self.floor_depth_m <= self.lead_depth_m[1] + LEAD_RADIUS_M:
             raise ValueError(
                 f"{own}: floor_depth_m ({self.floor_depth_m}) must be below the deepest lead "

@@ -1,0 +1,259 @@
+"""Fuzz every env: adversarial actions, parameters at their extremes, both precisions.
+
+Each *case* is one env id, a set of parameters (``nominal``: the defaults; ``extreme``: the
+ranges that make each craft's life hardest, :data:`EXTREMES`), a dtype, an integrator and a
+physics step (a fraction of the scene's limit, ``scenes/limits.py``). A case steps a vector
+env of ``--num-envs`` sub-envs with actions from :func:`adversary` (per sub-env, one of:
+uniform noise every step; bang-bang held for a random 1-30 steps; sinusoids of 0.1-10 Hz;
+commands of 1e6 that saturate) and checks after every step:
+
+- ``nonfinite``: observations, rewards and ``final_obs`` that are not finite (must be 0);
+- ``unflagged_runaways``: a sub-env step whose body moved farther than the fluid samples'
+  speed clamp allows in that step (``max_fluid_speed_mps * dt * substeps``) without
+  ``info["physics_diverged"]`` (must be 0; the positions of ended episodes are read in the
+  autoreset hook, before the reset moves them);
+- ``diverged``: episodes ended by ``physics_diverged``, per episode (the divergence rate);
+- ``max_reward``: the largest |reward| of a step that did not diverge.
+
+Writes ``docs/fuzz.csv`` (one row per case, machine in ``#`` lines) and exits non-zero when
+any case has a non-finite value or an unflagged runaway::
+
+    python -m benchmarks.fuzz --env-steps 1e8        # the published run (about an hour)
+    python -m benchmarks.fuzz --quick                # a few seconds per case, into build/
+
+``tests/scenes/test_fuzz.py`` runs :func:`run_case` at a small budget.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+import time
+
+import gymnasium as gym
+import numpy as np
+
+from benchmarks.common import arguments, describe, write_csv
+from fluidsim_envs.scenes import SCENES
+from fluidsim_envs.scenes import limits as LIM
+
+# the parameters at the ends of their ranges that make each craft's life hardest
+EXTREMES = {
+    "fluidsim/PaperAirplane-v0": {
+        "wind_speed_mps": (10.0, 15.0),
+        "launch_speed_mps": (15.0, 20.0),
+        "launch_pitch_deg": (-90.0, 90.0),
+        "launch_roll_deg": (-180.0, 180.0),
+        "launch_height_m": (10.0, 25.0),
+    },
+    "fluidsim/BoatOnStep-v0": {
+        "engine_power_w": 1e7,
+        "target_speed_mps": (30.0, 40.0),
+        "turn_deg": (-120.0, 120.0),
+        # steepness 0.25 and 0.26 (at most 0.3): a short steep sea on the beam and the bow
+        "swell": ((1.0, 25.0, 0.0), (0.5, 12.0, 90.0)),
+    },
+    "fluidsim/SubmarineWake-v0": {
+        "lead_speed_mps": (4.0, 5.0),
+        "lead_turn_deg_s": (-10.0, 10.0),
+        "circulation": 3.0,
+        "noise": 1.0,
+        "wake_dipoles": 32,
+    },
+}
+MODES = ("uniform", "bang_bang", "sinusoid", "saturated")
+
+
+@dataclasses.dataclass(frozen=True)
+class Case:
+    env_id: str
+    params: str  # "nominal" or "extreme"
+    dtype: str
+    integrator: str
+    dt_s: float | None = None  # the physics step (None: the env's default)
+
+    def kwargs(self) -> dict:
+        kw = dict(EXTREMES[self.env_id]) if self.params == "extreme" else {}
+        dt = SCENES[self.env_id].params_cls().dt if self.dt_s is None else self.dt_s
+        return {**kw, "dtype": self.dtype, "integrator": self.integrator, "dt": dt}
+
+
+def dt_limit(env_id: str, integrator: str) -> float:
+    """The scene's step limit for ``integrator`` (scenes/limits.py)."""
+    return LIM.DT_LIMIT_S[env_id.split("/")[1]][integrator]
+
+
+class Adversary:
+    """Actions [E, n] that try to break the physics, each sub-env in one of :data:`MODES`
+    (redrawn with its episode), from one seeded generator."""
+
+    def __init__(self, num_envs: int, n_act: int, seed: int) -> None:
+        self.rng = np.random.default_rng(seed)
+        self.E, self.n = num_envs, n_act
+        self.mode = np.zeros(num_envs, dtype=np.int64)
+        self.held = np.zeros((num_envs, n_act))
+        self.left = np.zeros(num_envs, dtype=np.int64)
+        self.freq = np.zeros((num_envs, n_act))
+        self.phase = np.zeros((num_envs, n_act))
+        self.t = np.zeros(num_envs)
+        self.restart(np.arange(num_envs))
+
+    def restart(self, ids: np.ndarray) -> None:
+        k = ids.size
+        self.mode[ids] = self.rng.integers(0, len(MODES), k)
+        self.left[ids] = 0
+        self.freq[ids] = 10 ** self.rng.uniform(-1, 1, (k, self.n))  # 0.1-10 Hz
+        self.phase[ids] = self.rng.uniform(0, 2 * np.pi, (k, self.n))
+        self.t[ids] = 0.0
+
+    def __call__(self, period_s: float) -> np.ndarray:
+        E, n, rng = self.E, self.n, self.rng
+        act = rng.uniform(-1, 1, (E, n))  # "uniform"
+        renew = self.left <= 0
+        self.held[renew] = rng.choice([-1.0, 1.0], (int(renew.sum()), n))
+        self.left[renew] = rng.integers(1, 31, int(renew.sum()))
+        self.left -= 1
+        bang = self.mode == 1
+        act[bang] = self.held[bang]
+        sine = self.mode == 2
+        act[sine] = np.sin(2 * np.pi * self.freq[sine] * self.t[sine, None] + self.phase[sine])
+        sat = self.mode == 3
+        act[sat] = 1e6 * self.held[sat]
+        self.t += period_s
+        return act
+
+
+def run_case(case: Case, env_steps: int, num_envs: int, seed: int = 0) -> dict:
+    """Step ``case`` for about ``env_steps`` sub-env steps; the counts of the module's checks."""
+    with LIM.unchecked():
+        venv = gym.make_vec(
+            case.env_id, num_envs=num_envs, vectorization_mode="vector_entry_point",
+            **case.kwargs(),
+        )  # fmt: skip
+    env = venv.unwrapped
+    p = env.params
+    reach = env.sim.world.max_fluid_speed_mps * p.dt * p.substeps
+    ended_pos = np.zeros_like(env.sim.pos)
+
+    def keep_last(ended, info, reward):  # the ended episodes' bodies, before the reset
+        ended_pos[ended] = env.sim.pos[ended]
+
+    env.before_autoreset.append(keep_last)
+    adversary = Adversary(num_envs, env.single_action_space.shape[0], seed)
+    obs, _ = venv.reset(seed=seed)
+    counts = dict(env_steps=0, episodes=0, diverged=0, nonfinite=int((~np.isfinite(obs)).sum()))
+    counts.update(unflagged_runaways=0, max_reward=0.0, max_displacement_m=0.0)
+    steps = max(1, int(env_steps) // num_envs)
+    start = time.perf_counter()
+    for _ in range(steps):
+        before = env.sim.pos.copy()
+        obs, reward, terminated, truncated, info = venv.step(adversary(p.dt * p.substeps))
+        done = terminated | truncated
+        after = np.where(done[:, None, None], ended_pos, env.sim.pos)
+        moved = np.sqrt(((after - before) ** 2).sum(axis=-1)).max(axis=1)  # [E], worst body
+        flagged = info["physics_diverged"]
+        counts["unflagged_runaways"] += int((~flagged & (moved > reach * 1.0001)).sum())
+        counts["max_displacement_m"] = max(counts["max_displacement_m"], float(moved.max()))
+        bad = ~np.isfinite(obs).all(axis=1) | ~np.isfinite(reward)
+        if "final_obs" in info:
+            bad |= info["_final_obs"] & ~np.isfinite(info["final_obs"]).all(axis=1)
+        counts["nonfinite"] += int(bad.sum())
+        if (~flagged).any():
+            counts["max_reward"] = max(counts["max_reward"], float(np.abs(reward[~flagged]).max()))
+        counts["episodes"] += int(done.sum())
+        counts["diverged"] += int(flagged.sum())
+        counts["env_steps"] += num_envs
+        if done.any():
+            adversary.restart(np.flatnonzero(done))
+    counts["seconds"] = time.perf_counter() - start
+    counts["reach_m"] = reach
+    venv.close()
+    return counts
+
+
+def cases(quick: bool) -> list[Case]:
+    """Every env x nominal/extreme x dtype at its default integrator and dt, and, for each
+    integrator, extreme parameters at half and all of its limit (float64)."""
+    out = []
+    for env_id, scene in SCENES.items():
+        default = scene.params_cls().integrator
+        for params in ("nominal", "extreme"):
+            for dtype in ("float64", "float32"):
+                out.append(Case(env_id, params, dtype, default))
+        integrators = [default] if quick else sorted(LIM.DT_LIMIT_S[env_id.split("/")[1]])
+        for integrator in integrators:
+            for fraction in (0.5, 1.0):
+                dt = fraction * dt_limit(env_id, integrator)
+                out.append(Case(env_id, "extreme", "float64", integrator, dt))
+    return out
+
+
+HEADER = (
+    "env", "params", "dtype", "integrator", "dt_s", "substeps", "num_envs", "env_steps",
+    "episodes", "diverged", "divergence_rate", "nonfinite", "unflagged_runaways",
+    "max_reward", "max_displacement_m", "reach_m", "seconds",
+)  # fmt: skip
+
+
+def main() -> None:
+    parser = arguments(__doc__, "about 2e5 env-steps per case", "fuzz.csv")
+    parser.add_argument("--env-steps", type=float, default=1e8, help="in all (default 1e8)")
+    parser.add_argument("--num-envs", type=int, default=2048)
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args()
+    out = args.out if not args.quick or args.out != parser.get_default("out") else None
+    todo = cases(args.quick)
+    # every case its share, weighted by what a step costs (the submarine's wake, the boat)
+    weight = {"fluidsim/PaperAirplane-v0": 4.0, "fluidsim/BoatOnStep-v0": 1.0}
+    total = sum(weight.get(c.env_id, 0.5) for c in todo)
+    budget = 2e5 * len(todo) if args.quick else args.env_steps
+    rows, failed = [], 0
+    for case in todo:
+        share = int(budget * weight.get(case.env_id, 0.5) / total)
+        r = run_case(case, share, args.num_envs, args.seed)
+        kw = case.kwargs()
+        rate = r["diverged"] / max(r["episodes"], 1)
+        rows.append(
+            (
+                case.env_id,
+                case.params,
+                case.dtype,
+                case.integrator,
+                kw["dt"],
+                SCENES[case.env_id].params_cls().substeps,
+                args.num_envs,
+                r["env_steps"],
+                r["episodes"],
+                r["diverged"],
+                rate,
+                r["nonfinite"],
+                r["unflagged_runaways"],
+                r["max_reward"],
+                r["max_displacement_m"],
+                r["reach_m"],
+                r["seconds"],
+            )  # fmt: skip
+        )
+        failed += r["nonfinite"] > 0 or r["unflagged_runaways"] > 0
+        print(
+            f"{case.env_id:28s} {case.params:8s} {case.dtype:8s} {case.integrator:17s} "
+            f"dt {kw['dt']:.4g}: {r['env_steps']:,} steps, {r['episodes']:,} episodes, "
+            f"diverged {rate:.2%}, non-finite {r['nonfinite']}, unflagged runaways "
+            f"{r['unflagged_runaways']}, max |reward| {r['max_reward']:.3g} "
+            f"({r['seconds']:.0f} s)",
+            flush=True,
+        )
+    if out is not None:
+        write_csv(out, HEADER, [[_cell(x) for x in row] for row in rows], describe(False))
+        print(f"wrote {out}")
+    steps = sum(r[7] for r in rows)
+    print(f"{steps:,} env-steps in {len(rows)} cases; {failed} case(s) failed")
+    sys.exit(1 if failed else 0)
+
+
+def _cell(x):
+    return f"{x:.6g}" if isinstance(x, float) else x
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,68 @@
+"""Each scene's step limit is the measured one (docs/env_stability.csv, written by
+``python -m benchmarks.env_stability``), its default sits inside it, and a step past it is
+refused with the limit in the message."""
+
+import math
+import pathlib
+
+import gymnasium as gym
+import pytest
+
+from benchmarks.common import read_csv
+from fluidsim_envs.physics.kernels import INTEGRATORS
+from fluidsim_envs.scenes import SCENES
+from fluidsim_envs.scenes import limits as LIM
+
+CSV = pathlib.Path(__file__).parents[2] / "docs" / "env_stability.csv"
+
+
+def _measured() -> dict[str, dict[str, float]]:
+    _, rows = read_csv(CSV)
+    out: dict[str, dict[str, float]] = {}
+    for row in rows:
+        out.setdefault(row["env"].split("/")[1], {})[row["integrator"]] = float(row["dt_limit_s"])
+    return out
+
+
+def test_the_limits_table_is_the_measured_one():
+    measured = _measured()
+    assert set(measured) == {i.split("/")[1] for i in SCENES}
+    for scene, limits in measured.items():
+        assert set(limits) == set(INTEGRATORS), scene
+        for integrator, value in limits.items():
+            code = LIM.DT_LIMIT_S[scene].get(integrator, math.nan)
+            assert code == value or (math.isnan(code) and math.isnan(value)), (
+                f"{scene} {integrator}: limits.py says {code}, the CSV {value}: run "
+                "python -m benchmarks.env_stability and copy its table"
+            )
+
+
+@pytest.mark.parametrize("env_id", list(SCENES))
+def test_the_default_step_is_inside_its_limit(env_id):
+    p = SCENES[env_id].params_cls()
+    assert p.dt <= LIM.DT_LIMIT_S[env_id.split("/")[1]][p.integrator]
+
+
+@pytest.mark.parametrize("env_id", list(SCENES))
+def test_a_step_past_the_limit_is_refused_naming_the_limit(env_id):
+    cls = SCENES[env_id].params_cls
+    limits = LIM.DT_LIMIT_S[env_id.split("/")[1]]
+    # the integrator whose limit is the tightest (the boat's others reach the range's end)
+    integrator = min(limits, key=limits.get)
+    limit = limits[integrator]
+    assert limit < cls.RANGES["dt"].hi
+    want = rf"dt must be <= {limit:g} s with integrator '{integrator}'"
+    with pytest.raises(ValueError, match=want):
+        cls(dt=limit * 1.01, integrator=integrator)
+    cls(dt=limit, integrator=integrator)  # the limit itself is allowed
+    with LIM.unchecked():  # how the limit is measured
+        cls(dt=limit * 1.01, integrator=integrator)
+    with pytest.raises(ValueError, match="dt must be <="):
+        gym.make(env_id, dt=limit * 1.01, integrator=integrator)
+
+
+@pytest.mark.parametrize("env_id", list(SCENES))
+def test_reward_weights_are_bounded(env_id):
+    cls = SCENES[env_id].params_cls
+    with pytest.raises(ValueError, match=r"w_crash must be a finite number in \[0, 1000\]"):
+        cls(w_crash=1e308)
