@@ -14,7 +14,7 @@ from tests.bad_inputs.table import Row, check, params
 
 
 def _bound_rows(own, cls, key, rule):
-    make = lambda v: (lambda: cls(**{key: v}))  # noqa: E731
+    make = lambda v: lambda: cls(**{key: v})  # noqa: E731
     rows = []
     if rule.lo is not None:
         bad = rule.lo - (1 if rule.integer else max(abs(rule.lo) * 0.5, 1e-3))
@@ -32,7 +32,7 @@ def _bound_rows(own, cls, key, rule):
 
 
 def _span_rows(own, cls, key, rule):
-    make = lambda v: (lambda: cls(**{key: v}))  # noqa: E731
+    make = lambda v: lambda: cls(**{key: v})  # noqa: E731
     lo, hi = rule.lo, rule.hi
     mid = (lo + hi) / 2
     under = lo - max(abs(lo) * 0.5, 1.0)
