@@ -1102,7 +1102,7 @@ def _advance_block(blk, model, samples, data, method, steps, contact, pairs):
 
 @njit(**_INLINE)
 def _flag_runaways(scr_blk, nb, n, e0, st, prm, steps, diverged):
-    """Flag a finite state that has left the model (docs/study.md, Reading the clamps): the
+    """Flag a finite state that has left the model (docs/study.md, how each method fails): the
     clamps keep every force finite, so an integrator past its stability limit runs away
     without ever producing a NaN. A body is a runaway when, over this call, it
 
