@@ -358,9 +358,18 @@ def load_yaml(text: str, source: str) -> Any:
     try:
         return yaml.load(text, Loader=UniqueKeyLoader)
     except yaml.YAMLError as e:
-        raise ConfigError(f"{source}: not valid YAML: {e}") from None
+        raise ConfigError(f"{source}: not valid YAML: {_one_line(e)}") from None
     except ConfigError as e:
         raise ConfigError(f"{source}: {e}") from None
+
+
+def _one_line(error: yaml.YAMLError) -> str:
+    """PyYAML's error as one line (its own text spans several, with a drawing of the spot)."""
+    mark = getattr(error, "problem_mark", None)
+    problem = getattr(error, "problem", None)
+    if problem and mark is not None:
+        return f"{problem} (line {mark.line + 1}, column {mark.column + 1})"
+    return " ".join(str(error).split())
 
 
 def read_yaml(path: str | Path) -> Any:
@@ -498,6 +507,8 @@ ITEMS = {int: "integers", float: "numbers", str: "strings", bool: "booleans"}
 
 
 def _type_name(tp: Any) -> str:
+    if tp is Any:
+        return "any values"
     if tp is type(None):
         return "null"
     if typing.get_origin(tp) is Literal:

@@ -637,7 +637,8 @@ def _run_folder(args: argparse.Namespace) -> tuple[TrainConfig, Path]:
         if args.config is not None or args.run_dir is not None:
             raise RunError("--resume RUN takes its config and folder from RUN")
         if not args.resume.is_dir():
-            raise RunError(f"--resume {args.resume}: run folder not found")
+            what = "not a folder" if args.resume.exists() else "run folder not found"
+            raise RunError(f"--resume {args.resume}: {what}")
         if not (args.resume / "config.yaml").is_file():
             raise RunError(f"--resume {args.resume}: not a run folder (no config.yaml)")
         files.check_writable_folder(args.resume, "--resume")
