@@ -443,7 +443,8 @@ def _restart(run_dir: Path, cfg: TrainConfig) -> tuple[Restart, float]:
     if restart is None:
         raise RunError(
             f"{run_dir}: nothing saved to resume from (no checkpoint in checkpoints/ nor "
-            "model.zip that loads with its normalization statistics)"
+            "model.zip that loads with its normalization statistics); a run stopped before "
+            "its first checkpoint starts again with another --run-dir, or after removing it"
         )
     # before the trim: a run of an older version takes its best score from the whole history
     BestModel.open(run_dir / "best", EvalLog.load(run_dir / "eval"))
