@@ -11,7 +11,7 @@ fluidsim_envs.rl.train``). Each trial starts it (the first one new, the others w
 - ``after-checkpoint``: as soon as a new checkpoint zip appears;
 - ``mid-write``: inside an atomic write: the run is started with ``FLUIDSIM_WRITE_DELAY_S``
   (:mod:`fluidsim_envs.rl.files`), which sleeps 0.3 s between writing each temporary file and
-  renaming it, and the kill lands when the k-th temporary file (k random, 1-6) appears: where a
+  renaming it, and the kill lands when the k-th temporary file (k random, 1-16) appears: where a
   writer in place would have left a truncated checkpoint, best model, history or run.yaml;
 - ``torn-checkpoint``: a ``random`` kill, after which the newest checkpoint zip is cut to half
   its size (what a writer in place leaves), so the resume must fall back to the one before.
@@ -55,7 +55,9 @@ import time
 from pathlib import Path
 
 import numpy as np
-import yaml
+
+from fluidsim_envs.rl.config import read_yaml
+from fluidsim_envs.rl.runs import zip_timesteps
 
 from .common import ROOT, arguments, describe, load_average, write_csv
 
@@ -100,12 +102,14 @@ def launch(run_dir: Path, log: Path, resume: bool, delay_s: float = 0.0) -> subp
         return subprocess.Popen(cmd, stdout=out, stderr=subprocess.STDOUT, env=env, cwd=ROOT)
 
 
-def newest_checkpoint(run_dir: Path) -> int:
-    """The timesteps of the newest checkpoint zip (0: none)."""
+def newest_checkpoint(run_dir: Path, whole: bool = False) -> int:
+    """The timesteps of the newest checkpoint zip (0: none); ``whole``: of those whose zip can
+    be read (not one this script tore)."""
     steps = [
         int(m.group(1))
         for p in (run_dir / "checkpoints").glob("model_*_steps.zip")
         if (m := re.fullmatch(r"model_(\d+)_steps\.zip", p.name))
+        and (not whole or zip_timesteps(p) is not None)
     ]
     return max(steps, default=0)
 
@@ -139,7 +143,7 @@ def kill_at(phase: str, proc: subprocess.Popen, run_dir: Path, rng) -> str:
         killed_in = f"model_{newest_checkpoint(run_dir)}_steps.zip written"
     elif phase == "mid-write":
         seen: set[str] = set()
-        target = int(rng.integers(1, 7))
+        target = int(rng.integers(1, 17))
 
         def enough() -> bool:
             seen.update(partials(run_dir))
@@ -169,8 +173,8 @@ def _final_name(partial: str) -> str:
 
 def timesteps_shown(run_dir: Path) -> int:
     """The newest timesteps the folder shows: its last whole monitor.csv row, its newest
-    checkpoint, its last evaluation."""
-    steps = [newest_checkpoint(run_dir)]
+    whole checkpoint, its last evaluation."""
+    steps = [newest_checkpoint(run_dir, whole=True)]
     monitor = run_dir / "monitor.csv"
     if monitor.is_file():
         lines = monitor.read_text().splitlines(keepends=True)
@@ -284,8 +288,7 @@ def run_checks(trial: dict, run_dir: Path, logs: list[Path], bound: int) -> dict
 def resumed_as_predicted(run_dir: Path, resumes_before: int, predicted: str | None) -> bool:
     """The session just killed, if it lived long enough to record its resume in run.yaml,
     continued from the point the previous trial's checks found."""
-    meta = yaml.safe_load((run_dir / "run.yaml").read_text()) or {}
-    resumes = meta.get("resumes", [])
+    resumes = _meta(run_dir).get("resumes", [])
     if len(resumes) <= resumes_before or predicted is None:
         return True  # killed before it recorded where it resumed from
     return resumes[-1]["from"] == predicted
@@ -329,7 +332,7 @@ def trial_once(i: int, phase: str, run_dir: Path, logs: list[Path], rng, state: 
 
 def _meta(run_dir: Path) -> dict:
     path = run_dir / "run.yaml"
-    return (yaml.safe_load(path.read_text()) or {}) if path.is_file() else {}
+    return (read_yaml(path) or {}) if path.is_file() else {}
 
 
 def tear_newest_checkpoint(run_dir: Path) -> None:

@@ -1,13 +1,16 @@
 """Training configs: YAML files (one per env x algorithm; the shipped ones in
-``fluidsim_envs/configs/``, found by name) loaded with ``yaml.safe_load`` into frozen
-dataclasses. The keys are Stable-Baselines3's own hyperparameter names, grouped in sections;
-rl-zoo3 cannot load these files (its hyperparameter files are keyed by env id, with policy
-kwargs as Python strings).
+``fluidsim_envs/configs/``, found by name) loaded with a safe YAML loader that refuses a key
+given twice (:class:`UniqueKeyLoader`) into frozen dataclasses. The keys are
+Stable-Baselines3's own hyperparameter names, grouped in sections; rl-zoo3 cannot load these
+files (its hyperparameter files are keyed by env id, with policy kwargs as Python strings).
 
-Every key is checked: an unknown one is an error that names it and lists the valid ones, a
-value of the wrong type an error that names the key and the value. ``--set key=value``
-overrides reach nested keys through dots (``algorithm.learning_rate=1.0e-4``,
-``env_kwargs.max_episode_steps=300``); each value is read as YAML.
+Every key is checked before anything is written: an unknown one is an error that names it and
+lists the valid ones, a value of the wrong type an error that names the key and the value,
+every number must be finite and within its field's range (each section's ``RANGES``; seeds
+in [0, 2**32 - 1]), and the device must exist (``check_device``). NumPy scalars are accepted
+where numbers are. ``--set key=value`` overrides reach nested keys through dots
+(``algorithm.learning_rate=1.0e-4``, ``env_kwargs.max_episode_steps=300``); each value is
+read as YAML.
 
     >>> cfg = config_from_dict({"env_id": "fluidsim/PaperAirplane-v0",
     ...                         "algorithm": {"name": "ppo", "n_steps": 128}})

@@ -113,7 +113,7 @@ def save_state(model, where: Restart, replay: bool) -> None:
     files.write_with(where.model, model.save)
 
 
-def _zip_steps(path: Path) -> int | None:
+def zip_timesteps(path: Path) -> int | None:
     """The timesteps an SB3 model zip says it has done (from its JSON data alone), or None
     when the zip or its data cannot be read."""
     try:
@@ -130,7 +130,7 @@ def saved_states(run_dir: Path) -> list[Restart]:
     found = [checkpoint_paths(run_dir, steps) for steps, _ in checkpoints(run_dir)]
     final = run_dir / "model.zip"
     if final.is_file():
-        steps = _zip_steps(final)
+        steps = zip_timesteps(final)
         found.append(final_paths(run_dir, steps if steps is not None else -1))
     # a final model that cannot say its timesteps is examined (and reported) first
     return sorted(found, key=lambda r: math.inf if r.steps < 0 else r.steps, reverse=True)
@@ -483,4 +483,5 @@ __all__ = [
     "save_state",
     "trim_logs",
     "trim_monitor",
+    "zip_timesteps",
 ]

@@ -11,17 +11,26 @@ it. The run folder holds everything needed to replay or continue the run:
 ``config.yaml``           the resolved config: defaults filled in, overrides applied, and
                           ``env_kwargs`` holding every env parameter (not only those changed)
 ``run.yaml``              the command line, git revision (and whether the tree was dirty),
-                          seeds, package versions (fluidsim_envs included), timesteps done,
-                          resumes, where the time went
+                          seeds, package versions (fluidsim_envs included), the device the
+                          model ran on (``auto`` resolved), timesteps done, resumes, where the
+                          time went
 ``model.zip``             the final model; ``vecnormalize.pkl`` its normalization statistics
 ``checkpoints/``          periodic (and on Ctrl-C) model + statistics, for ``--resume``
 ``eval/``                 ``history.csv`` (one row per evaluation), SB3's ``evaluations.npz``
 ``best/``                 the best evaluated model, ``best_model.zip``, with the normalization
-                          statistics it was evaluated with, ``vecnormalize.pkl``
-``monitor.csv``           every training episode (return, length, success)
+                          statistics it was evaluated with, ``vecnormalize.pkl``, and its score,
+                          ``best.yaml`` (a resume reads it: only a better evaluation replaces it)
+``monitor.csv``           every training episode (return, length, time, success, and the run's
+                          timesteps at its end)
 ``learning_curve.png``    training and evaluation returns against timesteps
 ``tb/``                   TensorBoard logs (``rollout/success_rate`` included)
 ========================  =====================================================================
+
+A kill at any moment leaves the folder resumable (:mod:`.runs`, :mod:`.files`): every file is
+written to a temporary name and then renamed; ``--resume`` continues from the newest saved
+state that loads (saying which it skipped), drops the evaluations and episodes logged after
+it, and goes on with the evaluation history, the best score and the time column.
+``benchmarks/kill_resume.py`` kills a run again and again and checks all of that.
 """
 
 from __future__ import annotations
