@@ -17,6 +17,7 @@ left a truncated file under the final name.
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import tempfile
 import time
@@ -129,8 +130,9 @@ def _check_can_create_in(folder: Path, path: Path, flag: str) -> None:
         with tempfile.TemporaryFile(dir=folder, prefix=f".write-check{PARTIAL}"):
             pass
     except OSError as e:
-        why = e.strerror or type(e).__name__
-        raise RunError(f"{flag} {path}: cannot write in {folder} ({why})") from None
+        # ENOENT for a folder that exists: a file system where files cannot be made (/proc)
+        why = "no files can be created there" if e.errno == errno.ENOENT else e.strerror
+        raise RunError(f"{flag} {path}: cannot write in {folder} ({why or e})") from None
 
 
 __all__ = [
