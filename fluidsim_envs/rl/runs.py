@@ -343,8 +343,10 @@ class BestModel:
         elif (folder / cls.MODEL).is_file() and history is not None:
             score = history.best_mean()
             if score is not None:
-                say(f"--resume: {folder / cls.MODEL} has no {cls.SCORE}: its score is taken as "
-                    f"the best of eval/evaluations.npz, {score:.6g}")  # fmt: skip
+                say(
+                    f"--resume: {folder / cls.MODEL} has no {cls.SCORE}: its score is taken as "
+                    f"the best of eval/evaluations.npz, {score:.6g}"
+                )
                 best.record = {"mean_return": score}
                 files.write_text(path, yaml.safe_dump(best.record, sort_keys=False))
         return best
@@ -417,8 +419,10 @@ def trim_monitor(path: Path, steps: int, say=warn) -> float:
     header, rows = lines[:2], list(csv.DictReader(lines[1:]))
     columns = header[1].strip().split(",")
     if MONITOR_STEPS not in columns:
-        say(f"--resume: {path} has no {MONITOR_STEPS} column (an older version wrote it): "
-            "its rows are kept")  # fmt: skip
+        say(
+            f"--resume: {path} has no {MONITOR_STEPS} column (an older version wrote it): "
+            "its rows are kept"
+        )
         columns.append(MONITOR_STEPS)
         header[1] = ",".join(columns) + "\n"
         kept = rows

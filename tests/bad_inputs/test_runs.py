@@ -261,7 +261,7 @@ FILE_ROWS = [
         "file-duplicate-top-key",
         yaml_file(
             "env_id: fluidsim/PaperAirplane-v0\nn_envs: 8\nalgorithm: {name: ppo}\nn_envs: 16\n"
-        ),  # fmt: skip
+        ),
         ConfigError,
         ("duplicate key", "'n_envs'", "line 4", "line 2"),
     ),
@@ -270,7 +270,7 @@ FILE_ROWS = [
         yaml_file(
             "env_id: fluidsim/PaperAirplane-v0\nalgorithm:\n  name: ppo\n  gamma: 0.9\n"
             "  gamma: 0.99\n"
-        ),  # fmt: skip
+        ),
         ConfigError,
         ("duplicate key", "'gamma'", "line 5"),
     ),
@@ -285,7 +285,7 @@ FILE_ROWS = [
         yaml_file(
             "env_id: fluidsim/PaperAirplane-v0\nalgorithm: {name: ppo}\n"
             "normalize: {clip_obs: .nan}\n"
-        ),  # fmt: skip
+        ),
         ConfigError,
         ("normalize.clip_obs", "nan"),
     ),

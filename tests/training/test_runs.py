@@ -203,8 +203,8 @@ def test_a_monitor_of_an_older_version_keeps_its_rows(tmp_path):
 
 def test_a_key_given_twice_is_an_error_naming_it_and_its_lines(tmp_path):
     path = tmp_path / "twice.yaml"
-    path.write_text("env_id: fluidsim/PaperAirplane-v0\nalgorithm:\n  name: ppo\n"
-                    "  gamma: 0.9\n  gamma: 0.99\nn_envs: 2\n")  # fmt: skip
+    text = "env_id: fluidsim/PaperAirplane-v0\nalgorithm:\n  name: ppo\n  gamma: 0.9\n"
+    path.write_text(text + "  gamma: 0.99\nn_envs: 2\n")
     with pytest.raises(ConfigError, match=r"twice.yaml: duplicate key 'gamma' at line 5 \(first"):
         load_config(path)
     # a merge key's values may be overridden: not a duplicate
