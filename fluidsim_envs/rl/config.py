@@ -1,13 +1,16 @@
 """Training configs: YAML files (one per env x algorithm; the shipped ones in
-``fluidsim_envs/configs/``, found by name) loaded with ``yaml.safe_load`` into frozen
-dataclasses. The keys are Stable-Baselines3's own hyperparameter names, grouped in sections;
-rl-zoo3 cannot load these files (its hyperparameter files are keyed by env id, with policy
-kwargs as Python strings).
+``fluidsim_envs/configs/``, found by name) loaded with a safe YAML loader that refuses a key
+given twice (:class:`UniqueKeyLoader`) into frozen dataclasses. The keys are
+Stable-Baselines3's own hyperparameter names, grouped in sections; rl-zoo3 cannot load these
+files (its hyperparameter files are keyed by env id, with policy kwargs as Python strings).
 
-Every key is checked: an unknown one is an error that names it and lists the valid ones, a
-value of the wrong type an error that names the key and the value. ``--set key=value``
-overrides reach nested keys through dots (``algorithm.learning_rate=1.0e-4``,
-``env_kwargs.max_episode_steps=300``); each value is read as YAML.
+Every key is checked before anything is written: an unknown one is an error that names it and
+lists the valid ones, a value of the wrong type an error that names the key and the value,
+every number must be finite and within its field's range (each section's ``RANGES``; seeds
+in [0, 2**32 - 1]), and the device must exist (``check_device``). NumPy scalars are accepted
+where numbers are. ``--set key=value`` overrides reach nested keys through dots
+(``algorithm.learning_rate=1.0e-4``, ``env_kwargs.max_episode_steps=300``); each value is
+read as YAML.
 
     >>> cfg = config_from_dict({"env_id": "fluidsim/PaperAirplane-v0",
     ...                         "algorithm": {"name": "ppo", "n_steps": 128}})
@@ -20,16 +23,18 @@ overrides reach nested keys through dots (``algorithm.learning_rate=1.0e-4``,
 from __future__ import annotations
 
 import dataclasses
+import math
 import re
 import types
 import typing
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
+import numpy as np
 import yaml
 
-from ..physics import checks as CK
+from . import files
 
 #: activation functions a config may name, and their ``torch.nn`` classes
 ACTIVATIONS = {
@@ -46,8 +51,51 @@ class ConfigError(ValueError):
     """A config that cannot be used: the message names the offending key and value."""
 
 
+#: the largest seed: NumPy's and torch's global seeding take 32-bit seeds
+SEED_MAX = 2**32 - 1
+
+
+@dataclass(frozen=True)
+class Range:
+    """The bounds of a numeric field (inclusive unless ``gt`` / ``lt``), as a message says
+    them: `` >= 1``, `` in (0, 1]``."""
+
+    ge: float | None = None
+    gt: float | None = None
+    le: float | None = None
+    lt: float | None = None
+
+    def holds(self, x: float) -> bool:
+        return not (
+            (self.ge is not None and x < self.ge)
+            or (self.gt is not None and x <= self.gt)
+            or (self.le is not None and x > self.le)
+            or (self.lt is not None and x >= self.lt)
+        )
+
+    def __str__(self) -> str:
+        low = (f"[{self.ge!r}", f" >= {self.ge!r}") if self.ge is not None else None
+        low = (f"({self.gt!r}", f" > {self.gt!r}") if self.gt is not None else low
+        high = (f"{self.le!r}]", f" <= {self.le!r}") if self.le is not None else None
+        high = (f"{self.lt!r})", f" < {self.lt!r}") if self.lt is not None else high
+        if low and high:
+            return f" in {low[0]}, {high[0]}"
+        return (low or high or ("", ""))[1]
+
+
+POSITIVE = Range(gt=0)
+AT_LEAST_1 = Range(ge=1)
+NON_NEGATIVE = Range(ge=0)
+UNIT = Range(gt=0, le=1)  # a discount or a mixing factor
+SEED = Range(ge=0, le=SEED_MAX)
+SDE_FREQ = Range(ge=-1)  # -1 (and 0): new noise only at each rollout's start
+
+
 # --------------------------------------------------------------------------------------------
 # the config
+#
+# Each section's RANGES bounds its numeric fields; a number field without an entry must only
+# be finite (NaN and inf are refused everywhere).
 
 
 @dataclass(frozen=True)
@@ -72,13 +120,33 @@ class PPOConfig:
     sde_sample_freq: int = -1
     target_kl: float | None = None
 
+    RANGES: ClassVar[dict[str, Range]] = {
+        "learning_rate": POSITIVE,
+        "n_steps": AT_LEAST_1,
+        "batch_size": AT_LEAST_1,
+        "n_epochs": AT_LEAST_1,
+        "gamma": UNIT,
+        "gae_lambda": Range(ge=0, le=1),
+        "clip_range": POSITIVE,
+        "clip_range_vf": POSITIVE,
+        "ent_coef": NON_NEGATIVE,
+        "vf_coef": NON_NEGATIVE,
+        "max_grad_norm": POSITIVE,
+        "sde_sample_freq": SDE_FREQ,
+        "target_kl": POSITIVE,
+    }
+
     def check(self, n_envs: int) -> None:
-        _positive(self, "learning_rate", "n_steps", "batch_size", "n_epochs", "clip_range")
-        _unit(self, "gamma", "gae_lambda")
         if self.batch_size > self.n_steps * n_envs:
             raise ConfigError(
                 f"algorithm.batch_size ({self.batch_size}) must be at most n_steps x n_envs "
                 f"({self.n_steps} x {n_envs} = {self.n_steps * n_envs})"
+            )
+        if self.normalize_advantage and self.batch_size < 2:
+            # SB3 normalizes the advantages over each batch: one sample has no spread
+            raise ConfigError(
+                f"algorithm.batch_size must be at least 2 with normalize_advantage, "
+                f"got {self.batch_size}"
             )
 
 
@@ -98,26 +166,49 @@ class SACConfig:
     gradient_steps: int = -1  # -1: as many as transitions collected
     ent_coef: str | float = "auto"  # "auto", "auto_0.1" (initial value) or a fixed float
     target_update_interval: int = 1
-    target_entropy: str | float = "auto"
+    target_entropy: str | float = "auto"  # "auto" (-dim(actions)) or a number
     use_sde: bool = False
     sde_sample_freq: int = -1
     use_sde_at_warmup: bool = False
 
+    RANGES: ClassVar[dict[str, Range]] = {
+        "learning_rate": POSITIVE,
+        "buffer_size": AT_LEAST_1,
+        "learning_starts": NON_NEGATIVE,
+        "batch_size": AT_LEAST_1,
+        "tau": UNIT,
+        "gamma": UNIT,
+        "train_freq": AT_LEAST_1,
+        "gradient_steps": Range(ge=-1),
+        "ent_coef": POSITIVE,
+        "target_update_interval": AT_LEAST_1,
+        "sde_sample_freq": SDE_FREQ,
+    }
+
     def check(self, n_envs: int) -> None:
-        _positive(self, "learning_rate", "buffer_size", "batch_size", "tau", "train_freq")
-        _unit(self, "gamma", "tau")
-        if self.learning_starts < 0:
-            raise ConfigError(f"algorithm.learning_starts must be >= 0, got {self.learning_starts}")
-        if self.gradient_steps == 0 or self.gradient_steps < -1:
+        if self.gradient_steps == 0:
+            raise ConfigError("algorithm.gradient_steps must be -1 or positive, got 0")
+        if isinstance(self.ent_coef, str) and not _auto_ent_coef(self.ent_coef):
             raise ConfigError(
-                f"algorithm.gradient_steps must be -1 or positive, got {self.gradient_steps}"
+                f"algorithm.ent_coef must be a number > 0, 'auto' or 'auto_<init>' with "
+                f"<init> > 0, got {self.ent_coef!r}"
             )
-        for key in ("ent_coef", "target_entropy"):
-            value = getattr(self, key)
-            if isinstance(value, str) and not (value == "auto" or value.startswith("auto_")):
-                raise ConfigError(
-                    f"algorithm.{key} must be a number, 'auto' or 'auto_<init>', got {value!r}"
-                )
+        if isinstance(self.target_entropy, str) and self.target_entropy != "auto":
+            raise ConfigError(
+                f"algorithm.target_entropy must be a number or 'auto', got {self.target_entropy!r}"
+            )
+
+
+def _auto_ent_coef(text: str) -> bool:
+    """``auto``, or ``auto_<init>`` with a finite initial value > 0 (what SB3 accepts)."""
+    if text == "auto":
+        return True
+    head, _, init = text.partition("_")
+    try:
+        value = float(init)
+    except ValueError:
+        return False
+    return head == "auto" and math.isfinite(value) and value > 0
 
 
 ALGORITHMS: dict[str, type] = {"ppo": PPOConfig, "sac": SACConfig}
@@ -134,6 +225,8 @@ class PolicyConfig:
     log_std_init: float | None = None  # initial log std of the Gaussian actions
     ortho_init: bool | None = None  # PPO only: orthogonal initialization (SB3 default: on)
 
+    RANGES: ClassVar[dict[str, Range]] = {}
+
 
 @dataclass(frozen=True)
 class NormalizeConfig:
@@ -143,9 +236,15 @@ class NormalizeConfig:
     enabled: bool = True
     norm_obs: bool = True
     norm_reward: bool = True
-    clip_obs: float = 10.0
+    clip_obs: float = 10.0  # > 0: normalized observations are clipped to [-clip_obs, clip_obs]
     clip_reward: float = 10.0
     epsilon: float = 1.0e-8
+
+    RANGES: ClassVar[dict[str, Range]] = {
+        "clip_obs": POSITIVE,
+        "clip_reward": POSITIVE,
+        "epsilon": POSITIVE,
+    }
 
 
 @dataclass(frozen=True)
@@ -158,6 +257,12 @@ class EvalConfig:
     n_episodes: int = 16
     seed: int = 1_000_000
 
+    RANGES: ClassVar[dict[str, Range]] = {
+        "freq": NON_NEGATIVE,
+        "n_episodes": AT_LEAST_1,
+        "seed": SEED,
+    }
+
 
 @dataclass(frozen=True)
 class CheckpointConfig:
@@ -165,6 +270,8 @@ class CheckpointConfig:
 
     freq: int = 100_000  # env steps (all envs together) between checkpoints; 0: none
     save_replay_buffer: bool = False  # off-policy only; large
+
+    RANGES: ClassVar[dict[str, Range]] = {"freq": NON_NEGATIVE}
 
 
 @dataclass(frozen=True)
@@ -177,11 +284,17 @@ class TrainConfig:
     n_envs: int = 16
     total_timesteps: int = 1_000_000
     seed: int = 0  # the model's seed; env i gets SeedSequence(seed).spawn(n_envs)[i]
-    device: str = "cpu"
+    device: str = "cpu"  # auto, cpu, cuda, cuda:N or mps; checked against what torch sees
     policy: PolicyConfig = PolicyConfig()
     normalize: NormalizeConfig = NormalizeConfig()
     eval: EvalConfig = EvalConfig()
     checkpoint: CheckpointConfig = CheckpointConfig()
+
+    RANGES: ClassVar[dict[str, Range]] = {
+        "n_envs": AT_LEAST_1,
+        "total_timesteps": AT_LEAST_1,
+        "seed": SEED,
+    }
 
     @property
     def env_name(self) -> str:
@@ -218,14 +331,64 @@ def find_config(name_or_path: str | Path) -> Path:
     )
 
 
+class UniqueKeyLoader(yaml.SafeLoader):
+    """``yaml.SafeLoader`` that refuses a key given twice in one mapping, naming it and its
+    lines (the plain loader keeps the last value without a word, so a config that sets a
+    key twice would train with whichever came last)."""
+
+    def construct_mapping(self, node, deep=False):
+        first: dict[Any, int] = {}
+        for key_node, _ in node.value:
+            if key_node.tag == "tag:yaml.org,2002:merge":
+                continue  # `<<: *base` merges keys that the mapping's own keys may override
+            key = self.construct_object(key_node, deep=True)
+            line = key_node.start_mark.line + 1
+            try:
+                if key in first:
+                    raise ConfigError(
+                        f"duplicate key {key!r} at line {line} (first given at line "
+                        f"{first[key]}): give each key once"
+                    )
+                first[key] = line
+            except TypeError:  # an unhashable key: the base loader reports it
+                pass
+        return super().construct_mapping(node, deep=deep)
+
+
+def load_yaml(text: str, source: str) -> Any:
+    """``text`` read as YAML with :class:`UniqueKeyLoader` (safe, no key twice); an error
+    starting with ``source`` (a file, an option) otherwise."""
+    try:
+        return yaml.load(text, Loader=UniqueKeyLoader)
+    except yaml.YAMLError as e:
+        raise ConfigError(f"{source}: not valid YAML: {_one_line(e)}") from None
+    except ConfigError as e:
+        raise ConfigError(f"{source}: {e}") from None
+
+
+def _one_line(error: yaml.YAMLError) -> str:
+    """PyYAML's error as one line (its own text spans several, with a drawing of the spot)."""
+    mark = getattr(error, "problem_mark", None)
+    problem = getattr(error, "problem", None)
+    if problem and mark is not None:
+        return f"{problem} (line {mark.line + 1}, column {mark.column + 1})"
+    return " ".join(str(error).split())
+
+
+def read_yaml(path: str | Path) -> Any:
+    """The YAML file at ``path`` (:func:`load_yaml`); unreadable is a :class:`ConfigError`."""
+    try:
+        text = Path(path).read_text()
+    except (OSError, UnicodeDecodeError) as e:
+        raise ConfigError(f"{path}: cannot be read as text ({e})") from None
+    return load_yaml(text, str(path))
+
+
 def load_config(path: str | Path, overrides: typing.Sequence[str] = ()) -> TrainConfig:
     """Read the YAML config at ``path`` (a file, or a shipped config's name), apply
     ``key=value`` overrides, and check it."""
     path = find_config(path)
-    try:
-        raw = yaml.safe_load(path.read_text())
-    except yaml.YAMLError as e:
-        raise ConfigError(f"{path}: not valid YAML: {e}") from e
+    raw = read_yaml(path)
     if not isinstance(raw, dict):
         raise ConfigError(f"{path}: expected a mapping of keys at the top, got {raw!r}")
     try:
@@ -249,10 +412,7 @@ def parse_assignment(item: str, flag: str) -> tuple[str, Any]:
     key = key.strip()
     if not sep or not key:
         raise ConfigError(f"{flag} expects KEY=VALUE, got {item!r}")
-    try:
-        value = yaml.safe_load(text)
-    except yaml.YAMLError as e:
-        raise ConfigError(f"{flag} {item!r}: the value is not valid YAML: {e}") from None
+    value = load_yaml(text, f"{flag} {item!r}: the value")
     if isinstance(value, str) and _EXPONENT.fullmatch(value.strip()):
         value = float(value)
     return key, value
@@ -284,18 +444,22 @@ def config_from_dict(raw: dict[str, Any]) -> TrainConfig:
 
 
 def config_to_dict(cfg: Any) -> Any:
-    """Plain data (dicts, lists, numbers, strings) that :func:`config_from_dict` reads back."""
+    """Plain data (dicts, lists, numbers, strings) that :func:`config_from_dict` reads back;
+    NumPy scalars and arrays become Python numbers and lists (YAML can write those)."""
     if dataclasses.is_dataclass(cfg):
         return {f.name: config_to_dict(getattr(cfg, f.name)) for f in dataclasses.fields(cfg)}
     if isinstance(cfg, dict):
         return {k: config_to_dict(v) for k, v in cfg.items()}
-    if isinstance(cfg, (tuple, list)):
+    if isinstance(cfg, (tuple, list, np.ndarray)):
         return [config_to_dict(v) for v in cfg]
+    if isinstance(cfg, np.generic):
+        return cfg.item()
     return cfg
 
 
 def dump_config(cfg: TrainConfig, path: str | Path) -> None:
-    Path(path).write_text(yaml.safe_dump(config_to_dict(cfg), sort_keys=False))
+    """``cfg`` as YAML at ``path``, written atomically (a kill leaves the old file or this)."""
+    files.write_text(path, yaml.safe_dump(config_to_dict(cfg), sort_keys=False))
 
 
 # --------------------------------------------------------------------------------------------
@@ -346,6 +510,8 @@ ITEMS = {int: "integers", float: "numbers", str: "strings", bool: "booleans"}
 
 
 def _type_name(tp: Any) -> str:
+    if tp is Any:
+        return "any values"
     if tp is type(None):
         return "null"
     if typing.get_origin(tp) is Literal:
@@ -364,10 +530,17 @@ def _type_name(tp: Any) -> str:
     )
 
 
+_INTEGERS = (int, np.integer)
+_NUMBERS = (int, float, np.integer, np.floating)
+_BOOLS = (bool, np.bool_)
+
+
 def _convert(value: Any, tp: Any, where: str) -> Any:
+    """``value`` as type ``tp`` (NumPy scalars accepted where numbers are, stored as Python
+    numbers), or a :class:`ConfigError` naming ``where`` and the value."""
     origin = typing.get_origin(tp)
     if tp is Any:
-        return value
+        return config_to_dict(value)  # plain data: YAML writes it into the run folder
     if dataclasses.is_dataclass(tp):
         return _build(tp, value, where)
     if origin in (typing.Union, types.UnionType):
@@ -377,39 +550,42 @@ def _convert(value: Any, tp: Any, where: str) -> Any:
             except ConfigError:
                 continue
         raise _type_error(value, tp, where)
-    if tp is type(None):
-        if value is None:
-            return None
-        raise _type_error(value, tp, where)
     if origin is Literal:
-        if value in typing.get_args(tp):
-            return value
+        if isinstance(value, str) and value in typing.get_args(tp):
+            return str(value)
         raise _type_error(value, tp, where)
     if origin is tuple:
-        if not isinstance(value, (list, tuple)):
-            raise _type_error(value, tp, where)
-        (item,) = (a for a in typing.get_args(tp) if a is not Ellipsis)
-        return tuple(_convert(v, item, f"{where}[{i}]") for i, v in enumerate(value))
+        return _convert_tuple(value, tp, where)
     if origin is dict:
         if not isinstance(value, dict):
             raise _type_error(value, tp, where)
         _, item = typing.get_args(tp)
         return {str(k): _convert(v, item, f"{where}.{k}") for k, v in value.items()}
-    if tp is bool:
-        if isinstance(value, bool):
-            return value
+    return _convert_scalar(value, tp, where)
+
+
+def _convert_tuple(value: Any, tp: Any, where: str) -> tuple:
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if not isinstance(value, (list, tuple)):
         raise _type_error(value, tp, where)
-    if tp is int:
-        if isinstance(value, int) and not isinstance(value, bool):
-            return value
-        raise _type_error(value, tp, where)
-    if tp is float:
-        if isinstance(value, (int, float)) and not isinstance(value, bool):
-            return float(value)
-        raise _type_error(value, tp, where)
-    if tp is str:
-        if isinstance(value, str):
-            return value
+    (item,) = (a for a in typing.get_args(tp) if a is not Ellipsis)
+    return tuple(_convert(v, item, f"{where}[{i}]") for i, v in enumerate(value))
+
+
+def _convert_scalar(value: Any, tp: Any, where: str) -> Any:
+    is_bool = isinstance(value, _BOOLS)
+    if tp is type(None) and value is None:
+        return None
+    if tp is bool and is_bool:
+        return bool(value)
+    if tp is int and isinstance(value, _INTEGERS) and not is_bool:
+        return int(value)
+    if tp is float and isinstance(value, _NUMBERS) and not is_bool:
+        return float(value)
+    if tp is str and isinstance(value, str):
+        return str(value)
+    if tp in (type(None), bool, int, float, str):
         raise _type_error(value, tp, where)
     raise TypeError(f"config type {tp} of {where} is not supported")  # a bug here, not input
 
@@ -421,7 +597,8 @@ def _type_error(value: Any, tp: Any, where: str) -> ConfigError:
             float(value)
             hint = " (YAML reads 3e-4 as a string: write 3.0e-4)"
         except ValueError:
-            pass
+            if where.endswith("learning_rate"):
+                hint = " (a schedule is set by lr_schedule: constant or linear)"
     return ConfigError(f"{where} must be {_type_name(tp)}, got {value!r}{hint}")
 
 
@@ -429,28 +606,66 @@ def _type_error(value: Any, tp: Any, where: str) -> ConfigError:
 # checks across fields
 
 
-def _positive(obj: Any, *keys: str) -> None:
-    for key in keys:
-        CK.number("algorithm", key, getattr(obj, key), gt=0, error=ConfigError)
-
-
-def _unit(obj: Any, *keys: str) -> None:
-    for key in keys:
-        CK.number("algorithm", key, getattr(obj, key), gt=0.0, le=1.0, error=ConfigError)
-
-
 def _check(cfg: TrainConfig) -> None:
-    for key in ("n_envs", "total_timesteps"):
-        if getattr(cfg, key) < 1:
-            raise ConfigError(f"{key} must be at least 1, got {getattr(cfg, key)}")
-    for key, low in (("eval.freq", 0), ("eval.n_episodes", 1), ("checkpoint.freq", 0)):
-        section, name = key.split(".")
-        value = getattr(getattr(cfg, section), name)
-        if value < low:
-            raise ConfigError(f"{key} must be at least {low}, got {value}")
+    _check_numbers(cfg, "")
     cfg.algorithm.check(cfg.n_envs)
     _check_policy(cfg.policy, cfg.algorithm.name)
+    check_device(cfg.device)
     _check_env(cfg.env_id, cfg.env_kwargs)
+
+
+def _check_numbers(section: Any, prefix: str) -> None:
+    """Every number of ``section`` and its subsections is finite and in its field's range
+    (the section's ``RANGES``); ``env_kwargs`` is left to the env's own parameter checks."""
+    ranges = getattr(section, "RANGES", {})
+    for f in dataclasses.fields(section):
+        value = getattr(section, f.name)
+        where = _where(prefix, f.name)
+        if dataclasses.is_dataclass(value):
+            _check_numbers(value, where)
+        elif isinstance(value, _NUMBERS) and not isinstance(value, _BOOLS):
+            _check_number(where, value, ranges.get(f.name, Range()))
+
+
+def _check_number(where: str, value: float, bounds: Range) -> None:
+    if math.isfinite(value) and bounds.holds(value):
+        return
+    kind = "an integer" if isinstance(value, int) else "a finite number"
+    raise ConfigError(f"{where} must be {kind}{bounds}, got {value!r}")
+
+
+#: the devices a config may name: torch's names (an index only for the accelerators)
+_DEVICE = re.compile(r"auto|cpu|(cuda|mps)(:(\d+))?")
+
+
+def check_device(device: str) -> None:
+    """``device`` is ``auto`` (SB3 picks: CUDA if torch sees one, else the CPU), ``cpu``, or
+    an accelerator that exists on this machine: ``cuda``, ``cuda:N`` (N below torch's device
+    count) or ``mps``. Training on another device than the config names would leave a run
+    folder that says it ran where it did not."""
+    match = _DEVICE.fullmatch(device)
+    if match is None:
+        raise ConfigError(
+            f"device must be 'auto', 'cpu', 'cuda', 'cuda:N' or 'mps', got {device!r}"
+        )
+    kind, index = match.group(1), int(match.group(3) or 0)
+    if kind is None:
+        return
+    import torch
+
+    if kind == "cuda":
+        count = torch.cuda.device_count() if torch.cuda.is_available() else 0
+        if index >= count:
+            seen = f"{count} CUDA device(s)" if count else "no CUDA device"
+            raise ConfigError(
+                f"device {device!r} does not exist: torch sees {seen} here; use device: cpu "
+                "(or auto)"
+            )
+    elif not torch.backends.mps.is_available() or index > 0:
+        raise ConfigError(
+            f"device {device!r} does not exist: torch sees no MPS device here; use device: cpu "
+            "(or auto)"
+        )
 
 
 def _check_policy(policy: PolicyConfig, algo: str) -> None:

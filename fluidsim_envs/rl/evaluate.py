@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import io
 import json
 import shlex
 import sys
@@ -60,8 +61,11 @@ from typing import Any
 
 import numpy as np
 
-from .config import ConfigError, TrainConfig, load_config, parse_assignment
-from .train import RunError, algorithm_class
+from . import files
+from .config import ConfigError, TrainConfig, load_config, load_yaml, parse_assignment
+from .files import RunError
+from .runs import BestModel, read_run_meta
+from .train import algorithm_class
 
 #: the models a run folder holds: (model, its normalization statistics), by --model name
 MODELS = {
@@ -110,6 +114,8 @@ def load_run(run_dir: Path, which: str = "final") -> tuple[TrainConfig, Any]:
     cfg = load_config(run_dir / "config.yaml")
     if which not in MODELS:
         raise RunError(f"--model must be one of {list(MODELS)}, got {which!r}")
+    if which == "best":  # a new best whose write a kill interrupted: completed (or dropped)
+        BestModel(run_dir / "best").recover()
     model_path = run_dir / MODELS[which][0]
     if not model_path.is_file() and which == "best":
         raise RunError(
@@ -240,15 +246,21 @@ def env_kwargs_with(env_id: str, base: Mapping[str, Any], env: Mapping[str, Any]
 
 def format_overrides(env: Mapping[str, Any]) -> list[str]:
     """``KEY=VALUE`` strings that :func:`parse_env_overrides` reads back as ``env``."""
-    import yaml
-
     out = []
     for key, value in env.items():
         text = json.dumps(list(value) if isinstance(value, tuple) else value)
-        if isinstance(value, str) and yaml.safe_load(value) == value:
+        if isinstance(value, str) and _reads_back(value):
             text = value
         out.append(f"{key}={text}")
     return out
+
+
+def _reads_back(text: str) -> bool:
+    """``text``, read as YAML (as ``--env`` reads a value), is ``text`` again."""
+    try:
+        return load_yaml(text, "--env") == text
+    except ConfigError:
+        return False
 
 
 # --------------------------------------------------------------------------------------------
@@ -416,6 +428,7 @@ def evaluate(
     venv = _make_venv(cfg.env_id, episodes, env_kwargs)
     trained_env = venv
     if rerun is not None:
+        rerun.parent.mkdir(parents=True, exist_ok=True)
         try:
             from fluidsim_envs.wrappers.rerun_logger import RerunLogger
 
@@ -544,10 +557,10 @@ def run_provenance(run_dir: Path, which: str, command: str) -> list[str]:
     """The ``#`` lines an evaluation table of a run starts with: the command that wrote it
     and the run and model it evaluated, so a copy of the table (in docs/) says where it came
     from."""
-    import yaml
-
-    path = run_dir / "run.yaml"
-    meta = (yaml.safe_load(path.read_text()) if path.is_file() else None) or {}
+    try:
+        meta = read_run_meta(run_dir)
+    except (ConfigError, RunError):  # the table still says what it can
+        meta = {}
     git = meta.get("git") or {}
     dirty = " (dirty)" if git.get("dirty") else ""
     return [
@@ -562,12 +575,13 @@ def write_csv(rows: list[dict[str, Any]], path: Path, seed: int, comments: list[
     """The table (``#`` lines first: :func:`run_provenance`); readers skip lines starting
     ``#``."""
     columns = ["seed", *dict.fromkeys(k for row in rows for k in row)]
-    with path.open("w", newline="") as f:
-        f.writelines(f"# {line}\n" for line in comments)
-        writer = csv.DictWriter(f, columns)
-        writer.writeheader()
-        for row in rows:
-            writer.writerow({"seed": seed, **row})
+    f = io.StringIO(newline="")
+    f.writelines(f"# {line}\n" for line in comments)
+    writer = csv.DictWriter(f, columns)
+    writer.writeheader()
+    for row in rows:
+        writer.writerow({"seed": seed, **row})
+    files.write_text(path, f.getvalue())
 
 
 def _number(value) -> str:
@@ -722,6 +736,17 @@ def _argument_error(args: argparse.Namespace) -> str | None:
     return None
 
 
+def check_output_paths(args: argparse.Namespace) -> None:
+    """Where the evaluation will write (``--rerun``, ``--out``, else the run folder) can be
+    written: checked before any episode is flown, a :class:`RunError` naming the path."""
+    if args.rerun is not None:
+        files.check_writable_file(args.rerun, "--rerun")
+    if args.out is not None:
+        files.check_writable_folder(args.out, "--out")
+    elif args.run is not None and args.run.is_dir():
+        files.check_writable_folder(args.run, "run folder")
+
+
 def main(argv: list[str] | None = None, prog: str = "fluidsim-evaluate") -> int:
     args = parse_args(argv, prog)
     problem = _argument_error(args)
@@ -740,6 +765,7 @@ def main(argv: list[str] | None = None, prog: str = "fluidsim-evaluate") -> int:
     )
     which = args.model or "final"
     try:
+        check_output_paths(args)
         env = parse_env_overrides(args.env)
         what = args.run if args.run is not None else args.env_id
         overrides = f", env overrides: {' '.join(format_overrides(env))}" if env else ""

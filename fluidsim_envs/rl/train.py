@@ -11,17 +11,26 @@ it. The run folder holds everything needed to replay or continue the run:
 ``config.yaml``           the resolved config: defaults filled in, overrides applied, and
                           ``env_kwargs`` holding every env parameter (not only those changed)
 ``run.yaml``              the command line, git revision (and whether the tree was dirty),
-                          seeds, package versions (fluidsim_envs included), timesteps done,
-                          resumes, where the time went
+                          seeds, package versions (fluidsim_envs included), the device the
+                          model ran on (``auto`` resolved), timesteps done, resumes, where the
+                          time went
 ``model.zip``             the final model; ``vecnormalize.pkl`` its normalization statistics
 ``checkpoints/``          periodic (and on Ctrl-C) model + statistics, for ``--resume``
 ``eval/``                 ``history.csv`` (one row per evaluation), SB3's ``evaluations.npz``
 ``best/``                 the best evaluated model, ``best_model.zip``, with the normalization
-                          statistics it was evaluated with, ``vecnormalize.pkl``
-``monitor.csv``           every training episode (return, length, success)
+                          statistics it was evaluated with, ``vecnormalize.pkl``, and its score,
+                          ``best.yaml`` (a resume reads it: only a better evaluation replaces it)
+``monitor.csv``           every training episode (return, length, time, success, and the run's
+                          timesteps at its end)
 ``learning_curve.png``    training and evaluation returns against timesteps
 ``tb/``                   TensorBoard logs (``rollout/success_rate`` included)
 ========================  =====================================================================
+
+A kill at any moment leaves the folder resumable (:mod:`.runs`, :mod:`.files`): every file is
+written to a temporary name and then renamed; ``--resume`` continues from the newest saved
+state that loads (saying which it skipped), drops the evaluations and episodes logged after
+it, and goes on with the evaluation history, the best score and the time column.
+``benchmarks/kill_resume.py`` kills a run again and again and checks all of that.
 """
 
 from __future__ import annotations
@@ -30,12 +39,11 @@ import argparse
 import csv
 import datetime
 import platform
-import re
 import shlex
+import shutil
 import subprocess
 import sys
 import time
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -45,8 +53,10 @@ require("train", "fluidsim_envs.rl.train")
 
 import yaml  # noqa: E402  (after the check that names the missing extra)
 
+from . import files  # noqa: E402
 from .config import (  # noqa: E402
     ACTIVATIONS,
+    SEED_MAX,
     ConfigError,
     TrainConfig,
     config_from_dict,
@@ -54,14 +64,22 @@ from .config import (  # noqa: E402
     load_config,
     resolved,
 )
-
-CHECKPOINT_PREFIX = "model"
-EVAL_HISTORY_COLUMNS = ("timesteps", "mean_return", "std_return", "mean_length", "success_rate")
-
-
-class RunError(RuntimeError):
-    """A run folder that cannot be used as asked (missing, or nothing to resume)."""
-
+from .files import RunError  # noqa: E402
+from .runs import (  # noqa: E402, F401  (CHECKPOINT_PREFIX ... are this module's names too)
+    CHECKPOINT_PREFIX,
+    EVAL_HISTORY_COLUMNS,
+    BestModel,
+    EvalLog,
+    Restart,
+    checkpoint_paths,
+    checkpoint_stats,
+    final_paths,
+    latest_checkpoint,
+    read_run_meta,
+    restart_point,
+    save_state,
+    trim_logs,
+)
 
 # --------------------------------------------------------------------------------------------
 # building blocks
@@ -113,18 +131,23 @@ def make_env(
     stats: Path | None = None,
     monitor_file: Path | None = None,
     append: bool = False,
+    start_timesteps: int = 0,
+    time_offset_s: float = 0.0,
 ):
     """The SB3 vector env of a run: our native vector env through the adapter, its episodes
-    recorded by ``VecMonitor`` (raw returns; into ``monitor_file``, appended to when
-    ``append``), then ``VecNormalize`` when enabled (``stats``: a saved ``.pkl`` to load).
+    recorded by ``VecMonitor`` (raw returns; with ``monitor_file``, a :class:`RunMonitor`
+    writing there, appended to when ``append``, its rows stamped with the run's timesteps from
+    ``start_timesteps`` on and its times going on from ``time_offset_s``), then
+    ``VecNormalize`` when enabled (``stats``: a saved ``.pkl`` to load).
 
     ``evaluation``: frozen statistics and raw rewards. Success is reported as ``is_success``
-    at each episode's end (SB3's ``rollout/success_rate`` and ``EvalCallback`` read it).
+    at each episode's end (SB3's ``rollout/success_rate`` and the evaluations read it).
     """
-    from stable_baselines3.common.monitor import ResultsWriter
     from stable_baselines3.common.vec_env import VecMonitor, VecNormalize
 
     from fluidsim_envs.wrappers.sb3 import make_sb3_vec_env
+
+    from .callbacks import RunMonitor
 
     venv = make_sb3_vec_env(
         cfg.env_id,
@@ -133,14 +156,17 @@ def make_env(
         success_key="success",  # SB3 reads is_success: success rates in TensorBoard
         **cfg.env_kwargs,
     )
-    venv = VecMonitor(venv, info_keywords=("success",))
-    if monitor_file is not None:
-        # VecMonitor opens its file for writing; a resumed run appends to the old rows
-        venv.results_writer = ResultsWriter(
-            str(monitor_file),
-            header={"t_start": venv.t_start, "env_id": cfg.env_id},
-            extra_keys=("success",),
-            override_existing=not append,
+    if monitor_file is None:
+        venv = VecMonitor(venv, info_keywords=("success",))
+    else:
+        venv = RunMonitor(
+            venv,
+            monitor_file,
+            cfg.env_id,
+            info_keywords=("success",),
+            start_timesteps=start_timesteps,
+            time_offset_s=time_offset_s,
+            append=append,
         )
     n = cfg.normalize
     if not n.enabled:
@@ -205,78 +231,6 @@ def versions() -> dict[str, str]:
     }
 
 
-def latest_checkpoint(run_dir: Path) -> tuple[int, Path] | None:
-    """(timesteps, model path) of the newest checkpoint in ``run_dir/checkpoints``."""
-    found = []
-    for path in (run_dir / "checkpoints").glob(f"{CHECKPOINT_PREFIX}_*_steps.zip"):
-        m = re.fullmatch(rf"{CHECKPOINT_PREFIX}_(\d+)_steps\.zip", path.name)
-        if m:
-            found.append((int(m.group(1)), path))
-    return max(found) if found else None
-
-
-@dataclass(frozen=True)
-class Restart:
-    """Where ``--resume`` continues from: a saved model, its statistics and replay buffer
-    (either may be absent), and the timesteps it had done."""
-
-    steps: int
-    model: Path
-    stats: Path
-    replay: Path
-
-
-def restart_point(run_dir: Path) -> Restart | None:
-    """The newest saved state of a run: its newest checkpoint, or its final model when that
-    went further (a finished run continued with a larger ``total_timesteps``)."""
-    found = []
-    checkpoint = latest_checkpoint(run_dir)
-    if checkpoint is not None:
-        steps, path = checkpoint
-        replay = path.with_name(f"{CHECKPOINT_PREFIX}_replay_buffer_{steps}_steps.pkl")
-        found.append(Restart(steps, path, checkpoint_stats(path), replay))
-    meta = run_dir / "run.yaml"
-    if (run_dir / "model.zip").is_file() and meta.is_file():
-        steps = (yaml.safe_load(meta.read_text()) or {}).get("num_timesteps")
-        if isinstance(steps, int):
-            stats, replay = run_dir / "vecnormalize.pkl", run_dir / "replay_buffer.pkl"
-            found.append(Restart(steps, run_dir / "model.zip", stats, replay))
-    return max(found, key=lambda r: r.steps) if found else None
-
-
-def trim_logs(run_dir: Path, restart: Restart) -> None:
-    """Drop what a run logged after its restart point, so a resumed run's history does not
-    hold the lost stretch twice: evaluations past its timesteps (``eval/history.csv``,
-    ``eval/evaluations.npz``) and training episodes that ended after its model was saved
-    (``monitor.csv``, by their wall time)."""
-    import numpy as np
-
-    history = run_dir / "eval" / "history.csv"
-    if history.is_file():
-        lines = history.read_text().splitlines(keepends=True)
-        kept = [ln for ln in lines[1:] if int(float(ln.split(",", 1)[0])) <= restart.steps]
-        history.write_text("".join(lines[:1] + kept))
-    npz = run_dir / "eval" / "evaluations.npz"
-    if npz.is_file():
-        with np.load(npz) as data:
-            keep = data["timesteps"] <= restart.steps
-            arrays = {k: data[k][keep] for k in data.files}
-        np.savez(npz, **arrays)
-    monitor = run_dir / "monitor.csv"
-    if monitor.is_file():
-        lines = monitor.read_text().splitlines(keepends=True)
-        t_start = float(re.search(r'"t_start": ([0-9.e+-]+)', lines[0]).group(1))
-        saved = restart.model.stat().st_mtime - t_start
-        rows = [ln for ln in lines[2:] if float(ln.split(",")[2]) <= saved]
-        monitor.write_text("".join(lines[:2] + rows))
-
-
-def checkpoint_stats(model_path: Path) -> Path:
-    """The normalization statistics saved with a checkpoint (SB3's naming)."""
-    steps = model_path.name[len(CHECKPOINT_PREFIX) + 1 :]
-    return model_path.with_name(f"{CHECKPOINT_PREFIX}_vecnormalize_{steps}").with_suffix(".pkl")
-
-
 def planned_timesteps(cfg: TrainConfig, remaining: int) -> int:
     """The timesteps that will really run for ``remaining`` asked: SB3 stops only between
     rollouts (PPO: ``n_steps`` x ``n_envs`` transitions; SAC: ``train_freq`` x ``n_envs``)."""
@@ -318,112 +272,30 @@ def _eval_line(timesteps: int, returns, success, steps_per_s: float) -> str:
     )
 
 
-def _callbacks(cfg: TrainConfig, run_dir: Path, eval_env, say) -> list:
-    from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback, EvalCallback
+def _callbacks(cfg: TrainConfig, run_dir: Path, venv, eval_env, say, resumed: bool) -> list:
+    """The evaluations (first: see :class:`~.callbacks.Evaluations`) and the checkpoints. A
+    resumed run goes on with its evaluation history and best score; a new one starts them
+    afresh, even in a folder that held such files."""
+    from .callbacks import Checkpoints, Evaluations
 
     started = time.perf_counter()
-    news = []  # a new best model since the last evaluation line
 
-    class EvalHistory(BaseCallback):
-        """After each evaluation: a line on the terminal, its row in ``eval/history.csv``
-        (kept across resumes); then reseed the eval env so the next evaluation flies the
-        same episodes."""
+    def report(timesteps: int, returns, success, new_best: bool) -> None:
+        rate = venv.unwrapped.env_steps / (time.perf_counter() - started)
+        say(_eval_line(timesteps, returns, success, rate) + ("   new best" if new_best else ""))
 
-        def _on_step(self) -> bool:
-            import numpy as np
-
-            parent = self.parent
-            returns = parent.evaluations_results[-1]
-            success = parent._is_success_buffer
-            row = [
-                parent.num_timesteps,
-                float(np.mean(returns)),
-                float(np.std(returns)),
-                float(np.mean(parent.evaluations_length[-1])),
-                float(np.mean(success)) if success else float("nan"),
-            ]
-            path = run_dir / "eval" / "history.csv"
-            new = not path.exists()
-            with path.open("a", newline="") as f:
-                writer = csv.writer(f)
-                if new:
-                    writer.writerow(EVAL_HISTORY_COLUMNS)
-                writer.writerow(row)
-            steps = self.model.get_env().unwrapped.env_steps
-            line = _eval_line(row[0], returns, success, steps / (time.perf_counter() - started))
-            say(line + ("   new best" if news else ""))
-            news.clear()
-            eval_env.seed(cfg.eval.seed)
-            return True
-
-    class SaveBestStats(BaseCallback):
-        """With each new best model: the normalization statistics it was evaluated with."""
-
-        def _on_step(self) -> bool:
-            stats = self.model.get_vec_normalize_env()
-            if stats is not None:
-                stats.save(str(run_dir / "best" / "vecnormalize.pkl"))
-            news.append(self.num_timesteps)
-            return True
-
-    callbacks = []
-    if cfg.checkpoint.freq > 0:
-        callbacks.append(
-            CheckpointCallback(
-                save_freq=_every(cfg.checkpoint.freq, cfg.n_envs),
-                save_path=str(run_dir / "checkpoints"),
-                name_prefix=CHECKPOINT_PREFIX,
-                save_replay_buffer=cfg.checkpoint.save_replay_buffer,
-                save_vecnormalize=True,
-            )
-        )
+    callbacks: list = []
     if cfg.eval.freq > 0:
-        evaluation = EvalCallback(
-            eval_env,
-            callback_on_new_best=SaveBestStats(),
-            callback_after_eval=EvalHistory(),
-            n_eval_episodes=cfg.eval.n_episodes,
-            eval_freq=_every(cfg.eval.freq, cfg.n_envs),
-            log_path=str(run_dir / "eval"),
-            best_model_save_path=str(run_dir / "best"),
-            deterministic=True,
-            verbose=0,
+        log = EvalLog.load(run_dir / "eval") if resumed else EvalLog(run_dir / "eval")
+        best = BestModel.open(run_dir / "best") if resumed else BestModel(run_dir / "best")
+        period = _every(cfg.eval.freq, cfg.n_envs) * cfg.n_envs
+        callbacks.append(
+            Evaluations(eval_env, period, cfg.eval.n_episodes, cfg.eval.seed, log, best, report)
         )
-        _continue_evaluations(evaluation, run_dir)
-        callbacks.append(evaluation)
+    if cfg.checkpoint.freq > 0:
+        period = _every(cfg.checkpoint.freq, cfg.n_envs) * cfg.n_envs
+        callbacks.append(Checkpoints(run_dir, period, cfg.checkpoint.save_replay_buffer))
     return callbacks
-
-
-def _continue_evaluations(evaluation, run_dir: Path) -> None:
-    """A resumed run's EvalCallback starts from the run's earlier evaluations: its best score
-    (so a worse model does not replace ``best/``) and the arrays it rewrites into
-    ``evaluations.npz``. A new run has none."""
-    import numpy as np
-
-    npz = run_dir / "eval" / "evaluations.npz"
-    if not npz.is_file():
-        return
-    with np.load(npz) as data:
-        evaluation.evaluations_timesteps = [int(t) for t in data["timesteps"]]
-        evaluation.evaluations_results = [list(r) for r in data["results"]]
-        evaluation.evaluations_length = [list(n) for n in data["ep_lengths"]]
-        if "successes" in data.files:
-            evaluation.evaluations_successes = [list(x) for x in data["successes"]]
-    if evaluation.evaluations_results:
-        means = [float(np.mean(r)) for r in evaluation.evaluations_results]
-        evaluation.best_mean_reward = max(means)
-
-
-def _save(model, cfg: TrainConfig, where: Restart) -> None:
-    """The model, its normalization statistics and (off-policy, when the config keeps it)
-    its replay buffer, at the paths ``where`` names."""
-    where.model.parent.mkdir(parents=True, exist_ok=True)
-    model.save(where.model)
-    vec_normalize = model.get_vec_normalize_env()
-    if vec_normalize is not None:
-        vec_normalize.save(str(where.stats))
-    if cfg.checkpoint.save_replay_buffer and hasattr(model, "save_replay_buffer"):
-        model.save_replay_buffer(where.replay)
 
 
 def _timing(venv, eval_env, wall: float) -> dict[str, float]:
@@ -485,7 +357,7 @@ def plot_learning_curve(run_dir: Path) -> Path | None:
     ax.legend(loc="best")
     fig.tight_layout()
     out = run_dir / "learning_curve.png"
-    fig.savefig(out)
+    files.write_with(out, fig.savefig)
     plt.close(fig)
     return out
 
@@ -504,66 +376,51 @@ def train(
     say=print,
 ) -> Path:
     """Train ``cfg`` into ``run_dir`` (or, with ``resume``, continue the run there from its
-    newest saved state) and return the final model's path. ``say`` gets the lines that tell
-    the user what happens (the plan, each evaluation, what to do next)."""
+    newest saved state that loads) and return the final model's path. ``say`` gets the lines
+    that tell the user what happens (the plan, each evaluation, what to do next).
+
+    Nothing is written before the config and the folder are checked, and a new folder whose
+    envs or model cannot be built is removed again: a start that failed leaves nothing that
+    blocks the next."""
     cfg = resolved(cfg)  # every env parameter written down: the run replays whatever changes
-    run_dir.mkdir(parents=True, exist_ok=True)
-    restart = _restart(run_dir, cfg) if resume else None
-    meta = _meta(run_dir, cfg, command, restart)
-    dump_config(cfg, run_dir / "config.yaml")
+    files.check_writable_folder(run_dir, "--resume" if resume else "--run-dir")
+    restart, time_offset = _restart(run_dir, cfg) if resume else (None, 0.0)
     # seeding, in one place: training env i gets SeedSequence(seed).spawn(n_envs)[i] at its
     # first reset (SB3VecEnv.seed, as the env's own reset(seed=...)); a resumed run reseeds
-    # with seed + timesteps done, so it does not replay the episodes it began with; the eval
-    # env is reseeded before every evaluation
+    # with seed + timesteps done (modulo 2**32, torch's and NumPy's seed range), so it does
+    # not replay the episodes it began with; the eval env is reseeded before every evaluation
     done_steps = restart.steps if restart else 0
-    env_seed = cfg.seed + done_steps
-    seeds = {
-        "model": cfg.seed,
-        "train_envs": f"SeedSequence({env_seed}).spawn({cfg.n_envs})[i] for env i",
-        "eval_envs": f"SeedSequence({cfg.eval.seed}).spawn({cfg.eval.n_episodes})[i] for env i",
-    }
+    env_seed = (cfg.seed + done_steps) % (SEED_MAX + 1)
     # said before the envs are built: a cold numba cache compiles there (and says so)
     remaining = cfg.total_timesteps - done_steps
     planned = planned_timesteps(cfg, remaining) if remaining > 0 else 0
     for line in (_plan(cfg, run_dir, remaining, planned), *schedule_warnings(cfg, planned)):
         say(line)
-    stats = restart.stats if restart is not None and cfg.normalize.enabled else None
-    venv = make_env(
-        cfg, cfg.n_envs, env_seed, stats=stats, monitor_file=run_dir / "monitor.csv", append=resume
-    )
-    eval_env = None
-    if cfg.eval.freq > 0:
-        eval_env = make_env(cfg, cfg.eval.n_episodes, cfg.eval.seed, evaluation=True)
-    model = _model(cfg, run_dir, venv, restart, env_seed)
-    if restart is None:
-        meta["seeds"] = seeds
-    else:
-        meta.setdefault("resumes", []).append(
-            {
-                "at": meta.pop("_now"),
-                "command_line": shlex.join(command),
-                "from": str(restart.model.relative_to(run_dir)),
-                "timesteps": done_steps,
-                "seeds": seeds,
-            }
-        )
-    meta.pop("_now", None)
-    meta["total_timesteps"] = cfg.total_timesteps
-    (run_dir / "run.yaml").write_text(yaml.safe_dump(meta, sort_keys=False))
+    created = _first_missing(run_dir)
+    run_dir.mkdir(parents=True, exist_ok=True)
+    try:
+        venv, eval_env, model = _build(cfg, run_dir, restart, env_seed, time_offset)
+    except BaseException:
+        if created is not None:
+            shutil.rmtree(created, ignore_errors=True)
+        raise
+    meta = _meta(run_dir, cfg, command, restart, env_seed, str(model.device))
+    dump_config(cfg, run_dir / "config.yaml")
+    files.write_text(run_dir / "run.yaml", yaml.safe_dump(meta, sort_keys=False))
 
     start = time.perf_counter()
     try:
         if planned > 0:
             model.learn(
                 total_timesteps=planned,
-                callback=_callbacks(cfg, run_dir, eval_env, say),
+                callback=_callbacks(cfg, run_dir, venv, eval_env, say, resumed=resume),
                 tb_log_name=cfg.algorithm.name.upper(),
                 reset_num_timesteps=restart is None,
                 progress_bar=progress_bar,
             )
     except KeyboardInterrupt:
         n = model.num_timesteps
-        _save(model, cfg, _checkpoint_paths(run_dir, n))
+        save_state(model, checkpoint_paths(run_dir, n), cfg.checkpoint.save_replay_buffer)
         print(f"\ninterrupted at {n} timesteps; continue with --resume {run_dir}", file=sys.stderr)
         raise
     finally:
@@ -575,37 +432,103 @@ def train(
     )
 
 
-def _restart(run_dir: Path, cfg: TrainConfig) -> Restart:
-    """The state ``--resume`` continues from, checked, with the run's later logs dropped."""
-    restart = restart_point(run_dir)
+def _first_missing(path: Path) -> Path | None:
+    """The outermost folder of ``path`` that does not exist yet (what ``mkdir -p`` creates
+    and a failed start removes again), or None when ``path`` exists."""
+    missing = None
+    path = path.absolute()
+    while not path.exists():
+        missing, path = path, path.parent
+    return missing
+
+
+def _restart(run_dir: Path, cfg: TrainConfig) -> tuple[Restart, float]:
+    """The state ``--resume`` continues from (the newest that loads), with the folder made
+    whole again: temporary files of killed writes removed, a best model whose write a kill
+    interrupted completed, the logs past the restart point dropped. Also returns the time
+    ``monitor.csv`` had reached (its times go on from there)."""
+    files.remove_partials(run_dir)
+    restart = restart_point(run_dir, cfg.normalize.enabled, cfg.checkpoint.save_replay_buffer)
     if restart is None:
         raise RunError(
-            f"{run_dir}: nothing saved to resume from (no checkpoints/ model, no model.zip)"
+            f"{run_dir}: nothing saved to resume from (no checkpoint in checkpoints/ nor "
+            "model.zip that loads with its normalization statistics); a run stopped before "
+            "its first checkpoint starts again with another --run-dir, or after removing it"
         )
-    if cfg.normalize.enabled and not restart.stats.exists():
-        raise RunError(f"{run_dir}: {restart.model.name} has no {restart.stats.name}")
-    trim_logs(run_dir, restart)
-    return restart
+    # before the trim: a run of an older version takes its best score from the whole history
+    BestModel.open(run_dir / "best", EvalLog.load(run_dir / "eval"))
+    return restart, trim_logs(run_dir, restart)
 
 
-def _meta(run_dir: Path, cfg: TrainConfig, command: list[str], restart: Restart | None) -> dict:
-    """``run.yaml``'s contents: read back on a resume, else what describes a new run."""
+def _build(cfg: TrainConfig, run_dir: Path, restart: Restart | None, env_seed: int, offset: float):
+    """The training env, the eval env (None without evaluations) and the model."""
+    stats = restart.stats if restart is not None and cfg.normalize.enabled else None
+    venv = make_env(
+        cfg,
+        cfg.n_envs,
+        env_seed,
+        stats=stats,
+        monitor_file=run_dir / "monitor.csv",
+        append=restart is not None,
+        start_timesteps=restart.steps if restart else 0,
+        time_offset_s=offset,
+    )
+    eval_env = None
+    try:
+        if cfg.eval.freq > 0:
+            eval_env = make_env(cfg, cfg.eval.n_episodes, cfg.eval.seed, evaluation=True)
+        return venv, eval_env, _model(cfg, run_dir, venv, restart, env_seed)
+    except BaseException:
+        for env in (venv, eval_env):
+            if env is not None:
+                env.close()
+        raise
+
+
+def _meta(
+    run_dir: Path,
+    cfg: TrainConfig,
+    command: list[str],
+    restart: Restart | None,
+    env_seed: int,
+    device: str,
+) -> dict:
+    """``run.yaml``'s contents: a new run's description, or the run's own with this resume
+    added. ``device`` is where the model is (``auto`` resolved)."""
     now = datetime.datetime.now().isoformat(timespec="seconds")
-    path = run_dir / "run.yaml"
-    if restart is not None:
-        meta = yaml.safe_load(path.read_text()) if path.exists() else {}
-        return {**(meta or {}), "_now": now}
-    return {
-        "env_id": cfg.env_id,
-        "env_version": int(cfg.env_id.rsplit("-v", 1)[1]),
-        "algorithm": cfg.algorithm.name,
-        "command": command,
-        "command_line": shlex.join(command),
-        "cwd": str(Path.cwd()),
-        "git": git_revision(),
-        "started": now,
-        "versions": versions(),
+    seeds = {
+        "model": cfg.seed,
+        "train_envs": f"SeedSequence({env_seed}).spawn({cfg.n_envs})[i] for env i",
+        "eval_envs": f"SeedSequence({cfg.eval.seed}).spawn({cfg.eval.n_episodes})[i] for env i",
     }
+    if restart is None:
+        meta = {
+            "env_id": cfg.env_id,
+            "env_version": int(cfg.env_id.rsplit("-v", 1)[1]),
+            "algorithm": cfg.algorithm.name,
+            "command": command,
+            "command_line": shlex.join(command),
+            "cwd": str(Path.cwd()),
+            "git": git_revision(),
+            "started": now,
+            "versions": versions(),
+            "seeds": seeds,
+        }
+    else:
+        meta = read_run_meta(run_dir)
+        meta.setdefault("resumes", []).append(
+            {
+                "at": now,
+                "command_line": shlex.join(command),
+                "from": str(restart.model.relative_to(run_dir)),
+                "timesteps": restart.steps,
+                "seeds": seeds,
+                "device": device,
+            }
+        )
+    meta["device"] = device
+    meta["total_timesteps"] = cfg.total_timesteps
+    return meta
 
 
 def _model(cfg: TrainConfig, run_dir: Path, venv, restart: Restart | None, env_seed: int):
@@ -630,24 +553,15 @@ def _model(cfg: TrainConfig, run_dir: Path, venv, restart: Restart | None, env_s
     return model
 
 
-def _checkpoint_paths(run_dir: Path, steps: int) -> Restart:
-    """Where a checkpoint at ``steps`` goes (CheckpointCallback's naming)."""
-    model = run_dir / "checkpoints" / f"{CHECKPOINT_PREFIX}_{steps}_steps.zip"
-    replay = model.with_name(f"{CHECKPOINT_PREFIX}_replay_buffer_{steps}_steps.pkl")
-    return Restart(steps, model, checkpoint_stats(model), replay)
-
-
 def _finish(model, cfg: TrainConfig, run_dir: Path, meta: dict, timing: dict, say) -> Path:
     """Save the final model, close ``run.yaml``, chart the run and say what to do next."""
     steps = int(model.num_timesteps)
-    final = Restart(
-        steps, run_dir / "model.zip", run_dir / "vecnormalize.pkl", run_dir / "replay_buffer.pkl"
-    )
-    _save(model, cfg, final)
+    final = final_paths(run_dir, steps)
+    save_state(model, final, cfg.checkpoint.save_replay_buffer)
     meta.setdefault("timing", []).append(timing)
     meta["num_timesteps"] = steps
     meta["finished"] = datetime.datetime.now().isoformat(timespec="seconds")
-    (run_dir / "run.yaml").write_text(yaml.safe_dump(meta, sort_keys=False))
+    files.write_text(run_dir / "run.yaml", yaml.safe_dump(meta, sort_keys=False))
     plot_learning_curve(run_dir)
     best = (run_dir / "best" / "best_model.zip").is_file()
     for line in _next_steps(run_dir, timing, best=best):
@@ -732,8 +646,12 @@ def _run_folder(args: argparse.Namespace) -> tuple[TrainConfig, Path]:
     if args.resume is not None:
         if args.config is not None or args.run_dir is not None:
             raise RunError("--resume RUN takes its config and folder from RUN")
+        if not args.resume.is_dir():
+            what = "not a folder" if args.resume.exists() else "run folder not found"
+            raise RunError(f"--resume {args.resume}: {what}")
         if not (args.resume / "config.yaml").is_file():
-            raise RunError(f"{args.resume}: not a run folder (no config.yaml)")
+            raise RunError(f"--resume {args.resume}: not a run folder (no config.yaml)")
+        files.check_writable_folder(args.resume, "--resume")
         return load_config(args.resume / "config.yaml", args.overrides), args.resume
     if args.config is None:
         raise RunError(
@@ -742,6 +660,7 @@ def _run_folder(args: argparse.Namespace) -> tuple[TrainConfig, Path]:
     cfg = load_config(args.config, args.overrides)
     stamp = datetime.datetime.now().strftime("%Y%m%d-%H%M%S")
     run_dir = args.run_dir or Path("runs") / f"{cfg.env_name}-{cfg.algorithm.name}-{stamp}"
+    files.check_writable_folder(run_dir, "--run-dir")
     if (run_dir / "config.yaml").exists():
         raise RunError(f"{run_dir} already holds a run (use --resume to continue it)")
     return cfg, run_dir

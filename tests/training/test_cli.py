@@ -122,7 +122,11 @@ def test_train_writes_a_self_describing_run_folder(run):
     assert all(np.isfinite(float(r["mean_return"])) for r in rows)
     assert all(0.0 <= float(r["success_rate"]) <= 1.0 for r in rows)
     monitor = (run / "monitor.csv").read_text().splitlines()
-    assert monitor[1] == "r,l,t,success" and len(monitor) > 10
+    # SB3's columns, then the run's timesteps at each episode's end (what a resume trims by)
+    assert monitor[1] == "r,l,t,success,timesteps" and len(monitor) > 10
+    assert meta["device"] == "cpu"  # where the model was (auto resolved)
+    best = yaml.safe_load((run / "best" / "best.yaml").read_text())
+    assert best["mean_return"] == pytest.approx(max(float(r["mean_return"]) for r in rows))
     assert (run / "learning_curve.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
@@ -287,18 +291,39 @@ def test_evaluate_writes_a_rerun_recording(run, tmp_path):
     assert list(rows) == ["trained PPO", *baselines()]
 
 
-def test_resume_continues_an_interrupted_run(run, tmp_path):
+def monitor_rows(run: Path) -> list[dict[str, str]]:
+    lines = (run / "monitor.csv").read_text().splitlines()
+    assert sum(line.startswith("r,l,t,") for line in lines) == 1  # one header
+    return list(csv.DictReader(lines[1:]))
+
+
+def history_rows(run: Path) -> list[dict[str, str]]:
+    with (run / "eval" / "history.csv").open() as f:
+        return list(csv.DictReader(f))
+
+
+def test_resume_continues_an_interrupted_run(run, tmp_path, capsys):
+    """A run killed after its first checkpoint while it wrote the second in place (left
+    truncated) resumes from the first, saying which it skipped and why; its best model stays
+    unless an evaluation beats it; its evaluation history and its episodes go on from the
+    checkpoint, without the lost stretch and with times that never step back."""
     run = copy_run(run, tmp_path)
-    # interrupted after the first checkpoint: drop what came later
-    for name in (
-        "model.zip",
-        "vecnormalize.pkl",
-        "checkpoints/model_2048_steps.zip",
-        "checkpoints/model_vecnormalize_2048_steps.pkl",
-    ):
+    for name in ("model.zip", "vecnormalize.pkl"):
         (run / name).unlink()
+    newest = run / "checkpoints" / "model_2048_steps.zip"
+    newest.write_bytes(newest.read_bytes()[:2000])
+    # the best score of an evaluation in the lost stretch, out of reach of the resumed run
+    score = yaml.safe_load((run / "best" / "best.yaml").read_text())
+    (run / "best" / "best.yaml").write_text(yaml.safe_dump({**score, "mean_return": 1e9}))
+    best_model = (run / "best" / "best_model.zip").read_bytes()
+    history = [r for r in history_rows(run) if int(r["timesteps"]) <= 1024]
+    episodes = [r for r in monitor_rows(run) if int(r["timesteps"]) <= 1024]
+    npz = np.load(run / "eval" / "evaluations.npz")["results"][:1]
+
     # in-process (the CLI's main, without the interpreter start-up of the tests above)
     assert train_cli.main(["--resume", str(run), "--no-progress-bar"]) == 0
+    err = capsys.readouterr().err
+    assert "--resume: skipped checkpoints/model_2048_steps.zip: the model does not load" in err
     from stable_baselines3 import PPO
 
     assert PPO.load(run / "model.zip", device="cpu").num_timesteps == 2048
@@ -306,29 +331,96 @@ def test_resume_continues_an_interrupted_run(run, tmp_path):
     meta = yaml.safe_load((run / "run.yaml").read_text())
     (resumed,) = meta["resumes"]
     assert resumed["from"] == "checkpoints/model_1024_steps.zip" and resumed["timesteps"] == 1024
-    assert "--resume" in resumed["command_line"]
+    assert "--resume" in resumed["command_line"] and resumed["device"] == "cpu"
     assert meta["num_timesteps"] == 2048
-    # the lost stretch's evaluation (2048) dropped, then evaluated again: once each
-    with (run / "eval" / "history.csv").open() as f:
-        steps = [int(r["timesteps"]) for r in csv.DictReader(f)]
-    assert steps == [1024, 2048]
-    assert np.load(run / "eval" / "evaluations.npz")["timesteps"].tolist() == [1024, 2048]
-    monitor = (run / "monitor.csv").read_text()
-    assert monitor.count("r,l,t,success") == 1  # one header, rows of both sessions
+    # no worse evaluation replaced the best
+    assert (run / "best" / "best_model.zip").read_bytes() == best_model
+    assert yaml.safe_load((run / "best" / "best.yaml").read_text())["mean_return"] == 1e9
+    # the lost stretch's evaluation (2048) dropped, then evaluated again: once each, the
+    # evaluation before the checkpoint as it was
+    rows = history_rows(run)
+    assert [int(r["timesteps"]) for r in rows] == [1024, 2048] and rows[0] == history[0]
+    saved = np.load(run / "eval" / "evaluations.npz")
+    assert saved["timesteps"].tolist() == [1024, 2048]
+    np.testing.assert_array_equal(saved["results"][:1], npz)
+    # the episodes up to the checkpoint as they were, then the resumed run's, after it
+    after = monitor_rows(run)
+    assert after[: len(episodes)] == episodes
+    assert all(int(r["timesteps"]) > 1024 for r in after[len(episodes) :])
+    assert len(after) > len(episodes)
+    times = [float(r["t"]) for r in after]
+    assert times == sorted(times)
+    steps = [int(r["timesteps"]) for r in after]
+    assert steps == sorted(steps) and steps[-1] <= 2048
 
 
-def test_a_resumed_evaluation_keeps_the_runs_best_score(run, tmp_path):
-    """A resumed run's EvalCallback starts from the run's evaluations: a new best must beat
-    the best before the interruption, not minus infinity."""
-    from types import SimpleNamespace
+@pytest.mark.parametrize(
+    ("damage", "why"),
+    [
+        ("empty zip", "the model does not load"),
+        ("zip without data", "the zip holds no model data"),
+        ("statistics missing", "its statistics model_vecnormalize_2048_steps.pkl are missing"),
+        ("statistics truncated", "model_vecnormalize_2048_steps.pkl does not load"),
+    ],
+)
+def test_resume_falls_back_to_the_newest_checkpoint_that_loads(run, tmp_path, damage, why):
+    run = copy_run(run, tmp_path)
+    model, stats = (run / "checkpoints" / f"model{p}_2048_steps" for p in ("", "_vecnormalize"))
+    model, stats = model.with_suffix(".zip"), stats.with_suffix(".pkl")
+    if damage == "empty zip":
+        model.write_bytes(b"")
+    elif damage == "zip without data":
+        with zipfile.ZipFile(model, "w") as z:
+            z.writestr("readme.txt", "no model here")
+    elif damage == "statistics missing":
+        stats.unlink()
+    else:
+        stats.write_bytes(stats.read_bytes()[:100])
+    (run / "model.zip").write_bytes(b"")  # the final model, damaged too: skipped first
+    said = []
+    restart = train_cli.restart_point(run, normalize=True, say=said.append)
+    assert restart.steps == 1024 and restart.model.name == "model_1024_steps.zip"
+    assert said[0].startswith("--resume: skipped model.zip: the model does not load")
+    assert said[1].startswith(f"--resume: skipped checkpoints/model_2048_steps.zip: {why}")
+
+
+def test_a_run_folder_keeps_its_best_score(run, tmp_path, capsys):
+    """best/best.yaml holds the best evaluation's score, which a resume reads back; a run of
+    an older version, without it, takes the best of its whole evaluation history (before the
+    resume trims it)."""
+    from fluidsim_envs.rl.runs import BestModel, EvalLog
 
     run = copy_run(run, tmp_path)
-    evaluation = SimpleNamespace(best_mean_reward=-np.inf)
-    train_cli._continue_evaluations(evaluation, run)
-    with (run / "eval" / "history.csv").open() as f:
-        means = [float(r["mean_return"]) for r in csv.DictReader(f)]
-    assert evaluation.best_mean_reward == pytest.approx(max(means), rel=1e-12)
-    assert evaluation.evaluations_timesteps == [1024, 2048]
+    rows = history_rows(run)
+    best_row = max(rows, key=lambda r: float(r["mean_return"]))
+    best = BestModel.open(run / "best")
+    assert best.score == pytest.approx(float(best_row["mean_return"]), rel=1e-6)
+    assert best.record["timesteps"] == int(best_row["timesteps"])
+    (run / "best" / "best.yaml").unlink()
+    best = BestModel.open(run / "best", EvalLog.load(run / "eval"))
+    assert best.score == pytest.approx(float(best_row["mean_return"]), rel=1e-12)
+    assert "has no best.yaml: its score is taken as the best of" in capsys.readouterr().err
+    assert yaml.safe_load((run / "best" / "best.yaml").read_text())["mean_return"] == best.score
+
+
+def test_a_start_that_fails_leaves_nothing_that_blocks_a_retry(tmp_path, monkeypatch):
+    """A new run whose model cannot be built removes the folders it created; a folder that
+    was there before stays, without a config.yaml that would make it 'already a run'."""
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("no model today")
+
+    monkeypatch.setattr(train_cli, "_model", broken)
+    run_dir = tmp_path / "new" / "run"
+    args = ["paper_airplane_ppo", "--set", *TINY, "--no-progress-bar", "--run-dir", str(run_dir)]
+    with pytest.raises(RuntimeError, match="no model today"):
+        train_cli.main(args)
+    assert not (tmp_path / "new").exists()
+    run_dir.mkdir(parents=True)
+    (run_dir / "notes.txt").write_text("mine")
+    with pytest.raises(RuntimeError, match="no model today"):
+        train_cli.main(args)
+    assert (run_dir / "notes.txt").is_file() and not (run_dir / "config.yaml").exists()
 
 
 def test_resume_a_finished_run_for_more_steps(run, tmp_path, capsys):

@@ -77,7 +77,7 @@ def test_overrides_reach_nested_keys_and_read_values_as_yaml():
         (["policy.activation_fn=swish"], r"activation_fn must be one of \['tanh', 'relu'"),
         (["policy.net_arch={pi: [8], qf: [8]}"], r"must name the heads \['pi', 'vf'\]"),
         (["algorithm.name=dqn"], r"algorithm.name must be one of \['ppo', 'sac'\], got 'dqn'"),
-        (["algorithm.gamma=1.5"], r"algorithm: gamma must be a finite number in \(0, 1\], got 1.5"),
+        (["algorithm.gamma=1.5"], r"algorithm.gamma must be a finite number in \(0, 1\], got 1.5"),
         (["algorithm.batch_size=4096", "n_envs=2"], r"batch_size \(4096\) must be at most"),
         (["env_id=fluidsim/Nope-v0"], r"env_id must be one of \['fluidsim/BoatOnStep-v0'"),
         (["env_kwargs.wingspan_m=1"], r"env_kwargs: .*unknown parameter\(s\) \['wingspan_m'\]"),
@@ -114,7 +114,7 @@ def test_algorithm_sections_are_typed_per_algorithm():
     )
     assert isinstance(sac.algorithm, SACConfig) and sac.algorithm.ent_coef == 0.1
     assert isinstance(config_from_dict(MINIMAL).algorithm, PPOConfig)
-    with pytest.raises(ConfigError, match="ent_coef must be a number, 'auto'"):
+    with pytest.raises(ConfigError, match="ent_coef must be a number > 0, 'auto'"):
         config_from_dict(apply_overrides(MINIMAL, ["algorithm={name: sac, ent_coef: big}"]))
     with pytest.raises(ConfigError, match="ortho_init applies to ppo only"):
         config_from_dict(

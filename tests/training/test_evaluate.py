@@ -121,7 +121,7 @@ def test_an_env_override_reaches_the_env(tmp_path):
         ("integrator=rk5", "integrator must be one of"),
         ("max_episode_steps=[1,2]", "max_episode_steps"),
         ("max_episode_steps", "--env expects KEY=VALUE, got 'max_episode_steps'"),
-        ("dt=[", "--env 'dt=[': the value is not valid YAML"),
+        ("dt=[", "--env 'dt=[': the value: not valid YAML"),
     ],
 )
 def test_a_bad_override_is_an_error_that_names_it(tmp_path, capsys, override, named):

@@ -1,0 +1,174 @@
+"""The Stable-Baselines3 parts of a run that write into its folder, written so that a kill at
+any moment leaves it resumable (see :mod:`.runs`):
+
+- :class:`Checkpoints`: SB3's ``CheckpointCallback`` with atomic writes, the model zip last;
+- :class:`Evaluations`: SB3's ``EvalCallback`` with atomic writes, the best model replaced
+  only by a better score than the run's best so far (kept in ``best/best.yaml`` across
+  resumes), and the evaluation history continued;
+- :class:`RunMonitor`: SB3's ``VecMonitor`` whose ``monitor.csv`` rows carry the run's
+  timesteps and whose time column goes on across resumes.
+
+Both callbacks act when the run's timesteps reach a multiple of their period, not every so
+many calls of this session: a resumed run keeps the schedule it began with.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+import numpy as np
+from stable_baselines3.common.callbacks import BaseCallback
+from stable_baselines3.common.evaluation import evaluate_policy
+from stable_baselines3.common.monitor import ResultsWriter
+from stable_baselines3.common.vec_env import VecMonitor, sync_envs_normalization
+
+from .runs import MONITOR_STEPS, BestModel, EvalLog, checkpoint_paths, save_state
+
+
+class Checkpoints(BaseCallback):
+    """Every ``period`` timesteps: the model, its normalization statistics and (``replay``)
+    its replay buffer into ``run_dir/checkpoints`` (:func:`~.runs.save_state`)."""
+
+    def __init__(self, run_dir: Path, period: int, replay: bool) -> None:
+        super().__init__()
+        self.run_dir, self.period, self.replay = run_dir, period, replay
+
+    def _on_step(self) -> bool:
+        if self.num_timesteps % self.period == 0:
+            save_state(self.model, checkpoint_paths(self.run_dir, self.num_timesteps), self.replay)
+        return True
+
+
+#: what :class:`Evaluations` tells after each evaluation: timesteps, the episodes' returns,
+#: their successes, whether the model became the new best
+Report = Callable[[int, Sequence[float], Sequence[float], bool], None]
+
+
+class Evaluations(BaseCallback):
+    """Every ``period`` timesteps: ``n_episodes`` deterministic episodes on ``eval_env``
+    (reseeded with ``seed`` first, so each evaluation flies the same ones; normalized with the
+    training env's statistics of the moment). Then, in this order: the best model when the
+    mean return beats ``best``'s score, the evaluation into ``log`` (saved), TensorBoard's
+    ``eval/`` scalars, and ``report``.
+
+    Put it before :class:`Checkpoints` in the callback list: a checkpoint at the same step
+    then comes after the evaluation is saved, so a resume from it never lacks it, and a kill
+    during it leaves the previous checkpoint, from which the evaluation runs again."""
+
+    def __init__(
+        self,
+        eval_env,
+        period: int,
+        n_episodes: int,
+        seed: int,
+        log: EvalLog,
+        best: BestModel,
+        report: Report,
+    ) -> None:
+        super().__init__()
+        self.eval_env, self.period, self.n_episodes, self.seed = eval_env, period, n_episodes, seed
+        self.log, self.best, self.report = log, best, report
+
+    def _on_step(self) -> bool:
+        if self.num_timesteps % self.period:
+            return True
+        returns, lengths, successes = self._episodes()
+        mean = float(np.mean(returns))
+        new_best = mean > self.best.score
+        if new_best:
+            self.best.save(self.model, self._record(returns, successes))
+        self.log.add(self.num_timesteps, returns, lengths, successes)
+        self.log.save()
+        self._to_logger(returns, lengths, successes)
+        self.report(self.num_timesteps, returns, successes, new_best)
+        return True
+
+    def _episodes(self) -> tuple[list[float], list[int], list[float]]:
+        """Returns, lengths and (where the env reports ``is_success``) successes."""
+        if self.model.get_vec_normalize_env() is not None:
+            sync_envs_normalization(self.training_env, self.eval_env)
+        self.eval_env.seed(self.seed)
+        successes: list[float] = []
+
+        def on_step(local_vars: dict, _globals: dict) -> None:
+            flag = local_vars["info"].get("is_success") if local_vars["done"] else None
+            if flag is not None:
+                successes.append(float(flag))
+
+        returns, lengths = evaluate_policy(
+            self.model,
+            self.eval_env,
+            n_eval_episodes=self.n_episodes,
+            deterministic=True,
+            return_episode_rewards=True,
+            callback=on_step,
+        )
+        return list(returns), list(lengths), successes
+
+    def _record(self, returns, successes) -> dict:
+        return {
+            "mean_return": float(np.mean(returns)),
+            "std_return": float(np.std(returns)),
+            "success_rate": float(np.mean(successes)) if successes else None,
+            "timesteps": int(self.num_timesteps),
+            "evaluated": time.strftime("%Y-%m-%dT%H:%M:%S"),
+        }
+
+    def _to_logger(self, returns, lengths, successes) -> None:
+        """TensorBoard's ``eval/`` scalars, written at this step (as SB3's EvalCallback)."""
+        self.logger.record("eval/mean_reward", float(np.mean(returns)))
+        self.logger.record("eval/mean_ep_length", float(np.mean(lengths)))
+        if successes:
+            self.logger.record("eval/success_rate", float(np.mean(successes)))
+        self.logger.record("time/total_timesteps", self.num_timesteps, exclude="tensorboard")
+        self.logger.dump(self.num_timesteps)
+
+
+class _StampedWriter(ResultsWriter):
+    """``monitor.csv``'s writer: each row gets the run's timesteps when it is written."""
+
+    def __init__(self, monitor: RunMonitor, *args, **kwargs) -> None:
+        self.monitor = monitor
+        super().__init__(*args, **kwargs)
+
+    def write_row(self, epinfo: dict) -> None:
+        super().write_row({**epinfo, MONITOR_STEPS: self.monitor.timesteps})
+
+
+class RunMonitor(VecMonitor):
+    """``VecMonitor`` writing ``path`` (``monitor.csv``; appended to with ``append``) whose
+    rows carry, besides SB3's ``r, l, t`` and ``info_keywords``, the run's timesteps when the
+    episode ended (``start_timesteps`` plus ``num_envs`` per step, as SB3 counts its
+    ``num_timesteps``). Its time column goes on from ``time_offset_s`` (a resumed run: the
+    time its rows had reached), so it never steps back."""
+
+    def __init__(
+        self,
+        venv,
+        path: Path,
+        env_id: str,
+        info_keywords: tuple[str, ...] = (),
+        *,
+        start_timesteps: int = 0,
+        time_offset_s: float = 0.0,
+        append: bool = False,
+    ) -> None:
+        super().__init__(venv, info_keywords=info_keywords)
+        self.timesteps = start_timesteps
+        self.t_start -= time_offset_s  # VecMonitor's t is time.time() - t_start
+        self.results_writer = _StampedWriter(
+            self,
+            str(path),
+            header={"t_start": self.t_start, "env_id": env_id},
+            extra_keys=(*info_keywords, MONITOR_STEPS),
+            override_existing=not append,
+        )
+
+    def step_wait(self):
+        self.timesteps += self.num_envs
+        return super().step_wait()
+
+
+__all__ = ["Checkpoints", "Evaluations", "RunMonitor"]
