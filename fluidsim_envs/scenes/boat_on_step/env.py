@@ -9,6 +9,7 @@ import numpy as np
 
 from ...craft.buoy import MarkerBuoy
 from ...physics import Craft, Simulator, World
+from ...physics import checks as CK
 from ...physics.hydrostatics import static_float
 from ...physics.kernels import INTEGRATORS
 from ..base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
@@ -70,6 +71,9 @@ class BoatOnStepParams:
 
     def __post_init__(self) -> None:
         own = "BoatOnStep-v0"
+        # NumPy scalars (np.float32(0.01), np.int64(4)) as the Python numbers they hold, then
+        # checked: the simulator and the kernels then see one type per parameter
+        CK.plain_fields(self)
         check_number(own, "dt", self.dt, 1e-5, 0.05)
         check_number(own, "substeps", self.substeps, 1, 1000, integer=True)
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))

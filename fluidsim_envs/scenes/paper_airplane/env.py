@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...physics import Craft, Ground, Simulator, World
+from ...physics import checks as CK
 from ...physics.kernels import INTEGRATORS, quat_matrices
 from ..base import FluidEnv, FluidVectorEnv, check_choice, check_number, check_range
 from . import kernel as TK
@@ -50,6 +51,9 @@ class PaperAirplaneParams:
 
     def __post_init__(self) -> None:
         own = "PaperAirplane-v0"
+        # NumPy scalars (np.float32(0.01), np.int64(4)) as the Python numbers they hold, then
+        # checked: the simulator and the kernels then see one type per parameter
+        CK.plain_fields(self)
         check_number(own, "dt", self.dt, 1e-5, 0.1)
         check_number(own, "substeps", self.substeps, 1, 1000, integer=True)
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...physics import Craft, Simulator, WakeField, World
+from ...physics import checks as CK
 from ...physics.forces import thrust_control
 from ...physics.kernels import INTEGRATORS
 from ...physics.wake import NSRC as WAKE_SOURCE_ROWS
@@ -71,6 +72,9 @@ class SubmarineWakeParams:
 
     def __post_init__(self) -> None:
         own = "SubmarineWake-v0"
+        # NumPy scalars (np.float32(0.01), np.int64(4)) as the Python numbers they hold, then
+        # checked: the simulator and the kernels then see one type per parameter
+        CK.plain_fields(self)
         check_number(own, "dt", self.dt, 1e-5, 0.5)
         check_number(own, "substeps", self.substeps, 1, 1000, integer=True)
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
@@ -92,7 +96,7 @@ class SubmarineWakeParams:
         for key in ("start_error_m", "start_heading_deg", "success_radius_m"):
             check_number(own, key, getattr(self, key), 0.0)
         check_number(own, "success_fraction", self.success_fraction, 0.0, 1.0)
-        check_choice(own, "wake", self.wake, (True, False))
+        CK.flag(own, "wake", self.wake)  # True or False: 1 is no switch
         check_number(own, "screws", self.screws, 1, 2, integer=True)
         check_number(own, "circulation", self.circulation, 0.0, 10.0)
         check_number(own, "noise", self.noise, 0.0, 10.0)
