@@ -114,7 +114,7 @@ def _check_table(where: str, path: str, data: Any, cls: type) -> None:
         )
     missing = [f.name for f in fields(cls) if f.default is MISSING and f.name not in data]
     if missing:
-        raise CraftError(f"{where}: {path} lacks required key(s) {missing}; got {CK.show(data)}")
+        raise CraftError(f"{where}: {path}: missing required key(s) {missing}; got {CK.show(data)}")
     for f in fields(cls):
         if f.name not in data:
             continue

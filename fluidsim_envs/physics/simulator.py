@@ -221,7 +221,14 @@ class Simulator:
         world = World() if world is None else world
         if not isinstance(world, World):
             raise TypeError(f"Simulator: world must be a World, got {CK.show(world)}")
-        num_envs = CK.number("Simulator", "num_envs", num_envs, ge=1, integer=True)
+        if (
+            isinstance(num_envs, bool)
+            or not isinstance(num_envs, (int, np.integer))
+            or num_envs < 1
+        ):
+            raise ValueError(
+                f"Simulator: num_envs must be a positive integer, got {CK.show(num_envs)}"
+            )
         dt = CK.number("Simulator", "dt", dt, gt=0.0)
         method = IT.get(integrator) if isinstance(integrator, str) else None
         if method is None:
@@ -924,7 +931,9 @@ class Simulator:
             if not (np.abs(a) <= 1.0).all():  # one pass; NaN fails it too
                 if not np.isfinite(a).all():
                     bad = tuple(int(i) for i in np.argwhere(~np.isfinite(a))[0])
-                    raise ValueError(f"controls contain {a[bad]} at {bad}: they must be finite")
+                    raise ValueError(
+                        f"controls must be finite (no NaN or inf), got {a[bad]} at {bad}"
+                    )
                 raise ValueError(
                     f"controls must lie in [-1, 1], got values up to {np.abs(a).max():.6g}"
                 )
