@@ -848,11 +848,13 @@ class Simulator:
                     f"environment) or [{width}] (one row for all)"
                 )
         try:
-            return CK.array(what, name, arr, (n, B, width))
-        except ValueError as err:  # say which shapes would do
+            return np.broadcast_to(arr, (n, B, width))
+        except ValueError:  # say which shapes would do
+            per_env = f", [{n}, {width}] (a row per environment)" if B == 1 else ""
             raise ValueError(
-                f"{err}; pass [{n}, {B}, {width}], [{B}, {width}] (a row per body) or [{width}]"
-                + (f", or [{n}, {width}] (a row per environment)" if B == 1 else "")
+                f"{what}: {name} of shape {list(np.shape(value))} does not broadcast to "
+                f"[{n}, {B}, {width}], got {CK.show(value)}; pass [{n}, {B}, {width}], "
+                f"[{B}, {width}] (a row per body){per_env} or [{width}]"
             ) from None
 
     def reset(
