@@ -840,12 +840,12 @@ class Simulator:
             if B == 1:
                 arr = arr[:, None, :]
             elif arr.shape[0] == B and B in (n, E):
+                alike = f", [1, {B}, {width}] (alike in every environment)" if n > 1 else ""
                 raise ValueError(
                     f"{what}: {name} of shape {list(arr.shape)} is ambiguous with "
                     f"{n if n == B else E} environments of {B} bodies (a row per environment "
                     f"or per body?): pass [{n}, {B}, {width}] (a row per body in each "
-                    f"environment), [1, {B}, {width}] (a row per body, alike in every "
-                    f"environment) or [{width}] (one row for all)"
+                    f"environment){alike} or [{width}] (one row for all)"
                 )
         try:
             return np.broadcast_to(arr, (n, B, width))
