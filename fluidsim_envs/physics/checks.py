@@ -175,7 +175,7 @@ def array(where: str, key: str, value: Any, shape=None, error=ValueError) -> np.
                 f"got {show(value)}"
             ) from None
     if not np.all(np.isfinite(arr)):
-        raise error(f"{where}: {key} has non-finite values (NaN or inf): {show(value)}")
+        raise error(f"{where}: {key} has non-finite values: {show(value)}")
     return arr
 
 

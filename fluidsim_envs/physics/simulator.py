@@ -852,7 +852,7 @@ class Simulator:
         except ValueError:  # say which shapes would do
             per_env = f", [{n}, {width}] (a row per environment)" if B == 1 else ""
             raise ValueError(
-                f"{what}: {name} of shape {list(np.shape(value))} does not broadcast to "
+                f"{what}: {name} of shape {np.shape(value)} does not broadcast to "
                 f"[{n}, {B}, {width}], got {CK.show(value)}; pass [{n}, {B}, {width}], "
                 f"[{B}, {width}] (a row per body){per_env} or [{width}]"
             ) from None

@@ -233,8 +233,9 @@ class FluidVectorEnv(VectorEnv):
             return np.arange(self.num_envs)
         valid = list(self.RESET_OPTIONS)
         if not isinstance(options, dict):
-            raise ValueError(f"reset: options must be a dict (keys {valid}) or None, got "
-                             f"{CK.show(options)}")  # fmt: skip
+            raise ValueError(
+                f"reset: options must be a dict (keys {valid}) or None, got {CK.show(options)}"
+            )
         unknown = [k for k in options if k not in valid]
         if unknown:
             raise ValueError(f"reset: unknown option(s) {unknown}; valid options are {valid}")

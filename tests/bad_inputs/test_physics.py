@@ -168,7 +168,7 @@ def sim_rows() -> list[Row]:
         Row("pair-torque", lambda: pair().set_external_force(0.0, np.zeros((2, 3))), V,
             ["torque_nm", "ambiguous"]),
         Row("pair-pos-3-rows", lambda: pair().reset(pos=np.zeros((3, 3))), V,
-            ["pos", "[3, 3]", "does not broadcast", "[2, 2, 3]"]),
+            ["pos", "(3, 3)", "does not broadcast", "[2, 2, 3]"]),
         Row("three-inertia-tensor", lambda: three().set_mass_properties(inertia_kgm2=np.eye(3)),
             V, ["inertia_kgm2", "[3, 3]", "ambiguous", "[1, 3, 3]"]),
         # ---- step
