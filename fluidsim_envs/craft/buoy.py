@@ -30,6 +30,7 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..physics import checks as CK
 from .hull import to_toml
 
 WATER_DENSITY_KGM3 = 1025.0  # World's default sea water: the draft is computed for it
@@ -52,10 +53,14 @@ class MarkerBuoy:
     friction: float = 0.3
 
     def __post_init__(self) -> None:
+        CK.plain_fields(self)  # NumPy scalars as Python numbers, each then checked
+        if not isinstance(self.name, str):
+            raise ValueError(f"MarkerBuoy: name must be a string, got {CK.show(self.name)}")
         for key in ("radius_m", "mass_kg", "gyradius_m", "drag_cd", "mooring_period_s"):
-            v = getattr(self, key)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ValueError(f"MarkerBuoy: {key} must be a positive number, got {v!r}")
+            CK.number("MarkerBuoy", key, getattr(self, key), gt=0.0)
+        for key in ("ballast_drop_m", "heave_damping_area_m2", "friction"):
+            CK.number("MarkerBuoy", key, getattr(self, key), ge=0.0)
+        CK.number("MarkerBuoy", "restitution", self.restitution, ge=0.0, le=1.0)
         if not 0.0 <= self.ballast_drop_m < self.radius_m:
             raise ValueError(
                 f"MarkerBuoy: ballast_drop_m must lie in [0, radius_m), got {self.ballast_drop_m!r}"

@@ -38,8 +38,10 @@ How the hull becomes samples (body frame at the center of gravity, x forward, y 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
+
+from ..physics import checks as CK
 
 
 @dataclass(frozen=True)
@@ -71,6 +73,30 @@ class VHull:
     tab_area_m2: float = 0.035  # per tab; two tabs
     max_tab_deg: float = 15.0  # trailing edge down from flush
     skeg_area_m2: float = 0.06
+
+    def __post_init__(self) -> None:
+        """Types and signs, each named: a bad dimension would otherwise fail deep in the
+        geometry (a float station count in range(), a string in a product)."""
+        CK.plain_fields(self)
+        if not isinstance(self.name, str):
+            raise ValueError(f"VHull: name must be a string, got {CK.show(self.name)}")
+        signs = {"min_thrust_n": {"le": 0.0}, "transom_taper_m": {"ge": 0.0}}
+        for f in fields(self):
+            if f.name in ("name", "gyradius_m"):
+                continue
+            if f.name in ("stations", "strips"):
+                CK.number("VHull", f.name, getattr(self, f.name), ge=1, integer=True)
+            elif f.name in ("deadrise_deg", "bow_deadrise_deg"):
+                CK.number("VHull", f.name, getattr(self, f.name), gt=0.0, lt=90.0)
+            else:
+                CK.number("VHull", f.name, getattr(self, f.name), **signs.get(f.name, {"gt": 0.0}))
+        radii = CK.vector("VHull", "gyradius_m", self.gyradius_m)
+        for i, r in enumerate(radii):
+            CK.number("VHull", f"gyradius_m[{i}]", r, gt=0.0)
+        if self.run_m >= self.length_m:
+            raise ValueError(
+                f"VHull: run_m ({self.run_m!r}) must be shorter than length_m ({self.length_m!r})"
+            )
 
     def station(self, s: float) -> tuple[float, float, float]:
         """Chine half-beam, keel height above the transom keel, deadrise (rad) at distance s

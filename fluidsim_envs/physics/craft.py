@@ -67,8 +67,65 @@ def _unit(where: str, key: str, value: Any) -> Vec3:
     return CK.direction(where, key, value, error=CraftError)
 
 
-def _check_keys(where: str, data: dict, cls: type, required: tuple[str, ...]) -> None:
-    CK.keys(where, data, [f.name for f in fields(cls)], required, error=CraftError)
+def _name(where: str, key: str, value: Any) -> str:
+    if not isinstance(value, str):
+        raise CraftError(f"{where}: {key} must be a string, got {CK.show(value)}")
+    return value
+
+
+def _is_real(value: Any) -> bool:
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(
+        value, (bool, np.bool_)
+    )
+
+
+def _wanted(annotation: str, value: Any) -> str | None:
+    """What a field annotated ``annotation`` takes, where ``value`` is not of it (None: it
+    is). Types only: the parts check values (ranges, directions) themselves."""
+    if value is None and annotation.endswith(" | None"):
+        return None
+    base = annotation.removesuffix(" | None")
+    if base == "str":
+        return None if isinstance(value, str) else "a string"
+    if base == "float":
+        return None if _is_real(value) else "a number"
+    if base == "Vec3":
+        ok = isinstance(value, (list, tuple, np.ndarray)) and len(value) == 3
+        return None if ok and all(_is_real(v) for v in value) else "a list of 3 numbers"
+    if base.startswith("tuple["):
+        ok = isinstance(value, (list, tuple))
+        return None if ok else f"a list of tables ([[...]] in a file), or of {base[6:-6]}s"
+    return None
+
+
+def _check_table(where: str, path: str, data: Any, cls: type) -> None:
+    """A table of a craft file (``path``: where in the file, e.g. ``plates[2]``) whose keys
+    and value types fit part ``cls``; nested lists of parts (a control's ``surfaces``) too.
+    A wrong type would otherwise surface as a bare TypeError or as an error that names the
+    part but not where in the file it is."""
+    if not isinstance(data, dict):
+        raise CraftError(f"{where}: {path} must be a table, got {CK.show(data)}")
+    valid = [f.name for f in fields(cls)]
+    unknown = [k for k in data if k not in valid]
+    if unknown:
+        raise CraftError(
+            f"{where}: {path}.{unknown[0]} = {CK.show(data[unknown[0]])}: unknown key(s) "
+            f"{unknown} in {path}; valid keys are {valid}"
+        )
+    missing = [f.name for f in fields(cls) if f.default is MISSING and f.name not in data]
+    if missing:
+        raise CraftError(f"{where}: {path}: missing required key(s) {missing}; got {CK.show(data)}")
+    for f in fields(cls):
+        if f.name not in data:
+            continue
+        value = data[f.name]
+        wanted = _wanted(f.type, value)
+        if wanted:
+            raise CraftError(f"{where}: {path}.{f.name} must be {wanted}, got {CK.show(value)}")
+        part = _PART_LISTS.get(f.type)
+        for i, item in enumerate(value if part else ()):
+            if not isinstance(item, part):
+                _check_table(where, f"{path}.{f.name}[{i}]", item, part)
 
 
 # --------------------------------------------------------------------------------------------
@@ -92,7 +149,7 @@ class Plate:
     hinge_axis: Vec3 | None = None
 
     def __post_init__(self) -> None:
-        where = f"plate {self.name!r}"
+        where = f"plate {_name('plate', 'name', self.name)!r}"
         object.__setattr__(self, "offset_m", _vec3(where, "offset_m", self.offset_m))
         object.__setattr__(self, "normal", _unit(where, "normal", self.normal))
         object.__setattr__(self, "area_m2", _positive(where, "area_m2", self.area_m2))
@@ -118,7 +175,7 @@ class Cylinder:
     area_m2: float
 
     def __post_init__(self) -> None:
-        where = f"cylinder {self.name!r}"
+        where = f"cylinder {_name('cylinder', 'name', self.name)!r}"
         object.__setattr__(self, "offset_m", _vec3(where, "offset_m", self.offset_m))
         object.__setattr__(self, "axis", _unit(where, "axis", self.axis))
         object.__setattr__(self, "area_m2", _positive(where, "area_m2", self.area_m2))
@@ -140,7 +197,7 @@ class Buoyancy:
     area_m2: float | None = None
 
     def __post_init__(self) -> None:
-        where = f"buoyancy {self.name!r}"
+        where = f"buoyancy {_name('buoyancy', 'name', self.name)!r}"
         object.__setattr__(self, "offset_m", _vec3(where, "offset_m", self.offset_m))
         if self.kind == "volume":
             if self.volume_m3 is None or self.area_m2 is not None:
@@ -173,7 +230,9 @@ class Thruster:
     control: str | None = None
 
     def __post_init__(self) -> None:
-        where = f"thruster {self.name!r}"
+        where = f"thruster {_name('thruster', 'name', self.name)!r}"
+        if self.control is not None:
+            _name(where, "control", self.control)
         object.__setattr__(self, "offset_m", _vec3(where, "offset_m", self.offset_m))
         object.__setattr__(self, "direction", _unit(where, "direction", self.direction))
         hi = _finite(where, "max_thrust_n", self.max_thrust_n)
@@ -200,7 +259,7 @@ class Shape:
     half_extents_m: Vec3 | None = None
 
     def __post_init__(self) -> None:
-        where = f"shape {self.name!r}"
+        where = f"shape {_name('shape', 'name', self.name)!r}"
         object.__setattr__(self, "center_m", _vec3(where, "center_m", self.center_m))
         if self.kind == "sphere":
             if self.radius_m is None or self.half_extents_m is not None:
@@ -247,21 +306,28 @@ class Control:
     surfaces: tuple[Surface, ...] = ()
 
     def __post_init__(self) -> None:
-        where = f"control {self.name!r}"
+        where = f"control {_name('control', 'name', self.name)!r}"
         d = _finite(where, "max_deflection_deg", self.max_deflection_deg)
         if not 0.0 <= d <= 90.0:
             raise CraftError(f"{where}: max_deflection_deg must be in [0, 90], got {d!r}")
         object.__setattr__(self, "max_deflection_deg", d)
+        if not isinstance(self.surfaces, (list, tuple)):
+            raise CraftError(
+                f"{where}: surfaces must be a list of tables ({{sample = ..., gain = ...}}), "
+                f"got {CK.show(self.surfaces)}"
+            )
         surfaces = []
         for i, s in enumerate(self.surfaces):
-            if isinstance(s, dict):
-                _check_keys(f"{where}: surfaces[{i}]", s, Surface, ("sample",))
-                s = Surface(**s)
             if not isinstance(s, Surface):
-                raise CraftError(f"{where}: surfaces[{i}] must be a table, got {s!r}")
-            surfaces.append(Surface(s.sample, _finite(where, "gain", s.gain)))
+                _check_table(where, f"surfaces[{i}]", s, Surface)
+                s = Surface(**s)
+            _name(f"{where}: surfaces[{i}]", "sample", s.sample)
+            surfaces.append(Surface(s.sample, _finite(f"{where}: surfaces[{i}]", "gain", s.gain)))
         object.__setattr__(self, "surfaces", tuple(surfaces))
 
+
+# the lists of parts a part holds, by annotation (_check_table)
+_PART_LISTS = {"tuple[Surface, ...]": Surface}
 
 # --------------------------------------------------------------------------------------------
 # the craft
@@ -300,7 +366,10 @@ def check_inertia(where: str, tensors: np.ndarray, value: Any) -> None:
 
 
 def _inertia_tensor(where: str, value: Any) -> np.ndarray:
-    arr = np.asarray(value, dtype=float) if value is not None else None
+    try:  # refuses strings, bools, None and ragged lists, naming the value
+        arr = CK.real_array(where, "inertia_kgm2", value, error=CraftError)
+    except CraftError:
+        arr = None
     if arr is None or arr.shape not in ((3,), (3, 3)) or not np.all(np.isfinite(arr)):
         raise CraftError(
             f"{where}: inertia_kgm2 must be 3 principal moments or a 3x3 tensor, got {value!r}"
@@ -340,7 +409,8 @@ class Craft:
     _tensor: np.ndarray = field(default=None, repr=False, compare=False)  # type: ignore[assignment]
 
     def __post_init__(self) -> None:
-        where = f"craft {self.name!r}"
+        where = f"craft {_name('craft', 'name', self.name)!r}"
+        _name(where, "description", self.description)
         object.__setattr__(self, "mass_kg", _positive(where, "mass_kg", self.mass_kg))
         for key in ("restitution", "friction"):
             value = _finite(where, key, getattr(self, key))
@@ -364,29 +434,48 @@ class Craft:
             ("controls", Control),
             ("shapes", Shape),
         ):
-            items = []
-            for i, item in enumerate(getattr(self, key)):
-                if isinstance(item, dict):
-                    required = tuple(f.name for f in fields(cls) if f.default is MISSING)
-                    _check_keys(f"{where}: {key}[{i}]", item, cls, required)
-                    item = cls(**item)
-                if not isinstance(item, cls):
-                    raise CraftError(f"{where}: {key}[{i}] must be a {cls.__name__}, got {item!r}")
-                items.append(item)
-            object.__setattr__(self, key, tuple(items))
+            object.__setattr__(self, key, self._parts(where, key, cls))
         self._check_references(where)
         object.__setattr__(self, "groups", self._check_groups(where, self.groups))
 
+    def _parts(self, where: str, key: str, cls: type) -> tuple:
+        """Field ``key``: a list of ``cls`` or of tables of its fields, as a tuple of ``cls``;
+        errors name the table path (``plates[2].area_m2``) and the value."""
+        items = getattr(self, key)
+        if not isinstance(items, (list, tuple)):
+            raise CraftError(
+                f"{where}: {key} must be a list of tables ([[{key}]] in a file) or of "
+                f"{cls.__name__}s, got {CK.show(items)}"
+            )
+        parts = []
+        for i, item in enumerate(items):
+            if not isinstance(item, cls):
+                _check_table(where, f"{key}[{i}]", item, cls)
+                try:
+                    item = cls(**item)
+                except CraftError as err:  # a value out of range: say where it is
+                    raise CraftError(f"{where}: {key}[{i}]: {err}") from None
+            parts.append(item)
+        return tuple(parts)
+
     def _check_groups(self, where: str, groups: Any) -> tuple[tuple[str, tuple[str, ...]], ...]:
         """Groups as ``((name, (sample, ...)), ...)``: hashable, like the rest of a Craft."""
-        pairs = list(groups.items()) if isinstance(groups, dict) else list(groups)
+        pairs = list(groups.items()) if isinstance(groups, dict) else groups
+        ok = isinstance(pairs, (list, tuple))
+        if not (ok and all(isinstance(p, (list, tuple)) and len(p) == 2 for p in pairs)):
+            raise CraftError(
+                f"{where}: groups must be a table {{name = [sample, ...]}}, got {CK.show(groups)}"
+            )
         samples = [s.name for s in (*self.plates, *self.cylinders, *self.buoyancy, *self.thrusters)]
         out = []
         for name, members in pairs:
             if not isinstance(name, str) or name in samples:
                 raise CraftError(f"{where}: group name {name!r} must be a string, not a sample's")
-            if isinstance(members, str) or not members:
-                raise CraftError(f"{where}: group {name!r} must list sample names, got {members!r}")
+            ok = isinstance(members, (list, tuple)) and all(isinstance(m, str) for m in members)
+            if not (ok and members):
+                raise CraftError(
+                    f"{where}: groups.{name} must list sample names, got {CK.show(members)}"
+                )
             unknown = [m for m in members if m not in samples]
             if unknown:
                 raise CraftError(

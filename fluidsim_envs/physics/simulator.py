@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Sequence
 
@@ -61,6 +60,31 @@ def _world_params(world: World, dt: float, swell: np.ndarray) -> np.ndarray:
     for j, (a, kx, ky, omega, _) in enumerate(swell):
         prm[K.P_SWELL + 4 * j : K.P_SWELL + 4 * j + 4] = (a, kx, ky, omega)
     return prm
+
+
+def _crafts(crafts) -> list[Craft]:
+    """One Craft or a non-empty list of them, as a list."""
+    if isinstance(crafts, Craft):
+        return [crafts]
+    if isinstance(crafts, (list, tuple)) and crafts and all(isinstance(c, Craft) for c in crafts):
+        return list(crafts)
+    raise TypeError(
+        f"Simulator: crafts must be a Craft or a non-empty list of Crafts, got {CK.show(crafts)}"
+    )
+
+
+def _dtype(value) -> np.dtype:
+    """float32 or float64, from a NumPy type, a dtype or its name."""
+    try:
+        dtype = np.dtype(value) if value is not None else None
+    except TypeError:
+        dtype = None
+    if dtype not in (np.float32, np.float64):
+        raise ValueError(
+            f"Simulator: dtype must be np.float32 or np.float64 (or their names), got "
+            f"{CK.show(value)}"
+        )
+    return dtype
 
 
 class _Body:
@@ -193,28 +217,30 @@ class Simulator:
         wake: WK.WakeField | None = None,
         shared_kernel: bool | None = None,
     ) -> None:
-        crafts = [crafts] if isinstance(crafts, Craft) else list(crafts)
-        if not crafts or not all(isinstance(c, Craft) for c in crafts):
-            raise TypeError(f"crafts must be a Craft or a non-empty list of Crafts, got {crafts!r}")
+        crafts = _crafts(crafts)
         world = World() if world is None else world
         if not isinstance(world, World):
-            raise TypeError(f"world must be a World, got {world!r}")
+            raise TypeError(f"Simulator: world must be a World, got {CK.show(world)}")
         if (
             isinstance(num_envs, bool)
             or not isinstance(num_envs, (int, np.integer))
             or num_envs < 1
         ):
-            raise ValueError(f"num_envs must be a positive integer, got {num_envs!r}")
-        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
-            raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
+            raise ValueError(
+                f"Simulator: num_envs must be a positive integer, got {CK.show(num_envs)}"
+            )
+        dt = CK.number("Simulator", "dt", dt, gt=0.0)
         method = IT.get(integrator) if isinstance(integrator, str) else None
         if method is None:
-            raise ValueError(f"integrator must be a name, got {integrator!r}")
-        dtype = np.dtype(dtype)
-        if dtype not in (np.float32, np.float64):
-            raise ValueError(f"dtype must be float32 or float64, got {dtype}")
+            raise ValueError(
+                f"Simulator: integrator must be one of {sorted(IT.BY_NAME)}, got "
+                f"{CK.show(integrator)}"
+            )
+        dtype = _dtype(dtype)
         if wake is not None and not isinstance(wake, WK.WakeField):
-            raise TypeError(f"wake must be a WakeField or None, got {wake!r}")
+            raise TypeError(f"Simulator: wake must be a WakeField or None, got {CK.show(wake)}")
+        if parallel is not None:
+            parallel = CK.flag("Simulator", "parallel", parallel)
 
         self.crafts = tuple(crafts)
         self.world = world
@@ -228,8 +254,12 @@ class Simulator:
         self._method = method.id
         if shared_kernel is None:
             shared_kernel = os.environ.get("FLUIDSIM_SHARED_KERNEL", "") == "1"
-        elif not isinstance(shared_kernel, bool):
-            raise TypeError(f"shared_kernel must be a bool or None, got {shared_kernel!r}")
+        elif not isinstance(shared_kernel, (bool, np.bool_)):
+            raise TypeError(
+                "Simulator: shared_kernel must be True, False or None, got "
+                f"{CK.show(shared_kernel)}"
+            )
+        shared_kernel = bool(shared_kernel)
         self.shared_kernel = shared_kernel
         if shared_kernel:
             self._kernel = K.step_parallel_shared if self.parallel else K.step_serial_shared
@@ -445,8 +475,8 @@ class Simulator:
         """Height of the water surface (m) above z = 0 in every environment at its own clock:
         ``x``, ``y`` broadcast to ``[E, ...]`` (leading axis: environments); the result is
         float64 of that shape (zeros in calm water). See :meth:`World.surface_height`."""
-        x = np.asarray(x, dtype=np.float64)
-        y = np.asarray(y, dtype=np.float64)
+        x = CK.real_array("surface_height", "x", x)
+        y = CK.real_array("surface_height", "y", y)
         ndim = max(x.ndim, y.ndim, 1)
         t = self._data.clock.reshape((self.num_envs,) + (1,) * (ndim - 1))
         return self.world.surface_height(x, y, t)
@@ -479,7 +509,7 @@ class Simulator:
         )
         norm = np.linalg.norm(q, axis=1, keepdims=True)
         if np.any(norm < 1e-12):
-            raise ValueError("set_wake_source: quat must be non-zero")
+            raise ValueError(f"set_wake_source: quat must be non-zero, got {CK.show(quat)}")
         rot = K.quat_matrices(q / norm).reshape(n, 9)
         self._data.src[:, ids] = np.concatenate([p, rot, v, o], axis=1).T
 
@@ -530,10 +560,10 @@ class Simulator:
             the samples of all bodies, body by body (within one: plates without a control,
             control surfaces, cylinders, buoyancy, thrusters); ``body`` each one's body slot.
         """
-        (e,) = self._env_ids("sample_forces", np.asarray([env_index]))
-        if controls is not None and np.ndim(controls) == 1:
+        e = CK.number("sample_forces", "env_index", env_index, ge=0, lt=self.num_envs, integer=True)
+        c = None if controls is None else CK.real_array("sample_forces", "controls", controls)
+        if c is not None and c.ndim == 1:
             full = np.zeros((self.num_envs, len(self.control_names)))
-            c = np.asarray(controls, dtype=np.float64)
             if c.shape != full.shape[1:]:
                 raise ValueError(
                     f"sample_forces: controls must have shape {full.shape[1:]} (channels "
@@ -548,16 +578,10 @@ class Simulator:
         return out[:, :3], out[:, 3:], np.repeat(np.arange(self.num_bodies), counts)
 
     def _env_ids(self, what: str, env_ids) -> np.ndarray:
-        ids = np.arange(self.num_envs) if env_ids is None else np.asarray(env_ids)
-        if (
-            ids.ndim != 1
-            or ids.dtype.kind not in "iu"
-            or (ids.size and (ids.min() < 0 or ids.max() >= self.num_envs))
-        ):
-            raise ValueError(
-                f"{what}: env_ids must be integers in [0, {self.num_envs}), got {env_ids!r}"
-            )
-        return ids
+        """``env_ids`` as int64 indices (:func:`checks.env_ids`: None, indices or a boolean
+        mask of length E); the one check of every method here and of the scenes' vector
+        envs, whose sub-envs are these environments."""
+        return CK.env_ids(what, env_ids, self.num_envs)
 
     # ---- snapshots ------------------------------------------------------------------------
 
@@ -685,10 +709,16 @@ class Simulator:
         if mass_kg is not None:
             m = CK.array(what, "mass_kg", mass_kg, (n,))
             if np.any(m <= 0.0):
-                raise ValueError(f"{what}: mass_kg must be positive, got {mass_kg!r}")
+                raise ValueError(f"{what}: mass_kg must be positive, got {CK.show(mass_kg)}")
         if inertia_kgm2 is not None:
             arr = CK.array(what, "inertia_kgm2", inertia_kgm2, None)
             tensor = arr.ndim >= 2 and arr.shape[-2:] == (3, 3)
+            if arr.shape == (3, 3) and n == 3:
+                raise ValueError(
+                    f"{what}: inertia_kgm2 of shape [3, 3] is ambiguous with 3 environments "
+                    "(one tensor, or principal moments per environment?): pass [1, 3, 3] for "
+                    "one tensor, [3, 3, 3] for a tensor each, or [3] for one set of moments"
+                )
             if tensor:
                 inertia = CK.array(what, "inertia_kgm2", arr, (n, 3, 3))
             else:
@@ -724,7 +754,7 @@ class Simulator:
         """
         what = "set_sample_scale"
         ids, bd = self._env_ids(what, env_ids), self._body(what, body)
-        if group not in bd.groups:
+        if not isinstance(group, str) or group not in bd.groups:
             raise ValueError(
                 f"{what}: unknown group {group!r} for craft {bd.craft.name!r}; groups are "
                 f"{BUILTIN_GROUPS + tuple(g for g, _ in bd.craft.groups)} and its samples"
@@ -733,7 +763,7 @@ class Simulator:
         if area is not None:
             a = CK.array(what, "area", area, (ids.size,))
             if np.any(a <= 0.0):
-                raise ValueError(f"{what}: area must be a positive factor, got {area!r}")
+                raise ValueError(f"{what}: area must be a positive factor, got {CK.show(area)}")
             if not members:
                 raise ValueError(f"{what}: group {group!r} has no sample with an area")
         plates = [(k, i) for k, i in members if M.KIND[k].efficiency]
@@ -744,7 +774,7 @@ class Simulator:
             top = max(bd.rows[k][i, M.S_EFFICIENCY] for k, i in plates)
             if np.any(f < 0.0) or np.any(f * top > 1.0):
                 raise ValueError(
-                    f"{what}: efficiency {efficiency!r} takes a plate of group {group!r} "
+                    f"{what}: efficiency {CK.show(efficiency)} takes a plate of group {group!r} "
                     f"(efficiency up to {top}) outside [0, 1]"
                 )
         if area is not None:
@@ -759,7 +789,7 @@ class Simulator:
         ids, bd = self._env_ids(what, env_ids), self._body(what, body)
         s = CK.array(what, "scale", scale, (ids.size,))
         if np.any(s < 0.0):
-            raise ValueError(f"{what}: scale must be >= 0, got {scale!r}")
+            raise ValueError(f"{what}: scale must be >= 0, got {CK.show(scale)}")
         if not bd.names["thr"]:
             raise ValueError(f"{what}: craft {bd.craft.name!r} has no thruster")
         self._set_factor(M.F_THRUST, bd.index["thr"], ids, s)
@@ -771,10 +801,13 @@ class Simulator:
 
     def _body(self, what: str, body) -> _Body:
         if isinstance(body, bool) or not isinstance(body, (int, np.integer)):
-            raise ValueError(f"{what}: body must be a body slot index, got {body!r}")
+            raise ValueError(
+                f"{what}: body must be a body slot index in [0, {self.num_bodies}), got "
+                f"{CK.show(body)}"
+            )
         if not 0 <= body < self.num_bodies:
             raise ValueError(f"{what}: body {body} is not in [0, {self.num_bodies})")
-        return self._bodies[body]
+        return self._bodies[int(body)]
 
     def _write(self, b: int, ids: np.ndarray) -> None:
         """Pack body slot b's mass properties of environments ``ids`` into the kernels' model
@@ -801,19 +834,30 @@ class Simulator:
     def _broadcast(self, name: str, value, width: int, n: int, what="reset") -> np.ndarray:
         """``value`` as ``[n, B, width]``. With one body a 2-D ``[n, width]`` is one row per
         environment; with several, a 2-D ``[B, width]`` is one row per body, and refused
-        where n == B (it could be either)."""
+        where its rows could as well be environments (B == n, or B == E: rows for every
+        environment passed with ``env_ids``), as the 3-D shapes say which."""
         arr = CK.array(what, name, value, None)
-        B = self.num_bodies
+        B, E = self.num_bodies, self.num_envs
         if arr.ndim == 2 and arr.shape[-1] == width:
             if B == 1:
                 arr = arr[:, None, :]
-            elif arr.shape[0] == n == B:
+            elif arr.shape[0] == B and B in (n, E):
+                alike = f", [1, {B}, {width}] (alike in every environment)" if n > 1 else ""
                 raise ValueError(
-                    f"{what}: {name} of shape {arr.shape} is ambiguous with {n} environments "
-                    f"of {B} bodies: pass [{n}, {B}, {width}] (or [1, {B}, {width}] for one "
-                    "row per body in every environment)"
+                    f"{what}: {name} of shape {list(arr.shape)} is ambiguous with "
+                    f"{n if n == B else E} environments of {B} bodies (a row per environment "
+                    f"or per body?): pass [{n}, {B}, {width}] (a row per body in each "
+                    f"environment){alike} or [{width}] (one row for all)"
                 )
-        return CK.array(what, name, arr, (n, B, width))
+        try:
+            return np.broadcast_to(arr, (n, B, width))
+        except ValueError:  # say which shapes would do
+            per_env = f", [{n}, {width}] (a row per environment)" if B == 1 else ""
+            raise ValueError(
+                f"{what}: {name} of shape {np.shape(value)} does not broadcast to "
+                f"[{n}, {B}, {width}], got {CK.show(value)}; pass [{n}, {B}, {width}], "
+                f"[{B}, {width}] (a row per body){per_env} or [{width}]"
+            ) from None
 
     def reset(
         self,
@@ -837,7 +881,7 @@ class Simulator:
         w = self._broadcast("ang_vel", ang_vel, 3, n)
         norm = np.linalg.norm(q, axis=-1, keepdims=True)
         if np.any(norm < 1e-12):
-            raise ValueError("reset: quat must be non-zero")
+            raise ValueError(f"reset: quat must be non-zero (a rotation), got {CK.show(quat)}")
         q = q / norm
         # L = R I R^T w, per body slot
         rot = K.quat_matrices(q.reshape(-1, 4)).reshape(n, self.num_bodies, 3, 3)
@@ -866,7 +910,7 @@ class Simulator:
             steps: number of time steps of ``dt`` in this call (>= 1).
         """
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
-            raise ValueError(f"steps must be a positive integer, got {steps!r}")
+            raise ValueError(f"step: steps must be a positive integer, got {CK.show(steps)}")
         self._set_controls(controls)
         args = (self._model, self._samples, self._data, self._method, int(steps), self._contact,
                 self._pairs)  # fmt: skip
@@ -881,16 +925,19 @@ class Simulator:
         if controls is None:
             self._data.ctrl[...] = 0.0
         else:
-            a = np.asarray(controls)
+            a = CK.real_array("step", "controls", controls)
             shape = (self.num_envs, len(self.control_names))
             if a.shape != shape:
                 raise ValueError(
                     f"controls must have shape {shape} (envs, channels "
-                    f"{self.control_names}), got {a.shape}"
+                    f"{self.control_names}), got {a.shape}: {CK.show(controls)}"
                 )
             if not (np.abs(a) <= 1.0).all():  # one pass; NaN fails it too
                 if not np.isfinite(a).all():
-                    raise ValueError("controls contain NaN or inf")
+                    bad = tuple(int(i) for i in np.argwhere(~np.isfinite(a))[0])
+                    raise ValueError(
+                        f"controls must be finite (no NaN or inf), got {a[bad]} at {bad}"
+                    )
                 raise ValueError(
                     f"controls must lie in [-1, 1], got values up to {np.abs(a).max():.6g}"
                 )

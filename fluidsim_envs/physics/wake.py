@@ -131,6 +131,8 @@ class WakeField:
     vortices: bool = True
 
     def __post_init__(self) -> None:
+        CK.plain_fields(self)  # NumPy scalars as Python numbers: one kernel type each
+
         def number(key, **bound):
             if getattr(self, key) is not None or key in ("length_m", "radius_m"):
                 CK.number("WakeField", key, getattr(self, key), **bound)
@@ -151,9 +153,7 @@ class WakeField:
         for key in ("circulation", "core_growth", "noise", "wake_growth"):
             number(key, ge=0.0)
         CK.number("WakeField", "screws", self.screws, ge=1, le=2, integer=True)
-        CK.choice("WakeField", "pair_sense", self.pair_sense, (1, -1))
-        if isinstance(self.pair_sense, bool):
-            raise ValueError(f"WakeField: pair_sense must be +1 or -1, got {self.pair_sense!r}")
+        CK.choice("WakeField", "pair_sense", self.pair_sense, (1, -1))  # an int: not True
         CK.number("WakeField", "dipoles", self.dipoles, ge=1, le=MAX_DIPOLES, integer=True)
         for key in ("displacement", "vortices"):
             CK.flag("WakeField", key, getattr(self, key))
@@ -241,11 +241,14 @@ class WakeField:
         are the submarine's center and motion through the water; ``noise_offset`` [3] shifts
         the turbulence (in eddies) so that episodes can differ.
         """
-        pts = np.asarray(points, dtype=np.float64)
+        pts = CK.array("WakeField.velocity", "points", points)
         if pts.ndim == 1:
             pts = pts[None]
         if pts.ndim != 2 or pts.shape[1] != 3:
-            raise ValueError(f"points must have shape [N, 3], got {np.shape(points)}")
+            raise ValueError(
+                f"WakeField.velocity: points must have shape [N, 3], got shape "
+                f"{list(np.shape(points))}: {CK.show(points)}"
+            )
         src = source_row(sub_pos, sub_quat, sub_lin_vel, noise_offset)
         out = np.empty_like(pts)
         wake_velocity_batch(pts, src, self.params(), out)
@@ -261,7 +264,7 @@ def source_row(sub_pos, sub_quat, sub_lin_vel, noise_offset=(0.0, 0.0, 0.0)) -> 
     o = _vec("noise_offset", noise_offset, 3)
     n = float(np.linalg.norm(q))
     if n < 1e-12:
-        raise ValueError("sub_quat must be non-zero")
+        raise ValueError(f"sub_quat must be non-zero, got {CK.show(sub_quat)}")
     w, x, y, z = q / n
     rot = (
         1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
@@ -275,11 +278,11 @@ NSRC = 18  # source row: pos 3, rotation 9, velocity 3, noise offset 3
 
 
 def _vec(name, value, n) -> np.ndarray:
-    a = np.asarray(value, dtype=np.float64)
+    a = CK.real_array("wake source", name, value)
     if a.shape != (n,):
-        raise ValueError(f"{name} must have shape [{n}], got {a.shape}")
+        raise ValueError(f"{name} must have shape [{n}], got {list(a.shape)}: {CK.show(value)}")
     if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} has non-finite values: {value!r}")
+        raise ValueError(f"{name} has non-finite values: {CK.show(value)}")
     return a
 
 

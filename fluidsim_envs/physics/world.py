@@ -86,11 +86,13 @@ class World:
             ("surface_blend_m", "ge"),
             ("max_fluid_speed_mps", "gt"),
             ("max_sample_force_n", "gt"),
-        ):
-            CK.number("World", key, getattr(self, key), **{bound: 0.0})
-        # inf allowed: never switch
-        CK.number("World", "tetra_rigid_spin_rad", self.tetra_rigid_spin_rad, gt=0, finite=False)
-        CK.flag("World", "water", self.water)
+        ):  # stored as floats: a NumPy scalar checks alike but would reach numba as its type
+            value = CK.number("World", key, getattr(self, key), **{bound: 0.0})
+            object.__setattr__(self, key, value)
+        spin = self.tetra_rigid_spin_rad  # inf allowed: never switch
+        spin = CK.number("World", "tetra_rigid_spin_rad", spin, gt=0, finite=False)
+        object.__setattr__(self, "tetra_rigid_spin_rad", spin)
+        object.__setattr__(self, "water", CK.flag("World", "water", self.water))
         for key in ("wind_mps", "current_mps"):
             object.__setattr__(self, key, CK.vector("World", key, getattr(self, key)))
         swell = coerce_swell(self.swell)
@@ -99,9 +101,10 @@ class World:
                 f"World: swell needs water=True (got water={self.water!r} with swell {swell!r})"
             )
         object.__setattr__(self, "swell", swell)
-        CK.number("World", "contact_passes", self.contact_passes, ge=1, integer=True)
+        passes = CK.number("World", "contact_passes", self.contact_passes, ge=1, integer=True)
+        object.__setattr__(self, "contact_passes", passes)
         if self.ground is not None and not isinstance(self.ground, Ground):
-            raise ValueError(f"World: ground must be a Ground or None, got {self.ground!r}")
+            raise ValueError(f"World: ground must be a Ground or None, got {CK.show(self.ground)}")
 
     def swell_table(self) -> np.ndarray:
         """The swell as the kernels read it: a new float64 array ``[n_waves, 5]`` of rows

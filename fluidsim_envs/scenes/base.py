@@ -44,17 +44,6 @@ def make_params(cls: type, kwargs: dict[str, Any]):
     return cls(**kwargs)
 
 
-def check_number(owner: str, key: str, value, lo=None, hi=None, integer=False) -> None:
-    """Raise ValueError naming ``key`` unless ``value`` is a finite number in [lo, hi]
-    (``integer``: an int; 4.0 would fail later, where the error could not name ``key``)."""
-    CK.number(owner, key, value, ge=lo, le=hi, integer=integer)
-
-
-def check_range(owner: str, key: str, value, lo=None, hi=None) -> tuple[float, float]:
-    """A (low, high) pair with lo <= low <= high <= hi."""
-    return CK.value_range(owner, key, value, ge=lo, le=hi)
-
-
 def check_choice(owner: str, key: str, value, choices: Sequence[str]) -> None:
     CK.choice(owner, key, value, choices)
 
@@ -190,41 +179,83 @@ class FluidVectorEnv(VectorEnv):
 
     # ---- Gymnasium API --------------------------------------------------------------------
 
+    RESET_OPTIONS = ("env_ids", "reset_mask")
+
     def reset(self, *, seed: int | Sequence[int | None] | None = None, options=None):
-        """Reset every sub-env. ``seed``: an int, a list of one per sub-env, or None.
-        ``options={"env_ids": [...]}`` resets only those sub-envs (their observation rows
-        change; the others keep theirs)."""
+        """Reset every sub-env, or some.
+
+        Args:
+            seed: None (fresh entropy the first time, then each sub-env's generator goes
+                on), an integer >= 0 (Python or NumPy), or a list of one per sub-env of
+                those (None entries: fresh entropy).
+            options: None, or a dict with at most one of ``"env_ids"`` (indices in
+                [0, num_envs), or a boolean mask of length num_envs) and ``"reset_mask"``
+                (a boolean mask of length num_envs, Gymnasium's vector-env convention):
+                only those sub-envs restart (their observation rows change; the others keep
+                theirs); an empty list or an all-False mask restarts none.
+
+        Every input is checked before anything changes."""
         E = self.num_envs
+        ids = self._reset_ids(options)
         if seed is None:
             if any(r is None for r in self._rngs):
                 self._seed(np.random.SeedSequence().spawn(E))
-        elif isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
-            self._seed(np.random.SeedSequence(int(seed)).spawn(E))
-        else:
-            seeds = list(seed)
+        elif isinstance(seed, (list, tuple)) or (isinstance(seed, np.ndarray) and seed.ndim == 1):
+            seeds = [CK.seed("reset", f"seed[{i}]", s) for i, s in enumerate(seed)]
             if len(seeds) != E:
                 raise ValueError(f"reset: expected {E} seeds, one per sub-env, got {len(seeds)}")
             self._seed([np.random.SeedSequence(s).spawn(1)[0] for s in seeds])
-        ids = np.arange(E)
-        if options and "env_ids" in options:
-            ids = np.asarray(options["env_ids"], dtype=np.int64)
+        else:
+            if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+                raise ValueError(
+                    f"reset: seed must be None, an integer >= 0 or a list of {E} of them (one "
+                    f"per sub-env), got {CK.show(seed)}"
+                )
+            self._seed(np.random.SeedSequence(int(seed)).spawn(E))
         self._start(ids)
         self._observe(self._obs)
         return self._obs.copy(), self._info_after_reset()
 
+    def _reset_ids(self, options) -> np.ndarray:
+        """The sub-envs ``reset(options=...)`` restarts (all without options)."""
+        if options is None:
+            return np.arange(self.num_envs)
+        valid = list(self.RESET_OPTIONS)
+        if not isinstance(options, dict):
+            raise ValueError(
+                f"reset: options must be a dict (keys {valid}) or None, got {CK.show(options)}"
+            )
+        unknown = [k for k in options if k not in valid]
+        if unknown:
+            raise ValueError(f"reset: unknown option(s) {unknown}; valid options are {valid}")
+        if len(options) > 1:
+            raise ValueError("reset: pass one of options 'env_ids' and 'reset_mask', not both")
+        if "reset_mask" in options:
+            mask = options["reset_mask"]
+            if not (isinstance(mask, np.ndarray) and mask.dtype == np.bool_):
+                raise ValueError(
+                    f"reset: options['reset_mask'] must be a boolean numpy array of shape "
+                    f"({self.num_envs},), got {CK.show(mask)}"
+                )
+            return self._ids("reset: options['reset_mask']", mask)
+        return self._ids("reset", options.get("env_ids"))
+
     def step(self, actions):
-        a = np.asarray(actions, dtype=np.float64)
+        a = CK.real_array("step", "actions", actions)  # no str, None, object, ragged, bools
         if a.shape != self._act.shape:
             if a.size == self._act.size and self.num_envs == 1:
                 a = a.reshape(self._act.shape)
             else:
                 raise ValueError(
-                    f"actions must have shape {self._act.shape} "
-                    f"({', '.join(self.action_names)}), got {a.shape}"
+                    f"step: actions must have shape {self._act.shape} "
+                    f"({', '.join(self.action_names)}), got {a.shape}: {CK.show(actions)}"
                 )
         if not np.isfinite(a).all():
             bad = np.argwhere(~np.isfinite(a))[0]
-            raise ValueError(f"actions contain {a[tuple(bad)]} at {tuple(int(i) for i in bad)}")
+            raise ValueError(
+                f"step: actions contain {a[tuple(bad)]} at {tuple(int(i) for i in bad)}: "
+                "actions must be finite"
+            )
         if self._needs_reset.any():
             raise RuntimeError(
                 f"step called on sub-env(s) {np.flatnonzero(self._needs_reset)[:8].tolist()} "
@@ -431,13 +462,21 @@ class FluidEnv(gym.Env):
         self.observation_space = self.vector.single_observation_space
 
     def reset(self, *, seed: int | None = None, options=None):
+        """``seed``: None or an integer >= 0; ``options`` as the vector env's."""
+        seed = CK.seed("reset", "seed", seed)  # a NumPy int as an int: gymnasium takes ints
         super().reset(seed=seed)  # keeps gymnasium's bookkeeping; the generator is replaced
         obs, info = self.vector.reset(seed=None if seed is None else [seed], options=options)
         self._np_random = self.vector._rngs[0]
         return obs[0], _first(info)
 
     def step(self, action):
-        obs, reward, terminated, truncated, info = self.vector.step(np.asarray(action)[None])
+        a = CK.real_array("step", "action", action)
+        if a.size != self.action_space.shape[0]:  # (n,) or (1, n)
+            raise ValueError(
+                f"step: action must have shape {self.action_space.shape} "
+                f"({', '.join(self.vector.action_names)}), got {a.shape}: {CK.show(action)}"
+            )
+        obs, reward, terminated, truncated, info = self.vector.step(a.reshape(1, -1))
         return obs[0], float(reward[0]), bool(terminated[0]), bool(truncated[0]), _first(info)
 
     def get_state(self) -> EnvState:

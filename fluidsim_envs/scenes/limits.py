@@ -66,7 +66,10 @@ def _g(x, none: str = "") -> str:
 def check_params(params, own: str, ranges: Mapping[str, Bound | Span]) -> None:
     """Check every field of the frozen dataclass ``params`` named in ``ranges`` (storing a
     span as a tuple of floats); a field of ``params`` that is a number and has no range is a
-    programming error, caught on the first construction."""
+    programming error, caught on the first construction. NumPy scalars (np.float32(0.01),
+    np.int64(4)) are stored first as the Python numbers they hold: the simulator and the
+    kernels then see one type per parameter."""
+    CK.plain_fields(params)
     for key, rule in ranges.items():
         value = rule.check(own, key, getattr(params, key))
         if isinstance(rule, Span):

@@ -33,9 +33,17 @@ class EnvState:
 
     def take(self, rows) -> EnvState:
         """The snapshot of sub-envs ``rows`` (indices into this one, repeats allowed)."""
-        rows = np.asarray(rows, dtype=np.int64)
-        if rows.ndim != 1 or (rows.size and (rows.min() < 0 or rows.max() >= len(self))):
-            raise ValueError(f"EnvState.take: rows must be indices in [0, {len(self)}), got {rows}")
+        try:  # not asarray(rows, int64): that would read 0.5 as row 0
+            idx = np.asarray(rows)
+        except (TypeError, ValueError):  # a ragged list
+            idx = None
+        ok = idx is not None and idx.ndim == 1 and (idx.size == 0 or idx.dtype.kind in "iu")
+        if not ok or (idx.size and (idx.min() < 0 or idx.max() >= len(self))):
+            raise ValueError(
+                f"EnvState.take: rows must be indices in [0, {len(self)}) (repeats allowed), "
+                f"got {rows!r:.120}"
+            )
+        rows = idx.astype(np.int64)
         return replace(
             self,
             physics={k: v[rows] for k, v in self.physics.items()},

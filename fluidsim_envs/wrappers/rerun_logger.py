@@ -157,10 +157,10 @@ class RerunLogger(VectorWrapper):
     # ---- the Gymnasium API ----------------------------------------------------------------
 
     def reset(self, *, seed=None, options=None):
+        before = self.base.episodes.copy()
         obs, info = self.env.reset(seed=seed, options=options)
-        ids = np.arange(self.base.num_envs)
-        if options and "env_ids" in options:
-            ids = np.asarray(options["env_ids"])
+        # the sub-envs that restarted, however the options named them (indices, a mask)
+        ids = np.flatnonzero(self.base.episodes != before)
         self.step_index += 1
         for e in self.env_ids:
             if np.isin(e, ids) and self._active(e):

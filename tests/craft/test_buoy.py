@@ -62,7 +62,7 @@ def test_heavier_than_its_volume_is_refused():
         MarkerBuoy(mass_kg=300.0)
     with pytest.raises(ValueError, match="ballast_drop_m"):
         MarkerBuoy(ballast_drop_m=0.5)
-    with pytest.raises(ValueError, match="radius_m must be a positive number, got -1"):
+    with pytest.raises(ValueError, match="radius_m must be a finite number > 0, got -1"):
         MarkerBuoy(radius_m=-1)
 
 

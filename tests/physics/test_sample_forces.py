@@ -92,7 +92,7 @@ def test_one_env_controls_float32_and_bad_input():
     # the control surfaces feel their deflection: other controls give other forces
     other = sim.sample_forces(-controls[2], env_index=2)[1]
     assert not np.allclose(other, every[1])
-    with pytest.raises(ValueError, match="env_ids must be integers in"):
+    with pytest.raises(ValueError, match=r"env_index must be an integer in \[0, 3\), got 3"):
         sim.sample_forces(env_index=3)
     with pytest.raises(ValueError, match="controls must have shape"):
         sim.sample_forces(np.zeros(2), env_index=0)

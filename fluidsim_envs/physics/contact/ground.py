@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 from numba import njit
 
+from .. import checks as CK
 from ..forces import ONE, ZERO
 from ..jit import INLINE as _INLINE
 from ..jit import JIT as _JIT
@@ -63,40 +64,23 @@ class Ground:
     _field: np.ndarray = field(default=None, repr=False, compare=False)  # type: ignore[assignment]
 
     def __post_init__(self) -> None:
-        def number(key: str, value: Any, lo: float, hi: float = math.inf) -> float:
-            ok = isinstance(value, (int, float, np.floating)) and not isinstance(value, bool)
-            if not (ok and math.isfinite(value) and lo <= value <= hi):
-                raise ValueError(f"Ground: {key} must be a number in [{lo}, {hi}], got {value!r}")
-            return float(value)
-
-        object.__setattr__(self, "height_m", number("height_m", self.height_m, -math.inf))
-        object.__setattr__(self, "restitution", number("restitution", self.restitution, 0.0, 1.0))
-        object.__setattr__(self, "friction", number("friction", self.friction, 0.0))
-        spacing = number("spacing_m", self.spacing_m, 0.0)
-        if spacing <= 0.0:
-            raise ValueError(f"Ground: spacing_m must be > 0, got {self.spacing_m!r}")
-        object.__setattr__(self, "spacing_m", spacing)
-        origin = tuple(self.origin_m) if isinstance(self.origin_m, (list, tuple)) else ()
-        if len(origin) != 2:
-            raise ValueError(f"Ground: origin_m must be 2 numbers, got {self.origin_m!r}")
-        origin = tuple(number("origin_m", v, -math.inf) for v in origin)
-        object.__setattr__(self, "origin_m", origin)
+        for key, bounds in (
+            ("height_m", {}),
+            ("restitution", {"ge": 0.0, "le": 1.0}),
+            ("friction", {"ge": 0.0}),
+            ("spacing_m", {"gt": 0.0}),
+        ):  # stored as floats, whatever number type was given
+            object.__setattr__(self, key, CK.number("Ground", key, getattr(self, key), **bounds))
+        object.__setattr__(self, "origin_m", CK.vector("Ground", "origin_m", self.origin_m, 2))
         if self.heights_m is None:
             grid = np.zeros((1, 1))
         else:
-            try:
-                grid = np.array(self.heights_m, dtype=np.float64)
-            except (TypeError, ValueError):
-                raise ValueError(
-                    f"Ground: heights_m must be a 2-D grid of numbers, got {self.heights_m!r}"
-                ) from None
+            grid = CK.array("Ground", "heights_m", self.heights_m).copy()
             if grid.ndim != 2 or min(grid.shape) < 2:
                 raise ValueError(
                     f"Ground: heights_m must be a grid [ny, nx] with ny, nx >= 2, got shape "
                     f"{grid.shape}"
                 )
-            if not np.all(np.isfinite(grid)):
-                raise ValueError("Ground: heights_m has non-finite values")
             object.__setattr__(self, "heights_m", tuple(map(tuple, grid.tolist())))
         grid.setflags(write=False)
         object.__setattr__(self, "_field", grid)

@@ -10,6 +10,7 @@ import numpy as np
 
 from ...craft.buoy import MarkerBuoy
 from ...physics import Craft, Simulator, World
+from ...physics import checks as CK
 from ...physics.hydrostatics import static_float
 from ...physics.kernels import INTEGRATORS
 from ..base import FluidEnv, FluidVectorEnv, check_choice
@@ -102,8 +103,7 @@ class BoatOnStepParams:
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
         check_step(own, self.dt, self.integrator, own)
         check_choice(own, "dtype", self.dtype, ("float32", "float64"))
-        if not isinstance(self.buoy_bodies, (bool, np.bool_)):
-            raise ValueError(f"{own}: buoy_bodies must be True or False, got {self.buoy_bodies!r}")
+        CK.flag(own, "buoy_bodies", self.buoy_bodies)
         try:
             swell = World(water=True, swell=self.swell).swell
         except ValueError as err:

@@ -10,6 +10,7 @@ from typing import ClassVar
 import numpy as np
 
 from ...physics import Craft, Simulator, WakeField, World
+from ...physics import checks as CK
 from ...physics.forces import thrust_control
 from ...physics.kernels import INTEGRATORS
 from ...physics.wake import NSRC as WAKE_SOURCE_ROWS
@@ -110,7 +111,7 @@ class SubmarineWakeParams:
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
         check_step(own, self.dt, self.integrator, own)
         check_choice(own, "dtype", self.dtype, ("float32", "float64"))
-        check_choice(own, "wake", self.wake, (True, False))
+        CK.flag(own, "wake", self.wake)  # True or False: 1 is no switch
         if self.floor_depth_m <= self.lead_depth_m[1] + LEAD_RADIUS_M:
             raise ValueError(
                 f"{own}: floor_depth_m ({self.floor_depth_m}) must be below the deepest lead "

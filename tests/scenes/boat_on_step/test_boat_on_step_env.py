@@ -162,7 +162,7 @@ def test_bad_inputs_name_the_bad_value():
     for kwargs, msg in cases:
         with pytest.raises(ValueError, match=msg):
             BoatOnStepEnv(**kwargs)
-    with pytest.raises(ValueError, match=r"shape \(1, 3\).*throttle, rudder, trim_tabs"):
+    with pytest.raises(ValueError, match=r"shape \(3,\).*throttle, rudder, trim_tabs"):
         env = BoatOnStepEnv()
         env.reset(seed=0)
         env.step(np.zeros(2))

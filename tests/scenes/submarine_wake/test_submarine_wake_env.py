@@ -68,7 +68,7 @@ def test_bad_inputs_name_the_bad_value():
         SubmarineWakeEnv(lead_speed_mps=(2.0, 1.0))
     with pytest.raises(ValueError, match="floor_depth_m"):
         SubmarineWakeEnv(floor_depth_m=30.0)
-    with pytest.raises(ValueError, match="wake must be one of"):
+    with pytest.raises(ValueError, match="wake must be True or False"):
         SubmarineWakeEnv(wake="yes")
     env = SubmarineWakeEnv()
     env.reset(seed=0)
