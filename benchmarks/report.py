@@ -14,7 +14,8 @@ README's table sits between the two ``envs-table`` markers, and docs/training.md
 every policy in those CSVs between the ``ppo-results`` markers, and docs/environments.md's
 table of every env parameter (its default and what it may be, from each parameter class's
 ``RANGES``: ``scenes/limits.py``) between the ``params-table`` markers, and docs/reliability.md's
-fuzz table from docs/fuzz.csv between the ``fuzz-table`` markers; none is edited by hand.
+fuzz and kill tables from docs/fuzz.csv and docs/kill_resume.csv between the ``fuzz-table``
+and ``kill-table`` markers; none is edited by hand.
 """
 
 from __future__ import annotations
@@ -44,6 +45,11 @@ RELIABILITY = DOCS / "reliability.md"
 FUZZ_CSV = DOCS / "fuzz.csv"
 FUZZ_BEGIN = "<!-- fuzz-table: written by `python -m benchmarks.report` from docs/fuzz.csv -->"
 FUZZ_END = "<!-- /fuzz-table -->"
+KILL_CSV = DOCS / "kill_resume.csv"
+KILL_BEGIN = (
+    "<!-- kill-table: written by `python -m benchmarks.report` from docs/kill_resume.csv -->"
+)
+KILL_END = "<!-- /kill-table -->"
 # the policies of an evaluation CSV (fluidsim-evaluate's rows) in the tables, by row name
 POLICIES = ("trained PPO", "planner (oracle)", "tuned pilot", "hand-set pilot", "random")
 # the README's table: (column title, row name, envs.csv key)
@@ -222,6 +228,32 @@ def fuzz_markdown() -> str:
     return "\n".join(lines)
 
 
+def kill_markdown() -> str:
+    """docs/kill_resume.csv by kind of kill: trials, those that passed every check, and the
+    timesteps lost (the run's checkpoint interval beside them)."""
+    if not KILL_CSV.is_file():
+        return "(no docs/kill_resume.csv yet: run python -m benchmarks.kill_resume)"
+    comments, table = read_csv(KILL_CSV)
+    lines = [
+        "| kill | trials | passed every check | fell back past a damaged state "
+        "| timesteps lost: mean | max |",
+        "|---|---:|---:|---:|---:|---:|",
+    ]
+    for phase in dict.fromkeys(r["phase"] for r in table):
+        rows = [r for r in table if r["phase"] == phase]
+        lost = [int(r["lost_timesteps"]) for r in rows]
+        passed = sum(r["checks_passed"] == "True" for r in rows)
+        skipped = sum(int(r["skipped"]) > 0 for r in rows)
+        lines.append(
+            f"| {phase} | {len(rows)} | {passed} | {skipped} | {sum(lost) / len(lost):.0f} "
+            f"| {max(lost)} |"
+        )
+    summary = next((c for c in comments if c.startswith("summary: ")), "")
+    command = next((c[len("command: ") :] for c in comments if c.startswith("command: ")), "")
+    lines += ["", f"{summary[len('summary: ') :]} (`{command}`)."]
+    return "\n".join(lines)
+
+
 def with_block(text: str, begin: str, end: str, block: str, where: Path) -> str:
     """``text`` with what lies between the markers ``begin`` and ``end`` replaced."""
     if begin not in text or end not in text:
@@ -249,7 +281,11 @@ def main(argv: list[str] | None = None) -> int:
             ENVIRONMENTS.read_text(), PARAMS_BEGIN, PARAMS_END, params_markdown(), ENVIRONMENTS
         ),
         RELIABILITY: with_block(
-            RELIABILITY.read_text(), FUZZ_BEGIN, FUZZ_END, fuzz_markdown(), RELIABILITY
+            with_block(RELIABILITY.read_text(), FUZZ_BEGIN, FUZZ_END, fuzz_markdown(), RELIABILITY),
+            KILL_BEGIN,
+            KILL_END,
+            kill_markdown(),
+            RELIABILITY,
         ),
     }
     if args.check:
