@@ -27,6 +27,7 @@ any case has a non-finite value or an unflagged runaway::
 from __future__ import annotations
 
 import dataclasses
+import math
 import sys
 import time
 
@@ -124,7 +125,8 @@ class Adversary:
 
 
 def run_case(case: Case, env_steps: int, num_envs: int, seed: int = 0) -> dict:
-    """Step ``case`` for about ``env_steps`` sub-env steps; the counts of the module's checks."""
+    """Step ``case`` for ``env_steps`` sub-env steps or the next multiple of ``num_envs``;
+    the counts of the module's checks."""
     with LIM.unchecked():
         venv = gym.make_vec(
             case.env_id, num_envs=num_envs, vectorization_mode="vector_entry_point",
@@ -143,7 +145,7 @@ def run_case(case: Case, env_steps: int, num_envs: int, seed: int = 0) -> dict:
     obs, _ = venv.reset(seed=seed)
     counts = dict(env_steps=0, episodes=0, diverged=0, nonfinite=int((~np.isfinite(obs)).sum()))
     counts.update(unflagged_runaways=0, max_reward=0.0, max_displacement_m=0.0)
-    steps = max(1, int(env_steps) // num_envs)
+    steps = max(1, -(-int(env_steps) // num_envs))  # at least the budget
     start = time.perf_counter()
     for _ in range(steps):
         before = env.sim.pos.copy()
@@ -209,7 +211,7 @@ def main() -> None:
     budget = 2e5 * len(todo) if args.quick else args.env_steps
     rows, failed = [], 0
     for case in todo:
-        share = int(budget * weight.get(case.env_id, 0.5) / total)
+        share = math.ceil(budget * weight.get(case.env_id, 0.5) / total)
         r = run_case(case, share, args.num_envs, args.seed)
         kw = case.kwargs()
         rate = r["diverged"] / max(r["episodes"], 1)

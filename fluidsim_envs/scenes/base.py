@@ -95,7 +95,7 @@ class FluidVectorEnv(VectorEnv):
         self.params = make_params(self.Params, kwargs)
         self.num_envs = E = int(num_envs)
         self.render_mode = render_mode
-        self.autoreset = autoreset
+        self.autoreset = CK.flag(type(self).__name__, "autoreset", autoreset)
         if not autoreset:
             self.metadata = {**self.metadata, "autoreset_mode": AutoresetMode.DISABLED}
         self._build()

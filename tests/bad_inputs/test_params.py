@@ -74,6 +74,8 @@ def _rows():
                 ["integrator", "'leapfrog'", "rk2"]),
             Row(f"{own}-dtype", lambda c=cls: c(dtype="float16"), ValueError,
                 ["dtype", "'float16'", "float32"]),
+            Row(f"{own}-autoreset", lambda v=scene.vector_cls: v(autoreset=1), ValueError,
+                ["autoreset", "True or False", "1"]),
         ]  # fmt: skip
     return rows
 
