@@ -2,9 +2,10 @@
 diverged, with the parameters at their extremes and adversarial actions.
 
 ``benchmarks/study_stability.py`` finds where each integrator stops being bounded on each
-craft's maneuver in still air; in an env the craft meets more (the dart in a 30 m/s wind
-thrown at 50 m/s, the boat in a steep sea at full power, adversarial controls), and what the
-env must refuse is the step at which *its* episodes run away. For each scene and integrator
+craft's maneuver in still air; in an env the craft meets more (the dart in a 15 m/s wind
+thrown at 20 m/s, the boat in a steep sea at full power, adversarial controls:
+``fuzz.EXTREMES``), and what the env must refuse is the step at which *its* episodes run
+away. For each scene and integrator
 (float64: the study finds the same limits in float32), a bisection on log dt between the
 scene's default dt / 8 and its largest accepted dt (``--halvings`` steps) runs
 ``fuzz.run_case`` (extreme parameters, ``--env-steps`` sub-env steps over ``--num-envs``
@@ -27,12 +28,6 @@ from benchmarks.fuzz import Case, run_case
 from fluidsim_envs.physics.kernels import INTEGRATORS
 from fluidsim_envs.scenes import SCENES
 
-# the largest dt each env's parameters accept whatever the integrator (s)
-DT_MAX_S = {
-    "fluidsim/PaperAirplane-v0": 0.1,
-    "fluidsim/BoatOnStep-v0": 0.05,
-    "fluidsim/SubmarineWake-v0": 0.5,
-}
 HEADER = (
     "env", "integrator", "default_dt_s", "dt_stable_s", "dt_unstable_s", "dt_limit_s",
     "limit_over_default", "env_steps_per_run", "runs",
@@ -56,7 +51,8 @@ def bisect(env_id: str, integrator: str, env_steps: int, num_envs: int, halvings
         case = Case(env_id, "extreme", "float64", integrator, dt)
         return run_case(case, env_steps, num_envs)["diverged"] == 0
 
-    lo, hi = SCENES[env_id].params_cls().dt / 8, DT_MAX_S[env_id]
+    cls = SCENES[env_id].params_cls
+    lo, hi = cls().dt / 8, cls.RANGES["dt"].hi  # the largest dt the parameters accept
     if not stable(lo):
         return math.nan, lo, runs
     if stable(hi):

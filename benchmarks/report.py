@@ -235,7 +235,8 @@ def kill_markdown() -> str:
         return "(no docs/kill_resume.csv yet: run python -m benchmarks.kill_resume)"
     comments, table = read_csv(KILL_CSV)
     lines = [
-        "| kill | trials | passed every check | fell back past a damaged state "
+        "| kill | trials | passed every check | resumed past a damaged checkpoint (this "
+        "trial's or an earlier one's) "
         "| timesteps lost: mean | max |",
         "|---|---:|---:|---:|---:|---:|",
     ]

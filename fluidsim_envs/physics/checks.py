@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
 from collections.abc import Iterable, Sequence
 from typing import Any
 
@@ -71,7 +72,10 @@ def number(
     allowed, NaN never), within the bounds given. Returns a float (an int if ``integer``)."""
     kinds = (int, np.integer) if integer else _REAL
     ok = isinstance(value, kinds) and not isinstance(value, bool)
-    ok = ok and not math.isnan(value) and (math.isfinite(value) or not finite)
+    if ok and isinstance(value, (int, np.integer)):  # math.isnan(10**400) would overflow
+        ok = integer or abs(int(value)) <= sys.float_info.max
+    else:
+        ok = ok and not math.isnan(value) and (math.isfinite(value) or not finite)
     ok = ok and (ge is None or value >= ge) and (gt is None or value > gt)
     ok = ok and (le is None or value <= le) and (lt is None or value < lt)
     if not ok:

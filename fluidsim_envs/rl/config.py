@@ -628,7 +628,8 @@ def _check_numbers(section: Any, prefix: str) -> None:
 
 
 def _check_number(where: str, value: float, bounds: Range) -> None:
-    if math.isfinite(value) and bounds.holds(value):
+    # an int is finite (math.isfinite(10**400) would overflow): its bounds decide
+    if (isinstance(value, int) or math.isfinite(value)) and bounds.holds(value):
         return
     kind = "an integer" if isinstance(value, int) else "a finite number"
     raise ConfigError(f"{where} must be {kind}{bounds}, got {value!r}")

@@ -99,6 +99,14 @@ def _expected_policy(algo: str) -> type:
     return {"ppo": ActorCriticPolicy, "sac": SACPolicy}[algo]
 
 
+def model_files(run_dir: Path, which: str) -> tuple[Path, Path]:
+    """The model and statistics files of ``which`` in ``run_dir``. The folder is only read:
+    a trainer may be writing a new best beside this evaluation (``BestModel.committed``)."""
+    if which == "best":
+        return BestModel(run_dir / "best").committed()
+    return tuple(run_dir / name for name in MODELS[which])
+
+
 def load_run(run_dir: Path, which: str = "final") -> tuple[TrainConfig, Any]:
     """The run's config and model (``which``: a key of :data:`MODELS`), after checking that
     they belong together: the model file is a readable SB3 model, of the config's algorithm,
@@ -114,9 +122,7 @@ def load_run(run_dir: Path, which: str = "final") -> tuple[TrainConfig, Any]:
     cfg = load_config(run_dir / "config.yaml")
     if which not in MODELS:
         raise RunError(f"--model must be one of {list(MODELS)}, got {which!r}")
-    if which == "best":  # a new best whose write a kill interrupted: completed (or dropped)
-        BestModel(run_dir / "best").recover()
-    model_path = run_dir / MODELS[which][0]
+    model_path, _ = model_files(run_dir, which)
     if not model_path.is_file() and which == "best":
         raise RunError(
             f"{run_dir}: no {MODELS['best'][0]} (the run never evaluated: eval.freq was 0 or "
@@ -177,7 +183,7 @@ def model_policy(cfg: TrainConfig, model, run_dir: Path, venv, which: str = "fin
 
         from fluidsim_envs.wrappers.sb3 import SB3VecEnv
 
-        stats = run_dir / MODELS[which][1]
+        _, stats = model_files(run_dir, which)
         if not stats.is_file():
             raise RunError(f"{run_dir}: normalization is on but {MODELS[which][1]} is missing")
         try:

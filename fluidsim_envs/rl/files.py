@@ -43,6 +43,9 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
     )
     os.close(fd)
     tmp_path = Path(tmp)
+    # mkstemp makes 0600 files and the rename keeps the mode: give the file the mode a plain
+    # open would (0666 less the umask), so that others can read a run folder as before
+    os.chmod(tmp_path, 0o666 & ~_umask())
     try:
         yield tmp_path
         _flush_to_disk(tmp_path)
@@ -51,6 +54,13 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
     except BaseException:
         tmp_path.unlink(missing_ok=True)
         raise
+
+
+def _umask() -> int:
+    """The process's umask (read by setting it, so set back at once)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def write_with(path: str | Path, write: Callable[[Path], object]) -> None:

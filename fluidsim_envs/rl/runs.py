@@ -93,13 +93,6 @@ def checkpoints(run_dir: Path) -> list[tuple[int, Path]]:
     return sorted(found, reverse=True)
 
 
-def latest_checkpoint(run_dir: Path) -> tuple[int, Path] | None:
-    """(timesteps, model path) of the newest checkpoint in ``run_dir/checkpoints`` (readable
-    or not: :func:`restart_point` checks)."""
-    found = checkpoints(run_dir)
-    return found[0] if found else None
-
-
 def save_state(model, where: Restart, replay: bool) -> None:
     """The model, its normalization statistics and (``replay``, off-policy) its replay
     buffer at the paths ``where`` names, each written atomically and the model last: a model
@@ -359,6 +352,22 @@ class BestModel:
             out.append((token, name, path))
         return out
 
+    def committed(self) -> tuple[Path, Path]:
+        """The model and statistics paths of the committed best, read without changing
+        anything (what an evaluation beside a running trainer may do): the pending files of
+        the committed token where a kill (or the trainer, now) is between steps 2 and 3,
+        else the final names."""
+        paths = {self.MODEL: self.folder / self.MODEL, self.STATS: self.folder / self.STATS}
+        path = self.folder / self.SCORE
+        try:
+            committed = (read_yaml(path) or {}).get("commit") if path.is_file() else None
+        except (ConfigError, AttributeError):
+            committed = None
+        for token, name, pending in self._pending():
+            if token == committed and name in paths:
+                paths[name] = pending
+        return paths[self.MODEL], paths[self.STATS]
+
     def recover(self) -> None:
         """Finish the commit a kill interrupted (step 3 of a new best), drop uncommitted
         files."""
@@ -414,7 +423,8 @@ def trim_monitor(path: Path, steps: int, say=warn) -> float:
     lines = path.read_text().splitlines(keepends=True)
     if lines and not lines[-1].endswith("\n"):
         lines.pop()  # a row a kill cut short
-    if len(lines) < 2:
+    if len(lines) < 2:  # no header row: the resumed run starts the file again, whole
+        path.unlink()
         return 0.0
     header, rows = lines[:2], list(csv.DictReader(lines[1:]))
     columns = header[1].strip().split(",")
@@ -457,7 +467,9 @@ def trim_logs(run_dir: Path, restart: Restart, say=warn) -> float:
     hold the lost stretch twice: evaluations past its timesteps (``eval/``) and training
     episodes that ended after it (``monitor.csv``). Returns the monitor's time offset."""
     log = EvalLog.load(run_dir / "eval", say)
-    if log.npz.is_file() or log.csv.is_file():
+    # an evaluations.npz that is gone or does not load leaves history.csv as it is (saving
+    # the empty log would write an empty history over it)
+    if log.timesteps or (log.npz.is_file() and not log.csv.is_file()):
         log.trim(restart.steps)
         log.save()
     return trim_monitor(run_dir / "monitor.csv", restart.steps, say)
@@ -482,7 +494,6 @@ __all__ = [
     "Restart",
     "checkpoint_paths",
     "checkpoint_stats",
-    "latest_checkpoint",
     "restart_point",
     "save_state",
     "trim_logs",

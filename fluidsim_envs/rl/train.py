@@ -51,12 +51,12 @@ from .extras import require
 
 require("train", "fluidsim_envs.rl.train")
 
+import numpy as np  # noqa: E402
 import yaml  # noqa: E402  (after the check that names the missing extra)
 
 from . import files  # noqa: E402
 from .config import (  # noqa: E402
     ACTIVATIONS,
-    SEED_MAX,
     ConfigError,
     TrainConfig,
     config_from_dict,
@@ -74,7 +74,6 @@ from .runs import (  # noqa: E402, F401  (CHECKPOINT_PREFIX ... are this module'
     checkpoint_paths,
     checkpoint_stats,
     final_paths,
-    latest_checkpoint,
     read_run_meta,
     restart_point,
     save_state,
@@ -390,7 +389,7 @@ def train(
     # with seed + timesteps done (modulo 2**32, torch's and NumPy's seed range), so it does
     # not replay the episodes it began with; the eval env is reseeded before every evaluation
     done_steps = restart.steps if restart else 0
-    env_seed = (cfg.seed + done_steps) % (SEED_MAX + 1)
+    env_seed = resumed_seed(cfg.seed, done_steps)
     # said before the envs are built: a cold numba cache compiles there (and says so)
     remaining = cfg.total_timesteps - done_steps
     planned = planned_timesteps(cfg, remaining) if remaining > 0 else 0
@@ -460,6 +459,21 @@ def _restart(run_dir: Path, cfg: TrainConfig) -> tuple[Restart, float]:
     return restart, trim_logs(run_dir, restart)
 
 
+def resumed_seed(seed: int, done_steps: int) -> int:
+    """The env seed of a run restarted after ``done_steps`` timesteps: ``seed`` for a fresh
+    start, else a stream of its own derived from both (``seed + done_steps`` would give the
+    runs seeded 0 and 1024 the same envs after a resume at 1024: STYLE's rule 7).
+
+    >>> resumed_seed(7, 0)
+    7
+    >>> resumed_seed(0, 1024) != resumed_seed(1024, 0)
+    True
+    """
+    if done_steps == 0:
+        return seed
+    return int(np.random.SeedSequence([seed, done_steps]).generate_state(1)[0])
+
+
 def _build(cfg: TrainConfig, run_dir: Path, restart: Restart | None, env_seed: int, offset: float):
     """The training env, the eval env (None without evaluations) and the model."""
     stats = restart.stats if restart is not None and cfg.normalize.enabled else None
@@ -469,7 +483,8 @@ def _build(cfg: TrainConfig, run_dir: Path, restart: Restart | None, env_seed: i
         env_seed,
         stats=stats,
         monitor_file=run_dir / "monitor.csv",
-        append=restart is not None,
+        # a resumed run goes on with monitor.csv, unless trim_logs found none worth keeping
+        append=restart is not None and (run_dir / "monitor.csv").is_file(),
         start_timesteps=restart.steps if restart else 0,
         time_offset_s=offset,
     )

@@ -464,6 +464,7 @@ class FluidEnv(gym.Env):
     def reset(self, *, seed: int | None = None, options=None):
         """``seed``: None or an integer >= 0; ``options`` as the vector env's."""
         seed = CK.seed("reset", "seed", seed)  # a NumPy int as an int: gymnasium takes ints
+        self.vector._reset_ids(options)  # checked before gymnasium's generator is touched
         super().reset(seed=seed)  # keeps gymnasium's bookkeeping; the generator is replaced
         obs, info = self.vector.reset(seed=None if seed is None else [seed], options=options)
         self._np_random = self.vector._rngs[0]
@@ -471,7 +472,7 @@ class FluidEnv(gym.Env):
 
     def step(self, action):
         a = CK.real_array("step", "action", action)
-        if a.size != self.action_space.shape[0]:  # (n,) or (1, n)
+        if a.shape not in (self.action_space.shape, (1, *self.action_space.shape)):
             raise ValueError(
                 f"step: action must have shape {self.action_space.shape} "
                 f"({', '.join(self.vector.action_names)}), got {a.shape}: {CK.show(action)}"

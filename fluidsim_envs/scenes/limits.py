@@ -8,13 +8,15 @@ enforces them, ``docs/environments.md``'s parameter tables are written from them
 each end.
 
 **The step limit.** Past an integrator's stability limit the fluid forces' own damping
-makes a craft oscillate with a growing amplitude until the clamps hold it: finite, and wrong
+makes a craft oscillate with a growing amplitude until the clamps hold it: finite, and wrong.
 The runaway check (``Simulator.diverged``) ends such an episode, but an env that accepts such
 a ``dt`` hands the learner mostly ended episodes. So each scene refuses a ``dt`` above the
-largest one at which none of its fuzzed episodes (adversarial actions, the parameters at
-their extremes: ``benchmarks/env_stability.py``) diverged, per integrator, in
-:data:`DT_LIMIT_S`; ``docs/env_stability.csv`` holds the measurement and
-``tests/scenes/test_limits.py`` keeps this table equal to it.
+largest one at which none of the episodes of the bisection's fuzz runs diverged
+(``benchmarks/env_stability.py``: adversarial actions, parameters at the ends of their
+ranges, 2e5 env-steps a run), per integrator, in :data:`DT_LIMIT_S`;
+``docs/env_stability.csv`` holds the measurement and ``tests/scenes/test_limits.py`` keeps
+this table equal to it. A limit, not a margin: a longer fuzz (docs/fuzz.csv) finds rare,
+flagged divergences at exactly the limit with the parameters at their extremes.
 
 :func:`unchecked` lifts the step limit inside a ``with`` block: only for measuring it.
 """
@@ -137,6 +139,6 @@ def check_step(own: str, dt: float, integrator: str, scene: str) -> None:
     if limit is None or getattr(_STATE, "off", False) or dt <= limit:
         return
     raise ValueError(
-        f"{own}: dt must be <= {limit:g} s with integrator {integrator!r} (the largest step "
-        f"at which no fuzzed episode of this craft diverged: docs/env_stability.csv), got {dt!r}"
+        f"{own}: dt must be <= {limit:g} s with integrator {integrator!r} (its stability "
+        f"limit on this craft, measured by fuzzing: docs/env_stability.csv), got {dt!r}"
     )

@@ -30,10 +30,31 @@ def test_spin_with_more_energy_than_the_mass_holds_at_the_clamp_speed_is_flagged
     np.testing.assert_array_equal(flags, [False, True])
 
 
+def test_a_jump_farther_than_the_clamp_allows_in_one_call_is_flagged():
+    """A parabolic pass of a point mass (GM = 1) from true anomaly -90 to +90 degrees: it
+    starts and ends at r = 2 r_p at speed sqrt(GM / r_p) = 1, passes periapsis at sqrt(2), and
+    moves a chord of 4 r_p in T = (8/3) sqrt(2 r_p^3 / GM) (Barker's equation). With the clamp
+    speed just above 1 neither end is too fast, yet 4 r_p is farther than vmax T = 3.77 vmax:
+    only the distance tells. With vmax = 1.1, vmax T = 4.15 > 4: not flagged."""
+    period = 8.0 / 3.0 * np.sqrt(2.0)  # r_p = GM = 1
+    steps = 4000
+    flags = []
+    for vmax in (1.02, 1.1):
+        world = World(gravity_mps2=0.0, central_gravity_m3s2=1.0, max_fluid_speed_mps=vmax)
+        sim = Simulator(BOX, world, num_envs=1, dt=period / steps, integrator="rk4")
+        sim.reset(pos=[0.0, -2.0, 0.0], lin_vel=[np.sqrt(0.5), np.sqrt(0.5), 0.0])
+        sim.step(steps=steps)
+        np.testing.assert_allclose(sim.pos[0, 0], [0.0, 2.0, 0.0], atol=1e-6)  # the pass
+        assert np.linalg.norm(sim.lin_vel[0, 0]) < 1.0 + 1e-6  # ends below either clamp
+        flags.append(bool(sim.diverged[0]))
+    assert flags == [True, False]
+
+
 def test_the_envs_dart_past_its_limit_never_runs_away_unflagged():
-    """The case the reliability issue measured: PaperAirplane-v0 at dt = 0.1 s with rk2 in
-    the strongest wind moved the dart up to 2,100 m in one action before any flag (the clamp
-    allows 62 m). Every such step is now flagged, and the reward of the rest stays bounded."""
+    """The case the reliability issue reported: PaperAirplane-v0 at dt = 0.1 s with rk2 in a
+    strong wind moved the dart far beyond what the clamp allows in one action (62 m) before
+    any flag, with rewards of hundreds. Every such step is now flagged, and the reward of the
+    rest stays bounded."""
     from benchmarks.fuzz import Case, run_case
 
     case = Case("fluidsim/PaperAirplane-v0", "extreme", "float64", "rk2", 0.1)

@@ -141,6 +141,38 @@ def test_a_kill_after_the_commit_is_completed_on_the_next_start(tmp_path, monkey
     assert not list(tmp_path.glob(".pending-*"))
 
 
+def test_an_evaluation_reads_the_committed_best_without_touching_the_folder(tmp_path, monkeypatch):
+    """fluidsim-evaluate --model best beside a trainer between its commit and its renames:
+    it reads the committed pending files and deletes or renames nothing (the trainer's own
+    renames must still find them)."""
+    best = BestModel(tmp_path)
+    best.save(FakeModel("a"), {"mean_return": 1.0})
+    real_replace, calls = os.replace, []
+
+    def replace(src, dst):  # the kill: right after best.yaml (the commit)
+        if calls and calls[-1] == "best.yaml":
+            raise KeyboardInterrupt
+        calls.append(Path(dst).name)
+        real_replace(src, dst)
+
+    monkeypatch.setattr(os, "replace", replace)
+    with pytest.raises(KeyboardInterrupt):
+        best.save(FakeModel("b"), {"mean_return": 2.0})
+    monkeypatch.undo()
+    before = sorted(p.name for p in tmp_path.iterdir())
+    model, stats = BestModel(tmp_path).committed()
+    assert (model.read_text(), stats.read_text()) == ("model b", "stats b")
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+    assert BestModel(tmp_path / "none").committed()[0] == tmp_path / "none" / "best_model.zip"
+
+
+def test_run_files_get_the_mode_a_plain_write_gives(tmp_path):
+    files.write_text(tmp_path / "a.yaml", "x: 1\n")
+    (tmp_path / "b.yaml").write_text("x: 1\n")
+    mode = lambda name: (tmp_path / name).stat().st_mode & 0o777  # noqa: E731
+    assert mode("a.yaml") == mode("b.yaml")
+
+
 def test_no_best_yet_scores_minus_infinity(tmp_path):
     assert BestModel.open(tmp_path / "best").score == -math.inf
 
