@@ -71,9 +71,20 @@ class Evaluations(BaseCallback):
         self.eval_env, self.period, self.n_episodes, self.seed = eval_env, period, n_episodes, seed
         self.log, self.best, self.report = log, best, report
 
+    def _on_training_start(self) -> None:
+        # Ctrl-C during the evaluation at step S saves the interrupt checkpoint at S without
+        # that evaluation: a run resumed from there evaluates first, so its history keeps
+        # every period
+        n = self.num_timesteps
+        if n and n % self.period == 0 and n not in self.log.timesteps:
+            self._evaluate()
+
     def _on_step(self) -> bool:
-        if self.num_timesteps % self.period:
-            return True
+        if self.num_timesteps % self.period == 0:
+            self._evaluate()
+        return True
+
+    def _evaluate(self) -> None:
         returns, lengths, successes = self._episodes()
         mean = float(np.mean(returns))
         new_best = mean > self.best.score
@@ -83,7 +94,6 @@ class Evaluations(BaseCallback):
         self.log.save()
         self._to_logger(returns, lengths, successes)
         self.report(self.num_timesteps, returns, successes, new_best)
-        return True
 
     def _episodes(self) -> tuple[list[float], list[int], list[float]]:
         """Returns, lengths and (where the env reports ``is_success``) successes."""

@@ -277,3 +277,21 @@ def test_devices_are_checked_against_what_torch_sees(monkeypatch):
     monkeypatch.setattr(torch.cuda, "is_available", lambda: False)
     with pytest.raises(ConfigError, match="device 'cuda' does not exist: torch sees no CUDA"):
         config_from_dict({**MINIMAL, "device": "cuda"})
+
+
+def test_a_run_resumed_where_an_evaluation_was_interrupted_evaluates_first(tmp_path):
+    """Ctrl-C during the evaluation at step S saves its checkpoint at S without it: the
+    resumed run evaluates at S before training on, and only then (not when S is logged, nor
+    off the evaluation period)."""
+    from fluidsim_envs.rl.callbacks import Evaluations
+
+    ran = []
+    log = EvalLog(tmp_path)
+    log.add(512, [1.0], [10], [])
+    for steps, logged, expect in ((1024, [512], True), (512, [512], False), (768, [512], False)):
+        log.timesteps = list(logged)
+        cb = Evaluations(None, 512, 1, 0, log, BestModel(tmp_path / "best"), lambda *a: None)
+        cb._evaluate = lambda steps=steps: ran.append(steps)  # the episodes need a model
+        cb.num_timesteps = steps
+        cb._on_training_start()
+        assert (ran[-1:] == [steps]) == expect, (steps, ran)
