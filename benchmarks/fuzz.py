@@ -2,10 +2,10 @@
 
 Each *case* is one env id, a set of parameters (``nominal``: the defaults; ``extreme``: the
 ranges that make each craft's life hardest, :data:`EXTREMES`), a dtype, an integrator and a
-physics step (a fraction of the scene's limit, ``scenes/limits.py``). A case steps a vector
-env of ``--num-envs`` sub-envs with actions from :func:`adversary` (per sub-env, one of:
-uniform noise every step; bang-bang held for a random 1-30 steps; sinusoids of 0.1-10 Hz;
-commands of 1e6 that saturate) and checks after every step:
+physics step (the env's default, or a fraction of the scene's limit, ``scenes/limits.py``).
+A case steps a vector env of ``--num-envs`` sub-envs with actions from :class:`Adversary`
+(per sub-env, one of: uniform noise every step; bang-bang held for a random 1-30 steps;
+sinusoids of 0.1-10 Hz; commands of 1e6 that saturate) and checks after every step:
 
 - ``nonfinite``: observations, rewards and ``final_obs`` that are not finite (must be 0);
 - ``unflagged_runaways``: a sub-env step whose body moved farther than the fluid samples'
@@ -18,7 +18,7 @@ commands of 1e6 that saturate) and checks after every step:
 Writes ``docs/fuzz.csv`` (one row per case, machine in ``#`` lines) and exits non-zero when
 any case has a non-finite value or an unflagged runaway::
 
-    python -m benchmarks.fuzz --env-steps 1e8        # the published run (about an hour)
+    python -m benchmarks.fuzz --env-steps 1e8        # the published run (16 min on 2 cores)
     python -m benchmarks.fuzz --quick                # a few seconds per case, into build/
 
 ``tests/scenes/test_fuzz.py`` runs :func:`run_case` at a small budget.

@@ -206,12 +206,8 @@ class FluidVectorEnv(VectorEnv):
                 raise ValueError(f"reset: expected {E} seeds, one per sub-env, got {len(seeds)}")
             self._seed([np.random.SeedSequence(s).spawn(1)[0] for s in seeds])
         else:
-            if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-                raise ValueError(
-                    f"reset: seed must be None, an integer >= 0 or a list of {E} of them (one "
-                    f"per sub-env), got {CK.show(seed)}"
-                )
-            self._seed(np.random.SeedSequence(int(seed)).spawn(E))
+            seed = CK.seed("reset", f"seed (or a list of {E}, one per sub-env)", seed)
+            self._seed(np.random.SeedSequence(seed).spawn(E))
         self._start(ids)
         self._observe(self._obs)
         return self._obs.copy(), self._info_after_reset()

@@ -85,6 +85,10 @@ def check_params(params, own: str, ranges: Mapping[str, Bound | Span]) -> None:
 # fields that hold something else than a number or a span (checked by their scene)
 NOT_NUMBERS = frozenset({"swell"})
 
+# what every scene's stepping takes alike: physics steps per action, actions per episode
+SUBSTEPS = Bound(1, 1000, integer=True)
+EPISODE_STEPS = Bound(1, 10**7, integer=True)
+
 # reward weights: a term's weight beyond 1000 is a unit mistake (the largest default is 100),
 # and an unbounded one makes every reward inf (1e308)
 WEIGHT = Bound(0.0, 1000.0)

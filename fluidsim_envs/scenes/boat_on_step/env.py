@@ -14,7 +14,15 @@ from ...physics import checks as CK
 from ...physics.hydrostatics import static_float
 from ...physics.kernels import INTEGRATORS
 from ..base import FluidEnv, FluidVectorEnv, check_choice
-from ..limits import WEIGHT, Bound, Span, check_params, check_step
+from ..limits import (
+    EPISODE_STEPS,
+    SUBSTEPS,
+    WEIGHT,
+    Bound,
+    Span,
+    check_params,
+    check_step,
+)
 from . import kernel as TK
 from .kernel import OBSERVATION, REWARD_TERMS
 from .view import BoatOnStepView
@@ -75,8 +83,8 @@ class BoatOnStepParams:
 
     RANGES: ClassVar[dict] = {
         "dt": Bound(1e-5, 0.05),  # and the integrator's limit (limits.DT_LIMIT_S)
-        "substeps": Bound(1, 1000, integer=True),
-        "max_episode_steps": Bound(1, 10**7, integer=True),
+        "substeps": SUBSTEPS,
+        "max_episode_steps": EPISODE_STEPS,
         "engine_power_w": Bound(1.0, 1e7),
         "target_speed_mps": Span(0.0, 40.0),
         "first_leg_m": Span(10.0, 1e4),

@@ -10,7 +10,15 @@ import numpy as np
 from ...physics import Craft, Ground, Simulator, World
 from ...physics.kernels import INTEGRATORS, quat_matrices
 from ..base import FluidEnv, FluidVectorEnv, check_choice
-from ..limits import WEIGHT, Bound, Span, check_params, check_step
+from ..limits import (
+    EPISODE_STEPS,
+    SUBSTEPS,
+    WEIGHT,
+    Bound,
+    Span,
+    check_params,
+    check_step,
+)
 from . import kernel as TK
 from .kernel import OBSERVATION, REWARD_TERMS
 from .view import PaperAirplaneView
@@ -54,8 +62,8 @@ class PaperAirplaneParams:
 
     RANGES: ClassVar[dict] = {
         "dt": Bound(1e-5, 0.1),  # and the integrator's limit (limits.DT_LIMIT_S)
-        "substeps": Bound(1, 1000, integer=True),
-        "max_episode_steps": Bound(1, 10**7, integer=True),
+        "substeps": SUBSTEPS,
+        "max_episode_steps": EPISODE_STEPS,
         "launch_height_m": Span(0.5, 1000.0),
         # a hand throw is at most about 20 m/s, and a paper dart in more than a 15 m/s wind
         # (a strong breeze) is beyond its flight envelope: faster air stiffens its rate damping

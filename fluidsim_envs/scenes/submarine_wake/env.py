@@ -15,7 +15,15 @@ from ...physics.forces import thrust_control
 from ...physics.kernels import INTEGRATORS
 from ...physics.wake import NSRC as WAKE_SOURCE_ROWS
 from ..base import FluidEnv, FluidVectorEnv, check_choice
-from ..limits import WEIGHT, Bound, Span, check_params, check_step
+from ..limits import (
+    EPISODE_STEPS,
+    SUBSTEPS,
+    WEIGHT,
+    Bound,
+    Span,
+    check_params,
+    check_step,
+)
 from . import kernel as TK
 from .kernel import OBSERVATION, REWARD_TERMS
 from .view import SubmarineWakeView
@@ -77,8 +85,8 @@ class SubmarineWakeParams:
 
     RANGES: ClassVar[dict] = {
         "dt": Bound(1e-5, 0.5),  # and the integrator's limit (limits.DT_LIMIT_S)
-        "substeps": Bound(1, 1000, integer=True),
-        "max_episode_steps": Bound(1, 10**7, integer=True),
+        "substeps": SUBSTEPS,
+        "max_episode_steps": EPISODE_STEPS,
         "lead_depth_m": Span(5.0, 1000.0),
         "lead_speed_mps": Span(0.0, 5.0),
         "lead_turn_deg_s": Span(-10.0, 10.0),
