@@ -181,8 +181,10 @@ class Simulator:
               trapezoid rule (the seed's trick for fast spins) instead of the midpoint.
             - ``implicit_midpoint`` [1] per iteration: ``y1 = y0 + dt f((y0 + y1) / 2)``
               solved by fixed-point iteration to a few ulp (:attr:`iterations` counts them).
-              Second order and symplectic; the iteration fails (flagged :attr:`diverged`)
-              where dt times the forces' stiffness passes about 2.
+              Second order and symplectic. The iteration contracts by about dt times the
+              forces' stiffness over 2 per pass: past 1 it cannot converge, past about 1/2 it
+              needs more than ``integrators.IMPLICIT_MAX_ITERATIONS``; either way the step is
+              flagged :attr:`diverged`.
 
             The carrying methods (``position_verlet``, ``prescaled_symplectic_euler``,
             ``velocity_verlet_cached``) keep their memory per body between calls; wherever
@@ -341,10 +343,11 @@ class Simulator:
             touch=np.zeros((E if n_pairs else 0, n_pairs), dtype=dtype),
             scr=np.zeros((-(-E // BLOCK), B, ROWS * BLOCK), dtype=dtype),
             diverged=np.zeros(E, dtype=np.bool_),
-            # NaN: no step of the integrator's has left this state yet (state.MEMORY_FIELDS)
-            memory=np.full((NMEMORY if method.carries else 0, B, E), np.nan, dtype=dtype),
+            memory=np.zeros((NMEMORY if method.carries else 0, B, E), dtype=dtype),
             iterations=np.zeros(E if method.iterative else 0, dtype=dtype),
         )
+        # rows END NaN: no step of the integrator's has left this state (state.MEMORY_FIELDS)
+        self._data.memory[:NSTATE] = np.nan
         self._entry = None  # the step kernel's compiled entry, once it has run (step)
         self._omega = np.zeros((3, B, E), dtype=dtype)
         self._wrench = np.zeros((6, B, E), dtype=dtype)
