@@ -183,7 +183,7 @@ def test_controls_do_what_a_pilot_expects(craft, channel, axis, sign, what):
     assert sign * (body_rates(sim)[0, axis] - before) > 0.3, what
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=25)
 @given(
     quat=arrays(np.float64, (32, 4), elements=st.floats(-1, 1)),
     rates=arrays(np.float64, (32, 3), elements=st.floats(-60, 60)),
