@@ -1,8 +1,8 @@
 """Accuracy against cost: work-precision diagrams of the shipped integrators.
 
 Every problem runs through the real :class:`Simulator`, so what is measured is the shipped
-kernels. For each problem, integrator (``explicit_euler``, ``symplectic_euler``,
-``velocity_verlet``, ``rk2``, ``rk4``, ``verlet_tetra``), dtype (float64, float32) and time
+kernels. For each problem, integrator (every row of ``integrators.TABLE``), dtype (float64,
+float32) and time
 step dt of a sweep, one environment is run over the problem's interval and its error measured:
 
 - ``projectile``: free fall from the origin at v0 = (3, 0, 4) m/s; error: position error at
@@ -28,15 +28,19 @@ the same problem, at the problem's nominal dt, on one thread (the serial kernel:
 these runs share has 2 cores, and one thread is the least disturbed by other work; the
 parallel kernel divides it by up to the thread count), minimum over 15 repeats, per (problem,
 integrator, dtype); plus force evaluations per step
-(``kernels.EVALS_PER_STEP``: 1, 1, 2, 2, 4, 1). A run's cost is its number of steps times the
+(``kernels.EVALS_PER_STEP``; the implicit midpoint's is per iteration). A run's cost is its number of steps times the
 cost per body-step: the x axis of the diagrams (microseconds of compute per body to cover the
 problem's interval).
 
-The Kepler orbit (e = 0.6) is not here: it needs a central force that the Simulator does not
-have (pending a design decision, see ``docs/study.md``).
+- ``kepler``: a point mass about GM = 1 (``World(central_gravity_m3s2=1)``) on the orbit of
+  eccentricity 0.6 of Hairer, Lubich and Wanner (GNI, chapter I), 10 orbits: position against
+  Kepler's equation, energy and angular momentum (``benchmarks/study_hairer.py`` follows
+  their growth over 512 orbits).
 
 Writes ``docs/study_accuracy.csv`` (errors), ``docs/study_cost.csv`` (cost per body-step) and
-``docs/study_accuracy.png`` (machine description in ``#`` lines at the top of each CSV)::
+``docs/study_accuracy.png`` (the first six methods) and ``docs/study_accuracy_seed.png`` (the
+seed's remaining methods beside symplectic Euler and rk2) (machine description in ``#`` lines
+at the top of each CSV)::
 
     python -m benchmarks.study_accuracy            # full size, under a minute on 2 cores
     python -m benchmarks.study_accuracy --quick    # fewer dts and repeats, into build/study_quick
@@ -476,7 +480,24 @@ def cost_ns(p: Problem, integrator: str, dtype, num_envs: int, repeats: int, ste
 # ---- main ------------------------------------------------------------------------------------
 
 
-def plot(rows: list[dict], probs: list[Problem], path: Path) -> None:
+# the two charts: the first six methods, and the seed's remaining ones beside symplectic Euler
+# and rk2 (one chart of twelve lines is unreadable)
+FIRST = ("explicit_euler", "symplectic_euler", "velocity_verlet", "rk2", "rk4", "verlet_tetra")
+SEED = (
+    "symplectic_euler",
+    "rk2",
+    "accurate_euler",
+    "position_verlet",
+    "prescaled_symplectic_euler",
+    "velocity_verlet_cached",
+    "trapezoid_symplectic_euler",
+    "implicit_midpoint",
+)
+CHARTS = {"study_accuracy.png": FIRST, "study_accuracy_seed.png": SEED}
+assert set(FIRST) | set(SEED) == set(METHODS), "a method in no chart"
+
+
+def plot(rows: list[dict], probs: list[Problem], path: Path, methods=FIRST) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -494,10 +515,10 @@ def plot(rows: list[dict], probs: list[Problem], path: Path) -> None:
     ncol = 3
     nrow = -(-len(panels) // ncol)
     fig, axes = plt.subplots(nrow, ncol, figsize=(5 * ncol, 3.9 * nrow), constrained_layout=True)
-    colors = dict(zip(METHODS, plt.rcParams["axes.prop_cycle"].by_key()["color"], strict=False))
-    markers = dict(zip(METHODS, "ovs^Dx", strict=True))
+    colors = dict(zip(methods, plt.rcParams["axes.prop_cycle"].by_key()["color"], strict=False))
+    markers = dict(zip(methods, "ovs^Dx<>ph", strict=False))
     for ax, (p, metric) in zip(axes.flat, panels, strict=False):
-        for m in METHODS:
+        for m in methods:
             for dname, style in (("float64", "-"), ("float32", ":")):
                 pts = [
                     (r["cost_us"], max(r[metric], 1e-17))
@@ -635,9 +656,10 @@ def main() -> None:
         cost_rows,
         machine,
     )
-    plot(rows, probs, out / "study_accuracy.png")
+    for name, methods in CHARTS.items():
+        plot(rows, probs, out / name, methods)
     print(
-        f"wrote {out}/study_accuracy.csv, study_cost.csv, study_accuracy.png "
+        f"wrote {out}/study_accuracy.csv, study_cost.csv, {', '.join(CHARTS)} "
         f"in {time.perf_counter() - t_start:.0f} s"
     )
 
