@@ -123,6 +123,7 @@ from .state import (
     BLOCK,
     BODY,
     CARRY,
+    CHANGE,
     DERIV,
     END,
     FLUID,
@@ -154,7 +155,7 @@ from .wake import W_ON, wake_at
 # A slot's scratch is one flat row-major array S[row * BLOCK + i] (rows: state.SCRATCH_FIELDS):
 # with the row length a compile-time constant the compiler can prove that rows do not
 # overlap, and vectorizes.
-assert ROWS == ITERATIONS + 1 and MEMORY == BODY + NBODY
+assert ROWS == CHANGE + 2 and MEMORY == BODY + NBODY
 # _evaluate has one loop per sample kind, in this order: a kind added to model.KINDS needs
 # its loop there (and its share of _first_sample) before this module imports
 assert tuple(k.name for k in KINDS) == ("plate", "flap", "cyl", "buoy", "thr"), KINDS
@@ -183,9 +184,10 @@ P_SWELL = 15
 P_TETRA_SWITCH = P_SWELL + 4 * MAX_WAVES  # verlet_tetra: rigid above this |w| dt (rad)
 P_GM = P_TETRA_SWITCH + 1  # World.central_gravity_m3s2 (0: none)
 # implicit_midpoint: the iteration's tolerance (integrators.IMPLICIT_TOLERANCE_ULP times the
-# dtype's machine epsilon) and its most iterations
-P_IMPLICIT_TOL, P_IMPLICIT_MAX = P_GM + 1, P_GM + 2
-NPRM = P_IMPLICIT_MAX + 1
+# dtype's machine epsilon), its most iterations, and the round-off stop's bound (the dtype's
+# epsilon to the 3/4: _implicit_midpoint)
+P_IMPLICIT_TOL, P_IMPLICIT_MAX, P_IMPLICIT_LOOSE = P_GM + 1, P_GM + 2, P_GM + 3
+NPRM = P_IMPLICIT_LOOSE + 1
 POLAR_ITERATIONS = 8  # fit passes from the rigid turn: energy floor ~1e-11 (docs/tetra_spin.csv)
 
 SIX = np.float32(6.0)
@@ -1118,22 +1120,35 @@ def _trapezoid_euler(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, ext
 @njit(**_JIT)
 def _implicit_midpoint(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
     """Implicit midpoint, ``y1 = y0 + dt f((y0 + y1) / 2)`` on the whole state, solved by
-    fixed-point iteration from ``y1 = y0`` (the first iterate is explicit Euler's). An
-    environment stops iterating when no number of its state moved by more than
-    ``prm[P_IMPLICIT_TOL]`` of its size (``|y0| + |dt f|``) and keeps that iterate, whatever its
-    block's neighbours still do; row ITERATIONS keeps the most iterations a step took, past
-    ``prm[P_IMPLICIT_MAX]`` the iteration has failed (it converges only while dt times the
-    forces' stiffness stays below about 2) and the step is flagged diverged. Rows: START y0,
-    RK_SUM the iterate, STATE the midpoint, STALE 1 while an environment iterates."""
+    fixed-point iteration from ``y1 = y0`` (the first iterate is explicit Euler's). A body
+    stops iterating, keeping its iterate whatever its block's neighbours still do, when
+
+    - no number of its state moved by more than ``prm[P_IMPLICIT_TOL]`` of its size
+      (``|y0| + |dt f|``), or
+    - the iteration has reached round-off: the largest change is no smaller than two
+      iterations before (Hairer, Lubich and Wanner, GNI VIII.6: stop when the increments
+      stop decreasing; two back, since the largest change of an oscillation's position and
+      velocity can grow for one iteration while both shrink over two) and is below
+      ``prm[P_IMPLICIT_LOOSE]`` times the largest number of the step ``dt f`` (a force summed
+      from large terms that cancel, a body at rest, has a rounding floor far above a few ulp
+      of its small net).
+
+    Row ITERATIONS keeps the most iterations a step took; past ``prm[P_IMPLICIT_MAX]`` the
+    iteration has failed (it contracts by about dt times the forces' stiffness over 2 per
+    pass) and the step is flagged diverged. Rows: START y0, RK_SUM the iterate, STATE the
+    midpoint, STALE 1 while a body iterates, CHANGE its largest changes two and one
+    iterations ago."""
     dt = prm[P_DT]
     th = 0.5 * np.float64(dt)
-    tol, most = prm[P_IMPLICIT_TOL], int(prm[P_IMPLICIT_MAX])
+    tol, loose, most = prm[P_IMPLICIT_TOL], prm[P_IMPLICIT_LOOSE], int(prm[P_IMPLICIT_MAX])
     for b in range(nb):
         S = scr_blk[b]
         _copy(S, START, STATE, n)
         _copy(S, RK_SUM, STATE, n)
         for i in range(n):
             S[STALE * BLOCK + i] = ONE
+            S[CHANGE * BLOCK + i] = np.inf
+            S[(CHANGE + 1) * BLOCK + i] = np.inf
     left, it = n * nb, 0
     while left > 0 and it < most:
         it += 1
@@ -1152,11 +1167,17 @@ def _implicit_midpoint(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, e
                 if S[STALE * BLOCK + i] == ZERO:
                     continue
                 done = True
+                change, size = ZERO * dt, ZERO * dt
                 for k in range(NSTATE):
                     y0, step = S[(START + k) * BLOCK + i], dt * S[(DERIV + k) * BLOCK + i]
                     y = y0 + step
-                    done &= abs(y - S[(RK_SUM + k) * BLOCK + i]) <= tol * (abs(y0) + abs(step))
+                    moved = abs(y - S[(RK_SUM + k) * BLOCK + i])
+                    done &= moved <= tol * (abs(y0) + abs(step))
+                    change, size = max(change, moved), max(size, abs(step))
                     S[(RK_SUM + k) * BLOCK + i] = y
+                done |= change >= S[CHANGE * BLOCK + i] and change <= loose * size
+                S[CHANGE * BLOCK + i] = S[(CHANGE + 1) * BLOCK + i]
+                S[(CHANGE + 1) * BLOCK + i] = change
                 if done:
                     S[STALE * BLOCK + i] = ZERO
                     S[ITERATIONS * BLOCK + i] = max(S[ITERATIONS * BLOCK + i], it)

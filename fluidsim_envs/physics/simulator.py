@@ -45,6 +45,7 @@ def _world_params(world: World, dt: float, swell: np.ndarray, dtype: np.dtype) -
     prm = np.zeros(K.NPRM)
     prm[K.P_IMPLICIT_TOL] = IT.IMPLICIT_TOLERANCE_ULP * np.finfo(dtype).eps
     prm[K.P_IMPLICIT_MAX] = IT.IMPLICIT_MAX_ITERATIONS
+    prm[K.P_IMPLICIT_LOOSE] = np.finfo(dtype).eps ** 0.75
     prm[K.P_G] = world.gravity_mps2
     prm[K.P_GM] = world.central_gravity_m3s2
     prm[K.P_RHO_AIR] = world.air_density_kgm3

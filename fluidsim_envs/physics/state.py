@@ -78,6 +78,7 @@ SCRATCH_FIELDS = (
     ("memory", NMEMORY),  # a carrying integrator's memory (MEMORY_FIELDS), loaded per call
     ("stale", 1),  # 1 where the state changed outside the integrator since its last step
     ("iterations", 1),  # implicit_midpoint: the most iterations a step of this call took
+    ("change", 2),  # implicit_midpoint: the iterate's largest changes, two and one back
 )
 _ROW, ROWS = rows(SCRATCH_FIELDS)
 STATE, START, RK_SUM, DERIV, ROT, OMEGA = (
@@ -85,5 +86,5 @@ STATE, START, RK_SUM, DERIV, ROT, OMEGA = (
 )
 FLUID, OWN_WATER, SOURCE, HEIGHT = (_ROW[n] for n in ("fluid", "own_water", "source", "height"))
 SAMPLE_X, SAMPLE_Y, PHASE, BODY = (_ROW[n] for n in ("sample_x", "sample_y", "phase", "body"))
-MEMORY, STALE, ITERATIONS = (_ROW[n] for n in ("memory", "stale", "iterations"))
+MEMORY, STALE, ITERATIONS, CHANGE = (_ROW[n] for n in ("memory", "stale", "iterations", "change"))
 END, CARRY = MEMORY + _MEMORY["end"], MEMORY + _MEMORY["carry"]
