@@ -1,0 +1,328 @@
+"""The fixed-point formats, the unit scale factors and the packing of crafts into integers.
+
+The format. ``fixed32`` and ``fixed64`` hold every number as an integer word ``n`` standing
+for ``n / 2**f`` (``f = fraction_bits``; the source article's is 14, ``1 << 14 == 1.0``) in
+the craft's units. ``fixed32``'s words are 32-bit: ``|n| <= 2**31 - 1``; products are taken
+in 64 bits and shifted back. ``fixed64``'s words are int64 limited to ``|n| <= 2**61 - 1``
+(two guard bits: a product split at the binary point sums partial products that then stay
+inside int64, ``laws.qmul``). Both take ``1 <= f <= 30``: the word must hold 1.0 (fixed32:
+``2**30 < 2**31``), and the split product is exact for ``f <= 30``. Every operation rounds
+half up and saturates (``laws.py``); a body with a saturated state word is flagged
+``diverged``.
+
+Units. A 5 g dart's inertia (7e-6 kg m^2) is 0.11 counts in Q14 SI, zero; a 773 t
+submarine's buoyancy (7.6 MN) needs 37 bits. So each simulator counts in units of length,
+mass and time chosen for its crafts (:func:`derive_units`, the first craft's):
+
+- length ``L``: the power of two nearest the craft's reach (the farthest sample from the
+  center of mass, or its radius of gyration if larger);
+- mass ``M``: the power of two nearest its mass;
+- time ``T``: the power of two nearest ``sqrt(L / g)`` (the time to fall about its own size;
+  g = 9.81 without gravity), at least dt's next power of two (so ``h = dt / T <= 1``); under
+  ``prescaled_symplectic_euler`` the step itself, ``T = dt``: velocities are then
+  displacements per step, forces ``F dt^2``, as the source article's variant stores them.
+
+Powers of two make every conversion of a craft number exact up to the final rounding. With
+them, mass and length are O(1), gravity between 1/2 and 2, forces near the weight O(1):
+the values the format resolves best. ``units=`` overrides any of the three
+(``{"length_m": ..., "mass_kg": ..., "time_s": ...}``).
+
+Packing (:func:`pack`) converts every number of the crafts and the world to the format.
+A value that passes the word, or a size that rounds to zero (a mass, an inertia, an area,
+a volume, a thrust, gravity, a density, the step), is refused with an error naming the
+value, the craft and the format. The clamps (``World.max_fluid_speed_mps``,
+``max_sample_force_n``) and a sharp surface's ``1/blend`` saturate at the word instead: a
+clamp beyond the format's range clamps nothing the format can hold anyway.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from .. import checks as CK
+from .. import model as M
+from ..craft import Craft
+from ..world import World
+from . import laws as LW
+
+FORMATS = ("fixed32", "fixed64")
+LIMITS = {"fixed32": (1 << 31) - 1, "fixed64": (1 << 61) - 1}
+MIN_FRACTION_BITS, MAX_FRACTION_BITS = 1, 30
+INTEGRATORS = ("symplectic_euler", "prescaled_symplectic_euler")
+
+
+@dataclass(frozen=True)
+class Format:
+    """A fixed-point format: its name (``fixed32`` or ``fixed64``) and fraction bits."""
+
+    name: str
+    fraction_bits: int
+
+    @property
+    def lim(self) -> int:
+        """The largest word magnitude."""
+        return LIMITS[self.name]
+
+    @property
+    def largest(self) -> float:
+        """The largest number the format holds, in the craft's units."""
+        return self.lim / 2.0**self.fraction_bits
+
+    def __str__(self) -> str:
+        return f"{self.name} with {self.fraction_bits} fraction bits"
+
+
+def fixed_format(dtype, fraction_bits) -> Format:
+    """The format of ``dtype`` (``"fixed32"``, ``"fixed64"``) with ``fraction_bits``;
+    anything else raises naming it."""
+    if dtype not in FORMATS:
+        raise ValueError(f"Simulator: unknown fixed-point dtype {CK.show(dtype)}; choose {FORMATS}")
+    f = CK.number(
+        "Simulator",
+        "fraction_bits",
+        fraction_bits,
+        ge=MIN_FRACTION_BITS,
+        le=MAX_FRACTION_BITS,
+        integer=True,
+    )
+    return Format(dtype, int(f))
+
+
+@dataclass(frozen=True)
+class Units:
+    """What one unit of length (m), mass (kg) and time (s) is in a fixed-point simulator."""
+
+    length_m: float
+    mass_kg: float
+    time_s: float
+
+    def scale(self, length: int = 0, mass: int = 0, time: int = 0) -> float:
+        """The SI size of one unit of a quantity of dimension L^length M^mass T^time."""
+        return self.length_m**length * self.mass_kg**mass * self.time_s**time
+
+
+def _pow2(x: float) -> float:
+    return 2.0 ** round(math.log2(x))
+
+
+def craft_reach(craft: Craft) -> float:
+    """The craft's size for its length unit: its farthest sample from the center of mass,
+    or its largest radius of gyration if that is larger (a craft without samples)."""
+    parts = (*craft.plates, *craft.cylinders, *craft.buoyancy, *craft.thrusters)
+    far = max((math.hypot(*p.offset_m) for p in parts), default=0.0)
+    gyration = math.sqrt(float(np.max(np.linalg.eigvalsh(craft.inertia_tensor))) / craft.mass_kg)
+    return max(far, gyration)
+
+
+def derive_units(craft: Craft, world: World, dt: float, prescaled: bool) -> Units:
+    """The units a craft is counted in (module docstring)."""
+    length = _pow2(craft_reach(craft))
+    mass = _pow2(craft.mass_kg)
+    if prescaled:
+        return Units(length, mass, float(dt))
+    g = world.gravity_mps2 if world.gravity_mps2 > 0 else 9.81
+    time = max(_pow2(math.sqrt(length / g)), 2.0 ** math.ceil(math.log2(dt)))
+    return Units(length, mass, time)
+
+
+def coerce_units(units, derived: Units, prescaled: bool, dt: float) -> Units:
+    """``units=``: None (the derived ones), a :class:`Units`, or a dict overriding some of
+    ``length_m``, ``mass_kg``, ``time_s``; each > 0. The prescaled integrator counts time in
+    steps: a time unit other than dt is refused."""
+    if units is None:
+        return derived
+    if isinstance(units, Units):
+        units = {"length_m": units.length_m, "mass_kg": units.mass_kg, "time_s": units.time_s}
+    if not isinstance(units, dict):
+        raise ValueError(
+            f"Simulator: units must be None, a Units or a dict with keys length_m, mass_kg, "
+            f"time_s, got {CK.show(units)}"
+        )
+    valid = ("length_m", "mass_kg", "time_s")
+    unknown = [k for k in units if k not in valid]
+    if unknown:
+        raise ValueError(f"Simulator: unknown units key(s) {unknown}; valid keys are {valid}")
+    values = {k: CK.number("Simulator", f"units.{k}", v, gt=0.0) for k, v in units.items()}
+    if prescaled and "time_s" in values and values["time_s"] != dt:
+        raise ValueError(
+            f"Simulator: prescaled_symplectic_euler counts time in steps (units.time_s = dt = "
+            f"{dt}), got units.time_s = {values['time_s']!r}"
+        )
+    return Units(**{k: values.get(k, getattr(derived, k)) for k in valid})
+
+
+class FixedModel(NamedTuple):
+    """What the integer kernel reads (int64 arrays), and what the per-call inputs need."""
+
+    prm: np.ndarray  # [laws.NPRM]
+    bc: np.ndarray  # [B, laws.NBC]
+    tab: np.ndarray  # [B, n] each body's sample table (laws.T_*, W_*)
+    flap_normal: np.ndarray  # [B, n_flap_max, 3] float64 undeflected body normals
+    flap_hinge: np.ndarray  # [B, n_flap_max, 3] float64
+    flap_mix: np.ndarray  # [B, n_flap_max, C] float64 rad per unit of each channel
+    thr_channel: np.ndarray  # [B, n_thr_max] int64 (-1: none, full thrust)
+    n_inp: int  # the inputs' width per body
+
+
+class _Packer:
+    """Converts numbers to words, naming what it refuses."""
+
+    def __init__(self, fmt: Format, units: Units, craft: str) -> None:
+        self.fmt, self.units, self.craft = fmt, units, craft
+
+    def __call__(self, value, what: str, si: str, dims=(0, 0, 0), nonzero=False, saturate=False):
+        value = float(value)
+        scale = self.units.scale(*dims)
+        exact = value / scale * 2.0**self.fmt.fraction_bits
+        lim = self.fmt.lim
+        if abs(exact) > lim:
+            if saturate:
+                return lim if exact > 0 else -lim
+            raise ValueError(
+                f"Simulator: {self.fmt} cannot hold {self.craft} {what} = {value:.6g} {si}: "
+                f"it is {value / scale:.4g} units of {scale:.4g} {si}, above the format's "
+                f"largest {self.fmt.largest:.4g} (units {self._units()}; pass units= or fewer "
+                f"fraction_bits)"
+            )
+        word = math.floor(exact + 0.5)
+        if nonzero and value != 0.0 and word == 0:
+            raise ValueError(
+                f"Simulator: {self.fmt} rounds {self.craft} {what} = {value:.6g} {si} to zero: "
+                f"its smallest step is {scale / 2.0**self.fmt.fraction_bits:.4g} {si} (units "
+                f"{self._units()}; pass units= or more fraction_bits)"
+            )
+        return word
+
+    def _units(self) -> str:
+        u = self.units
+        return f"{u.length_m:g} m, {u.mass_kg:g} kg, {u.time_s:g} s"
+
+
+# the inverse inertia's entries, as model.body_rows orders them
+INERTIA_PAIRS = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
+LENGTH, AREA, VOLUME, NONE = (1, 0, 0), (2, 0, 0), (3, 0, 0), (0, 0, 0)
+SPEED, ACCEL, FORCE = (1, 0, -1), (1, 0, -2), (1, 1, -2)
+DENSITY, MOMENTUM = (-3, 1, 0), (2, 1, -1)
+
+
+def pack(
+    crafts: Sequence[Craft], world: World, dt: float, fmt: Format, units: Units, prescaled: bool
+) -> FixedModel:
+    """Every number of the crafts, the world and the step in the format (module docstring)."""
+    f = fmt.fraction_bits
+    wq = _Packer(fmt, units, "world")
+    prm = np.zeros(LW.NPRM, dtype=np.int64)
+    prm[LW.P_F], prm[LW.P_LIM] = f, fmt.lim
+    prm[LW.P_G] = wq(world.gravity_mps2, "gravity_mps2", "m/s^2", ACCEL, nonzero=True)
+    prm[LW.P_RHO_AIR] = wq(world.air_density_kgm3, "air_density_kgm3", "kg/m^3", DENSITY, True)
+    prm[LW.P_RHO_WATER] = wq(
+        world.water_density_kgm3, "water_density_kgm3", "kg/m^3", DENSITY, world.water
+    )
+    prm[LW.P_WATER] = (1 << f) if world.water else 0
+    blend = 1.0 / world.surface_blend_m if world.surface_blend_m > 0 else math.inf
+    prm[LW.P_INV_BLEND] = (
+        fmt.lim if math.isinf(blend) else wq(blend, "1/surface_blend_m", "1/m", (-1, 0, 0), True, True)
+    )
+    prm[LW.P_VMAX] = wq(world.max_fluid_speed_mps, "max_fluid_speed_mps", "m/s", SPEED,
+                        True, True)  # fmt: skip
+    prm[LW.P_FMAX] = wq(world.max_sample_force_n, "max_sample_force_n", "N", FORCE, True, True)
+    for k in range(3):
+        air, water = world.wind_mps[k], world.current_mps[k]
+        prm[LW.P_AIR + k] = wq(air, f"wind_mps[{k}]", "m/s", SPEED)
+        prm[LW.P_DU + k] = wq(water - air, f"current_mps[{k}] - wind_mps[{k}]", "m/s", SPEED)
+    h = dt / units.time_s
+    step_q = _Packer(Format(fmt.name, LW.STEP_BITS), Units(1.0, 1.0, 1.0), "the step")
+    prm[LW.P_H] = step_q(h, "dt / units.time_s", "", nonzero=True)
+    prm[LW.P_HH] = step_q(0.5 * h, "dt / units.time_s / 2", "", nonzero=True)
+    prm[LW.P_PRESCALED] = 1 if prescaled else 0
+
+    bcs, tabs, flaps, thr_channels = [], [], [], []
+    offsets = np.cumsum([0] + [len(c.control_names) for c in crafts])
+    for b, craft in enumerate(crafts):
+        q = _Packer(fmt, units, f"craft {craft.name!r}")
+        bc = [q(1.0 / craft.mass_kg, "1/mass_kg", "1/kg", (0, -1, 0), nonzero=True)]
+        q(craft.mass_kg, "mass_kg", "kg", (0, 1, 0), nonzero=True)
+        moments = np.linalg.eigvalsh(craft.inertia_tensor)
+        for i, moment in enumerate(moments):
+            q(moment, f"inertia_kgm2 principal moment {i}", "kg m^2", (2, 1, 0), nonzero=True)
+        inv = np.linalg.inv(craft.inertia_tensor)
+        for name, (i, j) in zip(("xx", "yy", "zz", "xy", "xz", "yz"), INERTIA_PAIRS):
+            bc.append(q(inv[i, j], f"inverse inertia {name}", "1/(kg m^2)", (-2, -1, 0)))
+        bcs.append(bc)
+        flap_names = M.is_flap(craft)
+        plates = [p for p in craft.plates if p.name not in flap_names]
+        flap_plates = [p for p in craft.plates if p.name in flap_names]
+
+        def offset(part):
+            return [q(v, f"{part.name}.offset_m[{k}]", "m", LENGTH) for k, v in enumerate(part.offset_m)]
+
+        def unit(part, key):
+            return [q(v, f"{part.name}.{key}[{k}]", "", NONE) for k, v in enumerate(getattr(part, key))]
+
+        tab = [len(plates), len(flap_plates), len(craft.cylinders), len(craft.buoyancy),
+               len(craft.thrusters)]  # fmt: skip
+        for p in plates:
+            tab += offset(p) + unit(p, "normal")
+            tab += [q(p.area_m2, f"{p.name}.area_m2", "m^2", AREA, nonzero=True)]
+            tab += [q(p.efficiency, f"{p.name}.efficiency", "", NONE)]
+        for p in flap_plates:
+            tab += offset(p)
+            tab += [q(p.area_m2, f"{p.name}.area_m2", "m^2", AREA, nonzero=True)]
+            tab += [q(p.efficiency, f"{p.name}.efficiency", "", NONE)]
+        for c in craft.cylinders:
+            tab += offset(c) + unit(c, "axis")
+            tab += [q(c.area_m2, f"{c.name}.area_m2", "m^2", AREA, nonzero=True)]
+        for s in craft.buoyancy:
+            tab += offset(s)
+            tab += [q(s.volume_m3 or 0.0, f"{s.name}.volume_m3", "m^3", VOLUME, nonzero=True)]
+            tab += [q(s.area_m2 or 0.0, f"{s.name}.area_m2", "m^2", AREA, nonzero=True)]
+        for t in craft.thrusters:
+            tab += offset(t) + unit(t, "direction")
+            tab += [q(t.min_thrust_n, f"{t.name}.min_thrust_n", "N", FORCE, nonzero=True)]
+            tab += [q(t.max_thrust_n, f"{t.name}.max_thrust_n", "N", FORCE, nonzero=True)]
+        tabs.append(tab)
+        drive = M.surface_mix(craft)
+        mix = np.zeros((len(flap_plates), int(offsets[-1])))
+        for i, p in enumerate(flap_plates):
+            mix[i, offsets[b] : offsets[b + 1]] = drive[p.name]
+        flaps.append(
+            (
+                np.array([p.normal for p in flap_plates]).reshape(-1, 3),
+                np.array([p.hinge_axis for p in flap_plates]).reshape(-1, 3),
+                mix,
+            )
+        )
+        thr_channels.append(
+            [
+                -1 if t.control is None else int(offsets[b]) + craft.control_names.index(t.control)
+                for t in craft.thrusters
+            ]
+        )
+    width = max(len(t) for t in tabs)
+    tab = np.zeros((len(crafts), width), dtype=np.int64)
+    for b, t in enumerate(tabs):
+        tab[b, : len(t)] = t
+    nf = max(len(fl[0]) for fl in flaps)
+    nt = max(len(t) for t in thr_channels)
+    C = int(offsets[-1])
+    normal, hinge = np.zeros((len(crafts), nf, 3)), np.zeros((len(crafts), nf, 3))
+    mix = np.zeros((len(crafts), nf, C))
+    channel = np.full((len(crafts), nt), -1, dtype=np.int64)
+    for b, (n, hg, mx) in enumerate(flaps):
+        normal[b, : len(n)], hinge[b, : len(n)], mix[b, : len(n)] = n, hg, mx
+        channel[b, : len(thr_channels[b])] = thr_channels[b]
+    return FixedModel(
+        prm=prm,
+        bc=np.asarray(bcs, dtype=np.int64),
+        tab=tab,
+        flap_normal=normal,
+        flap_hinge=hinge,
+        flap_mix=mix,
+        thr_channel=channel,
+        n_inp=3 * nf + nt,
+    )
