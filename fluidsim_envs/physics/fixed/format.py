@@ -82,14 +82,17 @@ def fixed_format(dtype, fraction_bits) -> Format:
     anything else raises naming it."""
     if dtype not in FORMATS:
         raise ValueError(f"Simulator: unknown fixed-point dtype {CK.show(dtype)}; choose {FORMATS}")
-    f = CK.number(
-        "Simulator",
-        "fraction_bits",
-        fraction_bits,
-        ge=MIN_FRACTION_BITS,
-        le=MAX_FRACTION_BITS,
-        integer=True,
-    )
+    try:
+        f = CK.number("Simulator", "fraction_bits", fraction_bits, integer=True)
+    except ValueError:
+        f = None
+    if f is None or not MIN_FRACTION_BITS <= f <= MAX_FRACTION_BITS:
+        raise ValueError(
+            f"Simulator: fraction_bits must be an integer in [{MIN_FRACTION_BITS}, "
+            f"{MAX_FRACTION_BITS}] for {dtype} (its word must hold 1.0, 2**fraction_bits, "
+            f"and a product split at the binary point must stay exact), got "
+            f"{CK.show(fraction_bits)}"
+        )
     return Format(dtype, int(f))
 
 
@@ -198,6 +201,18 @@ class _Packer:
             )
         return word
 
+    def offset(self, part) -> list[int]:
+        """A sample's offset from the center of mass, as words."""
+        return [
+            self(v, f"{part.name}.offset_m[{k}]", "m", LENGTH) for k, v in enumerate(part.offset_m)
+        ]
+
+    def unit(self, part, key: str) -> list[int]:
+        """A sample's unit vector ``key``, as words."""
+        return [
+            self(v, f"{part.name}.{key}[{k}]", "", NONE) for k, v in enumerate(getattr(part, key))
+        ]
+
     def _units(self) -> str:
         u = self.units
         return f"{u.length_m:g} m, {u.mass_kg:g} kg, {u.time_s:g} s"
@@ -225,9 +240,9 @@ def pack(
     )
     prm[LW.P_WATER] = (1 << f) if world.water else 0
     blend = 1.0 / world.surface_blend_m if world.surface_blend_m > 0 else math.inf
-    prm[LW.P_INV_BLEND] = (
-        fmt.lim if math.isinf(blend) else wq(blend, "1/surface_blend_m", "1/m", (-1, 0, 0), True, True)
-    )
+    sharp = math.isinf(blend)
+    inv_blend = fmt.lim if sharp else wq(blend, "1/surface_blend_m", "1/m", (-1, 0, 0), True, True)
+    prm[LW.P_INV_BLEND] = inv_blend
     prm[LW.P_VMAX] = wq(world.max_fluid_speed_mps, "max_fluid_speed_mps", "m/s", SPEED,
                         True, True)  # fmt: skip
     prm[LW.P_FMAX] = wq(world.max_sample_force_n, "max_sample_force_n", "N", FORCE, True, True)
@@ -251,18 +266,14 @@ def pack(
         for i, moment in enumerate(moments):
             q(moment, f"inertia_kgm2 principal moment {i}", "kg m^2", (2, 1, 0), nonzero=True)
         inv = np.linalg.inv(craft.inertia_tensor)
-        for name, (i, j) in zip(("xx", "yy", "zz", "xy", "xz", "yz"), INERTIA_PAIRS):
+        for name, (i, j) in zip(("xx", "yy", "zz", "xy", "xz", "yz"), INERTIA_PAIRS, strict=True):
             bc.append(q(inv[i, j], f"inverse inertia {name}", "1/(kg m^2)", (-2, -1, 0)))
         bcs.append(bc)
         flap_names = M.is_flap(craft)
         plates = [p for p in craft.plates if p.name not in flap_names]
         flap_plates = [p for p in craft.plates if p.name in flap_names]
-
-        def offset(part):
-            return [q(v, f"{part.name}.offset_m[{k}]", "m", LENGTH) for k, v in enumerate(part.offset_m)]
-
-        def unit(part, key):
-            return [q(v, f"{part.name}.{key}[{k}]", "", NONE) for k, v in enumerate(getattr(part, key))]
+        offset = q.offset
+        unit = q.unit
 
         tab = [len(plates), len(flap_plates), len(craft.cylinders), len(craft.buoyancy),
                len(craft.thrusters)]  # fmt: skip

@@ -287,9 +287,7 @@ def cylinder_force(vx, vy, vz, ax, ay, az, rho, area, vmax, fmax, f, lim):
     pz = sub(vz, mul(va, az, f, lim), lim)
     k = mul(mul(-mul(1 << (f - 1), rho, f, lim), area, f, lim), norm3(px, py, pz), f, lim)
     k = mul(mul(k, scale, f, lim), scale, f, lim)
-    return clamp_force(
-        mul(k, px, f, lim), mul(k, py, f, lim), mul(k, pz, f, lim), fmax, f, lim
-    )
+    return clamp_force(mul(k, px, f, lim), mul(k, py, f, lim), mul(k, pz, f, lim), fmax, f, lim)
 
 
 @njit(**_J)

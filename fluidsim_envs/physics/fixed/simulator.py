@@ -152,7 +152,7 @@ class FixedSimulator:
             worst = np.asarray(value).ravel()[np.argmax(np.abs(exact).ravel())]
             raise ValueError(
                 f"reset: {self.format} with units {self.units} cannot hold {name} = {worst:.6g} "
-                f"(the largest is {self.format.largest * self._scale(rows) * 2.0**self.fraction_bits:.4g})"
+                f"(the largest is {self.format.lim * self._scale(rows):.4g})"
             )
         return np.floor(exact + 0.5).astype(np.int64)
 
