@@ -230,38 +230,12 @@ def pack(
 ) -> FixedModel:
     """Every number of the crafts, the world and the step in the format (module docstring)."""
     f = fmt.fraction_bits
-    wq = _Packer(fmt, units, "world")
-    prm = np.zeros(LW.NPRM, dtype=np.int64)
-    prm[LW.P_F], prm[LW.P_LIM] = f, fmt.lim
-    prm[LW.P_G] = wq(world.gravity_mps2, "gravity_mps2", "m/s^2", ACCEL, nonzero=True)
-    prm[LW.P_RHO_AIR] = wq(world.air_density_kgm3, "air_density_kgm3", "kg/m^3", DENSITY, True)
-    prm[LW.P_RHO_WATER] = wq(
-        world.water_density_kgm3, "water_density_kgm3", "kg/m^3", DENSITY, world.water
-    )
-    prm[LW.P_WATER] = (1 << f) if world.water else 0
-    blend = 1.0 / world.surface_blend_m if world.surface_blend_m > 0 else math.inf
-    sharp = math.isinf(blend)
-    inv_blend = fmt.lim if sharp else wq(blend, "1/surface_blend_m", "1/m", (-1, 0, 0), True, True)
-    prm[LW.P_INV_BLEND] = inv_blend
-    prm[LW.P_VMAX] = wq(world.max_fluid_speed_mps, "max_fluid_speed_mps", "m/s", SPEED,
-                        True, True)  # fmt: skip
-    prm[LW.P_FMAX] = wq(world.max_sample_force_n, "max_sample_force_n", "N", FORCE, True, True)
-    for k in range(3):
-        air, water = world.wind_mps[k], world.current_mps[k]
-        prm[LW.P_AIR + k] = wq(air, f"wind_mps[{k}]", "m/s", SPEED)
-        prm[LW.P_DU + k] = wq(water - air, f"current_mps[{k}] - wind_mps[{k}]", "m/s", SPEED)
-    h = dt / units.time_s
-    step_q = _Packer(Format(fmt.name, LW.STEP_BITS), Units(1.0, 1.0, 1.0), "the step")
-    prm[LW.P_H] = step_q(h, "dt / units.time_s", "", nonzero=True)
-    prm[LW.P_HH] = step_q(0.5 * h, "dt / units.time_s / 2", "", nonzero=True)
-    prm[LW.P_PRESCALED] = 1 if prescaled else 0
-
     bcs, tabs, flaps, thr_channels = [], [], [], []
     offsets = np.cumsum([0] + [len(c.control_names) for c in crafts])
     for b, craft in enumerate(crafts):
         q = _Packer(fmt, units, f"craft {craft.name!r}")
+        q(craft.mass_kg, "mass_kg", "kg", (0, 1, 0), nonzero=True)  # what the user wrote
         bc = [q(1.0 / craft.mass_kg, "1/mass_kg", "1/kg", (0, -1, 0), nonzero=True)]
-        q(craft.mass_kg, "mass_kg", "kg", (0, 1, 0), nonzero=True)
         moments = np.linalg.eigvalsh(craft.inertia_tensor)
         for i, moment in enumerate(moments):
             q(moment, f"inertia_kgm2 principal moment {i}", "kg m^2", (2, 1, 0), nonzero=True)
@@ -314,6 +288,32 @@ def pack(
                 for t in craft.thrusters
             ]
         )
+    wq = _Packer(fmt, units, "world")
+    prm = np.zeros(LW.NPRM, dtype=np.int64)
+    prm[LW.P_F], prm[LW.P_LIM] = f, fmt.lim
+    prm[LW.P_G] = wq(world.gravity_mps2, "gravity_mps2", "m/s^2", ACCEL, nonzero=True)
+    prm[LW.P_RHO_AIR] = wq(world.air_density_kgm3, "air_density_kgm3", "kg/m^3", DENSITY, True)
+    prm[LW.P_RHO_WATER] = wq(
+        world.water_density_kgm3, "water_density_kgm3", "kg/m^3", DENSITY, world.water
+    )
+    prm[LW.P_WATER] = (1 << f) if world.water else 0
+    blend = 1.0 / world.surface_blend_m if world.surface_blend_m > 0 else math.inf
+    sharp = math.isinf(blend)
+    inv_blend = fmt.lim if sharp else wq(blend, "1/surface_blend_m", "1/m", (-1, 0, 0), True, True)
+    prm[LW.P_INV_BLEND] = inv_blend
+    prm[LW.P_VMAX] = wq(world.max_fluid_speed_mps, "max_fluid_speed_mps", "m/s", SPEED,
+                        True, True)  # fmt: skip
+    prm[LW.P_FMAX] = wq(world.max_sample_force_n, "max_sample_force_n", "N", FORCE, True, True)
+    for k in range(3):
+        air, water = world.wind_mps[k], world.current_mps[k]
+        prm[LW.P_AIR + k] = wq(air, f"wind_mps[{k}]", "m/s", SPEED)
+        prm[LW.P_DU + k] = wq(water - air, f"current_mps[{k}] - wind_mps[{k}]", "m/s", SPEED)
+    h = dt / units.time_s
+    step_q = _Packer(Format(fmt.name, LW.STEP_BITS), Units(1.0, 1.0, 1.0), "the step")
+    prm[LW.P_H] = step_q(h, "dt / units.time_s", "", nonzero=True)
+    prm[LW.P_HH] = step_q(0.5 * h, "dt / units.time_s / 2", "", nonzero=True)
+    prm[LW.P_PRESCALED] = 1 if prescaled else 0
+
     width = max(len(t) for t in tabs)
     tab = np.zeros((len(crafts), width), dtype=np.int64)
     for b, t in enumerate(tabs):
