@@ -31,8 +31,9 @@ Packing (:func:`pack`) converts every number of the crafts and the world to the 
 A value that passes the word, or a size that rounds to zero (a mass, an inertia, an area,
 a volume, a thrust, gravity, a density, the step), is refused with an error naming the
 value, the craft and the format. The clamps (``World.max_fluid_speed_mps``,
-``max_sample_force_n``) and a sharp surface's ``1/blend`` saturate at the word instead: a
-clamp beyond the format's range clamps nothing the format can hold anyway.
+``max_sample_force_n``) and a sharp surface's ``1/blend`` (``surface_blend_m = 0``) saturate
+at the word instead: a clamp beyond the format's range clamps nothing the format can hold
+anyway, and a saturated ``1/blend`` is still a step.
 """
 
 from __future__ import annotations
@@ -299,7 +300,7 @@ def pack(
     prm[LW.P_WATER] = (1 << f) if world.water else 0
     blend = 1.0 / world.surface_blend_m if world.surface_blend_m > 0 else math.inf
     sharp = math.isinf(blend)
-    inv_blend = fmt.lim if sharp else wq(blend, "1/surface_blend_m", "1/m", (-1, 0, 0), True, True)
+    inv_blend = fmt.lim if sharp else wq(blend, "1/surface_blend_m", "1/m", (-1, 0, 0), True)
     prm[LW.P_INV_BLEND] = inv_blend
     prm[LW.P_VMAX] = wq(world.max_fluid_speed_mps, "max_fluid_speed_mps", "m/s", SPEED,
                         True, True)  # fmt: skip

@@ -27,8 +27,10 @@ Rounding and ranges (``format.py`` documents the formats):
   shifted down with its divisor until ``a 2**s`` fits).
 - Every result saturates to ``[-lim, lim]`` (``prm[P_LIM]``: ``2**31 - 1`` for fixed32,
   ``2**61 - 1`` for fixed64): nothing wraps. A body with a state word at the limit, or faster
-  than the speed clamp, is flagged (:func:`body_step` returns 1), and the simulator marks its
-  environment ``diverged``.
+  than the speed clamp, or whose force or torque sum reached the limit, is flagged
+  (:func:`body_step` returns 1), and the simulator marks its environment ``diverged``. A
+  product that saturates and is then shrunk by a later factor goes unflagged: bounded, never
+  wrapped.
 - Square roots: :func:`isqrt`, the binary digit-by-digit integer square root (floor), exact.
   Vector lengths (:func:`norm3`, :func:`norm4`) take it of the sum of the squared words
   (scale ``2**(2f)``, so the root is in the words' scale), after shifting the words down
@@ -438,7 +440,11 @@ def body_step(s, bc, tab, inp, prm):
     n = max(norm4(qw, qx, qy, qz), 1)
     s[OQ], s[OQ + 1] = qdiv(qw, n, f, lim), qdiv(qx, n, f, lim)
     s[OQ + 2], s[OQ + 3] = qdiv(qy, n, f, lim), qdiv(qz, n, f, lim)
+    # a force or torque sum at the word: some sample's force saturated on the way
     flag = 0
+    for x in (Fx, Fy, Fz, Tx, Ty, Tz):
+        if x >= lim or x <= -lim:
+            flag = 1
     for k in range(NSTATE):
         if s[k] >= lim or s[k] <= -lim:
             flag = 1
