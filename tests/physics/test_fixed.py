@@ -16,6 +16,8 @@ from fluidsim_envs.physics.fixed import reference as REF
 from tests.bad_inputs.table import Row, check, params
 
 AIR, WATER = World(), World(water=True)
+DART, UUV = Craft.load("paper_airplane"), Craft.load("uuv")
+SI = {"length_m": 1.0, "mass_kg": 1.0, "time_s": 1.0}
 # craft, world, initial state, controls (None: all 0), format, fraction bits, integrator
 CASES = {
     "dart_fixed32_q14": (
@@ -61,7 +63,7 @@ def test_kernel_equals_the_plain_python_reference_bit_for_bit(name):
     assert isinstance(sim, FixedSimulator)
     start = np.asarray(sim.fixed_state, dtype=np.int64).copy()
     sim.step(ctrl, steps=STEPS)
-    state, flags = REF.run(start, sim.fixed_model, sim.fixed_inputs, STEPS)
+    state, flags = REF.run(start, sim.fixed_model, sim.fixed_controls, STEPS)
     assert np.array_equal(np.asarray(state, dtype=np.int64), sim.fixed_state)
     assert [bool(f) for f in flags] == sim.diverged.tolist()
     moved = np.asarray(state, dtype=np.int64) != start
@@ -69,7 +71,7 @@ def test_kernel_equals_the_plain_python_reference_bit_for_bit(name):
     # the comparison can fail: the last bit of one starting word changes the trajectory's
     nudged = start.copy()
     nudged[0, 0, LW.OV + 2] += 1
-    other, _ = REF.run(nudged, sim.fixed_model, sim.fixed_inputs, STEPS)
+    other, _ = REF.run(nudged, sim.fixed_model, sim.fixed_controls, STEPS)
     assert not np.array_equal(np.asarray(other, dtype=np.int64), sim.fixed_state)
 
 
@@ -82,6 +84,33 @@ def test_the_reference_is_plain_python():
         want = max(-big, min(big, exact))
         assert laws.qmul(a, b, s, big) == LW.qmul(a, b, s, big) == want
     assert laws.isqrt((1 << 62) + 12345) == LW.isqrt((1 << 62) + 12345) == 1 << 31
+
+
+def test_integer_sine_and_the_deflected_normals_follow_the_float_laws():
+    """laws.sincos within 2 units of 2^-30 over +-15 rad; the dart's deflected control
+    surfaces within a word or two of forces.rotate_about_axis (float64)."""
+    angles = np.linspace(-15.0, 15.0, 2001)
+    words = np.floor(angles * 2.0**LW.ANGLE_BITS + 0.5).astype(np.int64)
+    got = np.array([LW.sincos(int(t)) for t in words], dtype=np.float64) / 2.0**LW.ANGLE_BITS
+    exact = words / 2.0**LW.ANGLE_BITS
+    assert np.abs(got - np.stack([np.cos(exact), np.sin(exact)], 1)).max() < 2 * 2.0**-30
+    sim = Simulator(DART, AIR, 1, dtype="fixed64", fraction_bits=24)
+    sim.reset()
+    controls = np.array([[0.7, -0.4, 1.0]])
+    sim.step(controls)
+    flaps = [p for p in DART.plates if p.hinge_axis is not None]
+    mix = {
+        p.name: row
+        for p, row in zip(flaps, sim.fixed_model.mix[0].reshape(len(flaps), 3), strict=True)
+    }
+    for i, p in enumerate(flaps):
+        theta = float(mix[p.name] @ controls[0]) / 2.0**LW.ANGLE_BITS
+        n, h = np.array(p.normal), np.array(p.hinge_axis)
+        want = (
+            n * np.cos(theta) + np.cross(h, n) * np.sin(theta) + h * (h @ n) * (1 - np.cos(theta))
+        )
+        got = sim.fixed_inputs[0, 0, 3 * i : 3 * i + 3] / 2.0**24
+        assert np.abs(got - want).max() < 4 * 2.0**-24, (p.name, got, want)
 
 
 def test_one_env_equals_the_same_env_in_a_batch_of_70_on_any_thread_count():
@@ -160,8 +189,6 @@ def test_a_runaway_saturates_and_is_flagged_not_wrapped():
     assert z == -((1 << 31) - 1)  # saturated at the word, not wrapped to a positive number
 
 
-DART, UUV = Craft.load("paper_airplane"), Craft.load("uuv")
-SI = {"length_m": 1.0, "mass_kg": 1.0, "time_s": 1.0}
 ROWS = [
     Row("fixed_unknown_dtype", lambda: Simulator(UUV, WATER, dtype="fixed16"), ValueError,
         ["dtype", "fixed16", "fixed32", "fixed64"]),

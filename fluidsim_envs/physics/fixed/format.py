@@ -55,6 +55,7 @@ FORMATS = ("fixed32", "fixed64")
 LIMITS = {"fixed32": (1 << 31) - 1, "fixed64": (1 << 61) - 1}
 MIN_FRACTION_BITS, MAX_FRACTION_BITS = 1, 30
 INTEGRATORS = ("symplectic_euler", "prescaled_symplectic_euler")
+MAX_MIX_RAD = 4.0  # a deflection per unit of a channel: its product with a control fits int64
 
 
 @dataclass(frozen=True)
@@ -161,16 +162,13 @@ def coerce_units(units, derived: Units, prescaled: bool, dt: float) -> Units:
 
 
 class FixedModel(NamedTuple):
-    """What the integer kernel reads (int64 arrays), and what the per-call inputs need."""
+    """What the integer kernel reads (int64 arrays)."""
 
     prm: np.ndarray  # [laws.NPRM]
     bc: np.ndarray  # [B, laws.NBC]
     tab: np.ndarray  # [B, n] each body's sample table (laws.T_*, W_*)
-    flap_normal: np.ndarray  # [B, n_flap_max, 3] float64 undeflected body normals
-    flap_hinge: np.ndarray  # [B, n_flap_max, 3] float64
-    flap_mix: np.ndarray  # [B, n_flap_max, C] float64 rad per unit of each channel
-    thr_channel: np.ndarray  # [B, n_thr_max] int64 (-1: none, full thrust)
-    n_inp: int  # the inputs' width per body
+    mix: np.ndarray  # [B, n_flap * C] rad per unit of each channel (laws.ANGLE_BITS)
+    n_inp: int  # the inputs' width per body (laws.body_inputs)
 
 
 class _Packer:
@@ -231,8 +229,9 @@ def pack(
 ) -> FixedModel:
     """Every number of the crafts, the world and the step in the format (module docstring)."""
     f = fmt.fraction_bits
-    bcs, tabs, flaps, thr_channels = [], [], [], []
+    bcs, tabs, mixes = [], [], []
     offsets = np.cumsum([0] + [len(c.control_names) for c in crafts])
+    C = int(offsets[-1])
     for b, craft in enumerate(crafts):
         q = _Packer(fmt, units, f"craft {craft.name!r}")
         q(craft.mass_kg, "mass_kg", "kg", (0, 1, 0), nonzero=True)  # what the user wrote
@@ -260,6 +259,7 @@ def pack(
             tab += offset(p)
             tab += [q(p.area_m2, f"{p.name}.area_m2", "m^2", AREA, nonzero=True)]
             tab += [q(p.efficiency, f"{p.name}.efficiency", "", NONE)]
+            tab += unit(p, "normal") + unit(p, "hinge_axis")
         for c in craft.cylinders:
             tab += offset(c) + unit(c, "axis")
             tab += [q(c.area_m2, f"{c.name}.area_m2", "m^2", AREA, nonzero=True)]
@@ -271,24 +271,33 @@ def pack(
             tab += offset(t) + unit(t, "direction")
             tab += [q(t.min_thrust_n, f"{t.name}.min_thrust_n", "N", FORCE, nonzero=True)]
             tab += [q(t.max_thrust_n, f"{t.name}.max_thrust_n", "N", FORCE, nonzero=True)]
+            channel = t.control is not None and int(offsets[b]) + craft.control_names.index(
+                t.control
+            )
+            tab += [-1 if t.control is None else channel]
         tabs.append(tab)
         drive = M.surface_mix(craft)
-        mix = np.zeros((len(flap_plates), int(offsets[-1])))
-        for i, p in enumerate(flap_plates):
-            mix[i, offsets[b] : offsets[b + 1]] = drive[p.name]
-        flaps.append(
-            (
-                np.array([p.normal for p in flap_plates]).reshape(-1, 3),
-                np.array([p.hinge_axis for p in flap_plates]).reshape(-1, 3),
-                mix,
-            )
-        )
-        thr_channels.append(
-            [
-                -1 if t.control is None else int(offsets[b]) + craft.control_names.index(t.control)
-                for t in craft.thrusters
-            ]
-        )
+        rows = []
+        for p in flap_plates:  # each surface's deflection per unit of every body's channels
+            row = np.zeros(C)
+            row[offsets[b] : offsets[b + 1]] = drive[p.name]
+            for c, rad in enumerate(row):
+                if abs(rad) > MAX_MIX_RAD:
+                    raise ValueError(
+                        f"Simulator: fixed point takes a control surface's deflection up to "
+                        f"{MAX_MIX_RAD} rad per unit of a channel, got {rad:.6g} rad for craft "
+                        f"{craft.name!r} surface {p.name!r} on channel {c}"
+                    )
+            rows += [math.floor(rad * 2.0**LW.ANGLE_BITS + 0.5) for rad in row]
+        mixes.append(rows)
+    width = max(len(t) for t in tabs)
+    tab = np.zeros((len(crafts), width), dtype=np.int64)
+    for b, t in enumerate(tabs):
+        tab[b, : len(t)] = t
+    mix = np.zeros((len(crafts), max(len(m) for m in mixes)), dtype=np.int64)
+    for b, m in enumerate(mixes):
+        mix[b, : len(m)] = m
+    n_inp = max(3 * int(t[LW.T_NFLAP]) + int(t[LW.T_NTHR]) for t in tabs)
     wq = _Packer(fmt, units, "world")
     prm = np.zeros(LW.NPRM, dtype=np.int64)
     prm[LW.P_F], prm[LW.P_LIM] = f, fmt.lim
@@ -315,26 +324,5 @@ def pack(
     prm[LW.P_HH] = step_q(0.5 * h, "dt / units.time_s / 2", "", nonzero=True)
     prm[LW.P_PRESCALED] = 1 if prescaled else 0
 
-    width = max(len(t) for t in tabs)
-    tab = np.zeros((len(crafts), width), dtype=np.int64)
-    for b, t in enumerate(tabs):
-        tab[b, : len(t)] = t
-    nf = max(len(fl[0]) for fl in flaps)
-    nt = max(len(t) for t in thr_channels)
-    C = int(offsets[-1])
-    normal, hinge = np.zeros((len(crafts), nf, 3)), np.zeros((len(crafts), nf, 3))
-    mix = np.zeros((len(crafts), nf, C))
-    channel = np.full((len(crafts), nt), -1, dtype=np.int64)
-    for b, (n, hg, mx) in enumerate(flaps):
-        normal[b, : len(n)], hinge[b, : len(n)], mix[b, : len(n)] = n, hg, mx
-        channel[b, : len(thr_channels[b])] = thr_channels[b]
-    return FixedModel(
-        prm=prm,
-        bc=np.asarray(bcs, dtype=np.int64),
-        tab=tab,
-        flap_normal=normal,
-        flap_hinge=hinge,
-        flap_mix=mix,
-        thr_channel=channel,
-        n_inp=3 * nf + nt,
-    )
+    return FixedModel(prm=prm, bc=np.asarray(bcs, dtype=np.int64), tab=tab, mix=mix,
+                      n_inp=max(n_inp, 1))  # fmt: skip

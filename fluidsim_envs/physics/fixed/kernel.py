@@ -10,17 +10,20 @@ from __future__ import annotations
 
 from numba import njit, prange
 
-from .laws import body_step
+from .laws import body_inputs, body_step
 
 
 @njit(cache=True)
-def step_serial(st, bc, tab, inp, prm, steps, count, diverged):
+def step_serial(st, bc, tab, mix, ctrl, inp, prm, steps, count, diverged):
     """Advance every environment ``steps`` steps: ``st[E, B, 13]`` (int64 words) in place;
-    ``bc[B, NBC]``, ``tab[B, n]`` the bodies' constants and samples, ``inp[E, B, m]`` each
-    environment's inputs (deflected control-surface normals, thruster controls),
-    ``prm[NPRM]``; ``count[E]`` counts the steps (the clock), ``diverged[E]`` is set where a
-    body was flagged during the call."""
+    ``bc[B, NBC]``, ``tab[B, n]``, ``mix[B, m]`` the bodies' constants, samples and control
+    wiring; ``ctrl[E, C]`` the controls (``laws.ANGLE_BITS``), from which each environment's
+    inputs ``inp[E, B, k]`` (deflected control-surface normals, thruster controls) are made
+    first (``laws.body_inputs``); ``prm[NPRM]``; ``count[E]`` counts the steps (the clock),
+    ``diverged[E]`` is set where a body was flagged during the call."""
     for e in range(st.shape[0]):
+        for b in range(st.shape[1]):
+            body_inputs(ctrl[e], tab[b], mix[b], prm, inp[e, b])
         flag = 0
         for _ in range(steps):
             for b in range(st.shape[1]):
@@ -30,9 +33,11 @@ def step_serial(st, bc, tab, inp, prm, steps, count, diverged):
 
 
 @njit(cache=True, parallel=True)
-def step_parallel(st, bc, tab, inp, prm, steps, count, diverged):
+def step_parallel(st, bc, tab, mix, ctrl, inp, prm, steps, count, diverged):
     """:func:`step_serial` with environments spread over numba's threads."""
     for e in prange(st.shape[0]):
+        for b in range(st.shape[1]):
+            body_inputs(ctrl[e], tab[b], mix[b], prm, inp[e, b])
         flag = 0
         for _ in range(steps):
             for b in range(st.shape[1]):

@@ -58,12 +58,14 @@ B_INV_MASS, B_INV_INERTIA, NBC = 0, 1, 7
 # tab[]: the sample counts, then each kind's rows one after the other
 T_NPLATE, T_NFLAP, T_NCYL, T_NBUOY, T_NTHR, T_HEAD = 0, 1, 2, 3, 4, 5
 W_PLATE = 8  # offset (3), normal (3), area, efficiency
-W_FLAP = 5  # offset (3), area, efficiency (the deflected normal is an input)
+W_FLAP = 11  # offset (3), area, efficiency, undeflected normal (3), hinge axis (3)
 W_CYL = 7  # offset (3), axis (3), area
 W_BUOY = 5  # offset (3), volume, area
-W_THR = 8  # offset (3), direction (3), thrust at -1, thrust at +1
-# inp[] per environment: each flap's deflected body-frame normal (3), then each thruster's
-# control value
+W_THR = 9  # offset (3), direction (3), thrust at -1, thrust at +1, control channel (-1: none)
+# inp[] per environment and body, from the controls once per call (:func:`body_inputs`):
+# each control surface's deflected body-frame normal (3), then each thruster's control value
+ANGLE_BITS = 30  # fraction bits of the controls, the deflections (rad) and their sines
+PI_A, HALF_PI_A, TWO_PI_A = 3373259426, 1686629713, 6746518852  # pi, pi/2, 2 pi at 30 bits
 
 # state rows (state.STATE_FIELDS): position, quaternion, velocity, angular momentum
 OX, OQ, OV, OL, NSTATE = 0, 3, 7, 10, 13
@@ -170,6 +172,41 @@ def norm4(w, x, y, z):
 def dot3(ax, ay, az, bx, by, bz, f, lim):
     """a . b, summed left to right."""
     return add(add(mul(ax, bx, f, lim), mul(ay, by, f, lim), lim), mul(az, bz, f, lim), lim)
+
+
+@njit(**_J)
+def to_bits(x, s, f):
+    """x with s fraction bits as f <= s fraction bits, rounded half up."""
+    return x if s == f else (x + (1 << (s - f - 1))) >> (s - f)
+
+
+@njit(**_J)
+def sincos(t):
+    """cos t and sin t of an angle t (rad), all with ``ANGLE_BITS`` fraction bits: t is
+    reduced to [-pi, pi), then to r in [-pi/4, pi/4) around k quarter turns; cos r and sin r
+    by their Taylor series to r^12 and r^11 in Horner form (each factor ``1 - r^2 / d`` with
+    d the ratio of successive coefficients, an integer division; the truncation is below
+    1e-11); then turned by k quarter turns."""
+    one, half = 1 << ANGLE_BITS, 1 << (ANGLE_BITS - 1)
+    t = t - ((t + PI_A) // TWO_PI_A) * TWO_PI_A
+    k = (t + (HALF_PI_A >> 1)) // HALF_PI_A
+    r = t - k * HALF_PI_A
+    r2 = (r * r + half) >> ANGLE_BITS
+    sn = one
+    for d in (110, 72, 42, 20, 6):
+        sn = one - ((r2 * sn + half) >> ANGLE_BITS) // d
+    sn = (r * sn + half) >> ANGLE_BITS
+    cs = one
+    for d in (132, 90, 56, 30, 12, 2):
+        cs = one - ((r2 * cs + half) >> ANGLE_BITS) // d
+    k = k & 3
+    if k == 0:
+        return cs, sn
+    if k == 1:
+        return -sn, cs
+    if k == 2:
+        return -cs, -sn
+    return sn, -cs
 
 
 # --------------------------------------------------------------------------------------------
@@ -329,6 +366,50 @@ def flow(prm, z0, v0x, v0y, v0z, wx, wy, wz, rx, ry, rz, f, lim):
     return vx, vy, vz, rho
 
 
+@njit(**_J)
+def rotate_about_axis(nx, ny, nz, hx, hy, hz, c, s, f, lim):
+    """``forces.rotate_about_axis``: n c + (h x n) s + h (h . n)(1 - c)."""
+    hn = dot3(hx, hy, hz, nx, ny, nz, f, lim)
+    omc = sub(1 << f, c, lim)
+    x = add(add(mul(nx, c, f, lim), mul(sub(mul(hy, nz, f, lim), mul(hz, ny, f, lim), lim), s,
+            f, lim), lim), mul(mul(hx, hn, f, lim), omc, f, lim), lim)  # fmt: skip
+    y = add(add(mul(ny, c, f, lim), mul(sub(mul(hz, nx, f, lim), mul(hx, nz, f, lim), lim), s,
+            f, lim), lim), mul(mul(hy, hn, f, lim), omc, f, lim), lim)  # fmt: skip
+    z = add(add(mul(nz, c, f, lim), mul(sub(mul(hx, ny, f, lim), mul(hy, nx, f, lim), lim), s,
+            f, lim), lim), mul(mul(hz, hn, f, lim), omc, f, lim), lim)  # fmt: skip
+    return x, y, z
+
+
+@njit(**_J)
+def body_inputs(ctrl, tab, mix, prm, inp):
+    """One body's inputs ``inp`` from the controls ``ctrl[C]`` (``ANGLE_BITS`` fraction bits),
+    as ``kernels._deflect`` and ``thrust_of``'s caller take them: each control surface's
+    deflection ``theta = sum_c mix[p, c] ctrl[c]`` (``mix[p * C + c]``: rad per unit of channel
+    c, ``ANGLE_BITS``), its normal turned about its hinge by theta (:func:`sincos`,
+    :func:`rotate_about_axis`), then each thruster's channel value in the format (1 for a
+    thruster without a channel)."""
+    f, lim = prm[P_F], prm[P_LIM]
+    half = 1 << (ANGLE_BITS - 1)
+    C = len(ctrl)
+    nflap = tab[T_NFLAP]
+    at = T_HEAD + tab[T_NPLATE] * W_PLATE
+    for p in range(nflap):
+        theta = 0
+        for c in range(C):
+            theta += (mix[p * C + c] * ctrl[c] + half) >> ANGLE_BITS
+        cs, sn = sincos(theta)
+        nx, ny, nz = rotate_about_axis(tab[at + 5], tab[at + 6], tab[at + 7], tab[at + 8],
+                                       tab[at + 9], tab[at + 10], to_bits(cs, ANGLE_BITS, f),
+                                       to_bits(sn, ANGLE_BITS, f), f, lim)  # fmt: skip
+        inp[3 * p], inp[3 * p + 1], inp[3 * p + 2] = nx, ny, nz
+        at += W_FLAP
+    at += tab[T_NCYL] * W_CYL + tab[T_NBUOY] * W_BUOY
+    for p in range(tab[T_NTHR]):
+        ch = tab[at + 8]
+        inp[3 * nflap + p] = 1 << f if ch < 0 else to_bits(ctrl[ch], ANGLE_BITS, f)
+        at += W_THR
+
+
 # --------------------------------------------------------------------------------------------
 # one body's step
 
@@ -455,8 +536,8 @@ def body_step(s, bc, tab, inp, prm):
 
 # the functions above, callees before callers: what reference.py rebinds as plain Python
 ORDER = (
-    "sat", "add", "sub", "qmul", "mul", "qdiv", "isqrt", "norm3", "norm4", "dot3",
-    "quat_to_matrix", "rotate", "world_omega", "quat_rate", "speed_clamp", "clamp_force",
+    "sat", "add", "sub", "qmul", "mul", "qdiv", "isqrt", "norm3", "norm4", "dot3", "to_bits",
+    "sincos", "quat_to_matrix", "rotate", "world_omega", "quat_rate", "speed_clamp", "clamp_force",
     "plate_force", "cylinder_force", "water_fraction", "buoyancy_force", "thrust_of", "flow",
-    "evaluate", "hmul", "body_step",
+    "rotate_about_axis", "body_inputs", "evaluate", "hmul", "body_step",
 )  # fmt: skip

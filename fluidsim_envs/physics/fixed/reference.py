@@ -30,18 +30,24 @@ def _ints(array) -> list:
     return [int(x) for x in array] if array.ndim == 1 else [_ints(a) for a in array]
 
 
-def run(state, model, inputs, steps: int) -> tuple[list, list]:
+def run(state, model, controls, steps: int) -> tuple[list, list]:
     """``steps`` steps of every environment from ``state[E, B, 13]`` (words) with
-    ``model`` (``format.FixedModel``) and ``inputs[E, B, m]``: the final words as nested
-    lists of Python ints, and each environment's divergence flag (0/1) over the run."""
+    ``model`` (``format.FixedModel``) holding ``controls[E, C]`` (``laws.ANGLE_BITS``
+    fraction bits: ``FixedSimulator.fixed_controls``): the final words as nested lists of
+    Python ints, and each environment's divergence flag (0/1) over the run."""
     laws = plain_laws()
-    st, bc, tab, inp, prm = (_ints(a) for a in (state, model.bc, model.tab, inputs, model.prm))
+    st, bc, tab, mix, ctrl, prm = (
+        _ints(a) for a in (state, model.bc, model.tab, model.mix, controls, model.prm)
+    )
     flags = []
     for e in range(len(st)):
+        inp = [[0] * model.n_inp for _ in st[e]]
+        for b in range(len(st[e])):
+            laws.body_inputs(ctrl[e], tab[b], mix[b], prm, inp[b])
         flag = 0
         for _ in range(steps):
             for b in range(len(st[e])):
-                flag |= laws.body_step(st[e][b], bc[b], tab[b], inp[e][b], prm)
+                flag |= laws.body_step(st[e][b], bc[b], tab[b], inp[b], prm)
         flags.append(flag)
     for word in (w for env in st for body in env for w in body):
         assert type(word) is int, f"the reference left a {type(word).__name__} in the state"

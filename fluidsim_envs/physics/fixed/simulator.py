@@ -8,12 +8,11 @@ What it does not offer beside that: per-environment craft changes
 (``set_mass_properties``, ``set_sample_scale``), external forces, per-environment wind and
 current (the World's hold), snapshots, ``wrench`` and ``sample_forces``.
 
-Controls enter once per ``step`` call: each control surface's deflected normal is computed
-from the controls in float64 (NumPy's cos and sin, Rodrigues' rotation as
-``forces.rotate_about_axis``) and rounded into the format, as are the thrusters' control
-values. The integer step itself uses no float; the deflected normals are its inputs
-(``fixed_inputs``), so two machines agree bit for bit given the same inputs (a last-bit
-difference of a libm's cosine could, rarely, round one normal's last bit differently).
+Controls enter once per ``step`` call: each value is rounded to ``laws.ANGLE_BITS`` fraction
+bits (``fixed_controls``; exact IEEE operations), and from there all is integer: each
+control surface's deflection and the cosine and sine of it (``laws.sincos``), its turned
+normal and the thrusters' control values (``laws.body_inputs``, at the start of the call),
+then the steps. Two machines given the same floats compute the same words.
 """
 
 from __future__ import annotations
@@ -130,13 +129,13 @@ class FixedSimulator:
         B = self.num_bodies
         self._st = np.zeros((E, B, LW.NSTATE), dtype=np.int64)
         self._st[:, :, LW.OQ] = 1 << fmt.fraction_bits
-        self._inp = np.zeros((E, B, max(self._model.n_inp, 1)), dtype=np.int64)
+        self._inp = np.zeros((E, B, self._model.n_inp), dtype=np.int64)
         self._ctrl = np.zeros((E, len(self.control_names)))
+        self._ctrl_words = np.zeros((E, len(self.control_names)), dtype=np.int64)
         self._count = np.zeros(E, dtype=np.int64)
         self._diverged = np.zeros(E, dtype=np.bool_)
         self._inv_inertia = np.stack([np.linalg.inv(c.inertia_tensor) for c in crafts])
         self._inertia = np.stack([c.inertia_tensor for c in crafts])
-        self._set_controls(None)
 
     # ---- conversions ----------------------------------------------------------------------
 
@@ -201,9 +200,18 @@ class FixedSimulator:
         return out
 
     @property
+    def fixed_controls(self) -> np.ndarray:
+        """The last call's controls as integers [E, C] (read-only, ``laws.ANGLE_BITS``
+        fraction bits): what the step is computed from."""
+        v = self._ctrl_words.view()
+        v.flags.writeable = False
+        return v
+
+    @property
     def fixed_inputs(self) -> np.ndarray:
-        """The last call's integer inputs [E, B, m] (read-only): each control surface's
-        deflected body normal, then each thruster's control value."""
+        """The last call's integer inputs [E, B, m] (read-only), made from
+        :attr:`fixed_controls`: each control surface's deflected body normal, then each
+        thruster's control value."""
         v = self._inp.view()
         v.flags.writeable = False
         return v
@@ -278,8 +286,8 @@ class FixedSimulator:
             raise ValueError(f"step: steps must be a positive integer, got {CK.show(steps)}")
         self._set_controls(controls)
         m = self._model
-        self._kernel(self._st, m.bc, m.tab, self._inp, m.prm, int(steps), self._count,
-                     self._diverged)  # fmt: skip
+        self._kernel(self._st, m.bc, m.tab, m.mix, self._ctrl_words, self._inp, m.prm, int(steps),
+                     self._count, self._diverged)  # fmt: skip
 
     def _set_controls(self, controls) -> None:
         shape = (self.num_envs, len(self.control_names))
@@ -297,22 +305,4 @@ class FixedSimulator:
                     f"controls must be finite and lie in [-1, 1], got {CK.show(controls)}"
                 )
         self._ctrl[...] = c
-        self._inp[...] = self.inputs(c)
-
-    def inputs(self, controls: np.ndarray) -> np.ndarray:
-        """The integer inputs ``[E, B, m]`` of controls ``[E, C]`` (module docstring)."""
-        m, one = self._model, 2.0**self.fraction_bits
-        out = np.zeros_like(self._inp)
-        for b in range(self.num_bodies):
-            nf = int(m.tab[b, LW.T_NFLAP])
-            nt = int(m.tab[b, LW.T_NTHR])
-            theta = controls @ m.flap_mix[b, :nf].T  # [E, nf] rad
-            c, s = np.cos(theta)[..., None], np.sin(theta)[..., None]
-            n, h = m.flap_normal[b, :nf], m.flap_hinge[b, :nf]  # forces.rotate_about_axis
-            hn = np.sum(h * n, axis=-1)[:, None]
-            turned = n * c + np.cross(h, n) * s + h * hn * (1.0 - c)  # [E, nf, 3]
-            out[:, b, : 3 * nf] = np.floor(turned.reshape(self.num_envs, -1) * one + 0.5)
-            ch = m.thr_channel[b, :nt]
-            thr = np.where(ch >= 0, controls[:, np.maximum(ch, 0)], 1.0)
-            out[:, b, 3 * nf : 3 * nf + nt] = np.floor(thr * one + 0.5)
-        return out
+        self._ctrl_words[...] = np.floor(c * 2.0**LW.ANGLE_BITS + 0.5)
