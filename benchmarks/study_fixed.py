@@ -32,13 +32,24 @@ boat in float64, float32, fixed32 (Q14) and fixed64 (Q24), symplectic Euler.
 from __future__ import annotations
 
 import math
+import re
 import time
+from pathlib import Path
 
 import numpy as np
 
 from fluidsim_envs.physics import Craft, Simulator, World
 
-from .common import arguments, describe, interleaved_best, load_average, out_dir, write_csv
+from .common import (
+    DOCS,
+    arguments,
+    describe,
+    interleaved_best,
+    load_average,
+    out_dir,
+    read_csv,
+    write_csv,
+)
 
 DT, STEPS = 1.0 / 120.0, 240
 SI = {"length_m": 1.0, "mass_kg": 1.0, "time_s": 1.0}
@@ -177,10 +188,66 @@ def chart(rows: list[list], path) -> None:
     labels = [f"{r[1].split('_')[0]}\n{r[3]}" for r in cost]
     ax.bar(range(len(cost)), [r[9] for r in cost], color=["C0", "C1", "C2", "C3"] * 2)
     ax.set_xticks(range(len(cost)), labels, fontsize=8)
+    ax.set_yscale("log")
     ax.set_ylabel("ns per body-step (one thread)")
     ax.set_title("cost: float64, float32, fixed32 Q14, fixed64 Q24")
     fig.tight_layout()
     fig.savefig(path, dpi=90)
+
+
+def _short(note: str) -> str:
+    """What a refusal refused, from its message: ``inertia_kgm2 ... rounds to 0``."""
+    match = re.search(r"(rounds|cannot hold) (?:craft '[\w]+'|world) (.+?) = ([-\d.e+]+)", note)
+    if not match:
+        return note[:40]
+    verb, what, value = match.groups()
+    return f"{what} = {value} {'rounds to 0' if verb == 'rounds' else 'overflows'}"
+
+
+def markdown(path=DOCS / "study_fixed.csv") -> str:
+    """docs/study.md's tables from the study's CSV (``benchmarks.report`` writes them)."""
+    if not Path(path).is_file():
+        return "(no docs/study_fixed.csv yet: run python -m benchmarks.study_fixed)"
+    comments, rows = read_csv(path)
+    acc = [r for r in rows if r["kind"] == "accuracy"]
+    lines = [
+        "| craft | integrator | fixed32 Q14: position / attitude error | fixed64: fewest bits "
+        "for < 1 mm | fixed32: most bits that run | Q14 in SI units (the source's) |",
+        "|---|---|---|---:|---:|---|",
+    ]
+    for craft in dict.fromkeys(r["craft"] for r in acc):
+        for method in INTEGRATORS:
+            sel = [r for r in acc if r["craft"] == craft and r["integrator"] == method]
+
+            def one(fmt, bits, units, sel=sel):
+                return next(r for r in sel if r["format"] == fmt and int(r["fraction_bits"]) ==
+                            bits and r["units"] == units)  # fmt: skip
+
+            def said(r):
+                if r["status"] == "refused":
+                    return f"refused: {_short(r['note'])}"
+                err = f"{float(r['pos_err_m']):.3g} m / {float(r['att_err_deg']):.3g} deg"
+                return err + (" (diverged)" if r["status"] == "diverged" else "")
+
+            auto = [r for r in sel if r["units"] == "auto" and r["status"] == "ok"]
+            fine = [int(r["fraction_bits"]) for r in auto
+                    if r["format"] == "fixed64" and float(r["pos_err_m"]) < 1e-3]  # fmt: skip
+            runs = [int(r["fraction_bits"]) for r in auto if r["format"] == "fixed32"]
+            lines.append(
+                f"| {craft} | {method.replace('_symplectic_euler', '')} "
+                f"| {said(one('fixed32', 14, 'auto'))} | {min(fine) if fine else '-'} "
+                f"| {max(runs) if runs else '-'} | {said(one('fixed32', 14, 'si'))} |"
+            )
+    cost = [r for r in rows if r["kind"] == "cost"]
+    kinds = list(dict.fromkeys(r["format"] for r in cost))
+    lines += ["", "| ns per body-step (one thread) | " + " | ".join(kinds) + " |",
+              "|---|" + "---:|" * len(kinds)]  # fmt: skip
+    for craft in dict.fromkeys(r["craft"] for r in cost):
+        ns = {r["format"]: float(r["ns_per_body_step"]) for r in cost if r["craft"] == craft}
+        lines.append(f"| {craft} | " + " | ".join(f"{ns[k]:.0f}" for k in kinds) + " |")
+    command = next((c[len("command: ") :] for c in comments if c.startswith("command: ")), "")
+    lines += ["", f"From docs/study_fixed.csv (`{command}`)."]
+    return "\n".join(lines)
 
 
 def main(argv=None) -> int:

@@ -303,21 +303,26 @@ def pack(
     prm[LW.P_F], prm[LW.P_LIM] = f, fmt.lim
     prm[LW.P_G] = wq(world.gravity_mps2, "gravity_mps2", "m/s^2", ACCEL, nonzero=True)
     prm[LW.P_RHO_AIR] = wq(world.air_density_kgm3, "air_density_kgm3", "kg/m^3", DENSITY, True)
-    prm[LW.P_RHO_WATER] = wq(
-        world.water_density_kgm3, "water_density_kgm3", "kg/m^3", DENSITY, world.water
-    )
-    prm[LW.P_WATER] = (1 << f) if world.water else 0
-    blend = 1.0 / world.surface_blend_m if world.surface_blend_m > 0 else math.inf
-    sharp = math.isinf(blend)
-    inv_blend = fmt.lim if sharp else wq(blend, "1/surface_blend_m", "1/m", (-1, 0, 0), True)
-    prm[LW.P_INV_BLEND] = inv_blend
+    # the water's numbers only where there is water (without, every sample's water fraction
+    # is 0 and they are never used: a dart is not refused for the sea's density)
+    if world.water:
+        prm[LW.P_WATER] = 1 << f
+        rho_w = world.water_density_kgm3
+        prm[LW.P_RHO_WATER] = wq(rho_w, "water_density_kgm3", "kg/m^3", DENSITY, True)
+        blend = 1.0 / world.surface_blend_m if world.surface_blend_m > 0 else math.inf
+        sharp = math.isinf(blend)
+        prm[LW.P_INV_BLEND] = (
+            fmt.lim if sharp else wq(blend, "1/surface_blend_m", "1/m", (-1, 0, 0), True)
+        )
     prm[LW.P_VMAX] = wq(world.max_fluid_speed_mps, "max_fluid_speed_mps", "m/s", SPEED,
                         True, True)  # fmt: skip
     prm[LW.P_FMAX] = wq(world.max_sample_force_n, "max_sample_force_n", "N", FORCE, True, True)
     for k in range(3):
         air, water = world.wind_mps[k], world.current_mps[k]
         prm[LW.P_AIR + k] = wq(air, f"wind_mps[{k}]", "m/s", SPEED)
-        prm[LW.P_DU + k] = wq(water - air, f"current_mps[{k}] - wind_mps[{k}]", "m/s", SPEED)
+        if world.water:
+            du = wq(water - air, f"current_mps[{k}] - wind_mps[{k}]", "m/s", SPEED)
+            prm[LW.P_DU + k] = du
     h = dt / units.time_s
     step_q = _Packer(Format(fmt.name, LW.STEP_BITS), Units(1.0, 1.0, 1.0), "the step")
     prm[LW.P_H] = step_q(h, "dt / units.time_s", "", nonzero=True)

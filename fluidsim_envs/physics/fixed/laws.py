@@ -133,12 +133,11 @@ def isqrt(n):
     bit = 1 << 62
     while bit > n:
         bit >>= 2
-    while bit != 0:
-        if n >= r + bit:
-            n -= r + bit
-            r = (r >> 1) + bit
-        else:
-            r >>= 1
+    while bit != 0:  # branch-free: take = 1 where the digit is 1
+        t = r + bit
+        take = 1 if n >= t else 0
+        n -= t * take
+        r = (r >> 1) + bit * take
         bit >>= 2
     return r
 
