@@ -56,8 +56,10 @@ class FixedSimulator:
         ...                 fraction_bits=24)
         >>> sim.reset(lin_vel=(1.0, 0.0, 0.0))
         >>> sim.step(steps=100)
-        >>> [round(float(x), 4) for x in sim.pos[0, 0]]  # float64: 1.0, 0.0, -4.95405
-        [1.0, 0.0, -4.9541]
+        >>> [round(float(x), 5) for x in sim.pos[0, 0]]  # float64: 1.0, 0.0, -4.95405
+        [1.0, 0.0, -4.95405]
+        >>> sim.units  # derived from the ball: its radius of gyration, mass, sqrt(L / g)
+        Units(length_m=0.5, mass_kg=1.0, time_s=0.25)
     """
 
     def __init__(
