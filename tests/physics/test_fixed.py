@@ -5,6 +5,8 @@ format's rounding predicts, and bad inputs are refused naming the value."""
 
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 import pytest
@@ -75,15 +77,30 @@ def test_kernel_equals_the_plain_python_reference_bit_for_bit(name):
     assert not np.array_equal(np.asarray(other, dtype=np.int64), sim.fixed_state)
 
 
-def test_the_reference_is_plain_python():
+def _words(rng, n, lim):
+    """n random words up to lim, magnitudes spread over every bit length."""
+    mags = np.floor(2.0 ** rng.uniform(0, np.log2(lim), n)).astype(np.int64)
+    return [int(m) * int(s) for m, s in zip(mags, rng.choice([-1, 1], n), strict=True)]
+
+
+def test_the_arithmetic_is_exact_on_random_words():
+    """qmul is floor((a b + 2^(s-1)) / 2^s) saturated, compiled and plain alike, for random
+    32- and 64-bit words (the 64-bit product split in four); qdiv and isqrt likewise."""
     laws = REF.plain_laws()
     assert not hasattr(laws.qmul, "py_func")  # not a numba dispatcher
-    big = (1 << 61) - 1  # a 64-bit word's largest: the split product stays exact
-    for a, b, s in ((big, 3, 30), (-(1 << 40) + 7, (1 << 31) + 5, 30), (12345, -678, 14)):
-        exact = (a * b + (1 << (s - 1))) >> s
-        want = max(-big, min(big, exact))
-        assert laws.qmul(a, b, s, big) == LW.qmul(a, b, s, big) == want
-    assert laws.isqrt((1 << 62) + 12345) == LW.isqrt((1 << 62) + 12345) == 1 << 31
+    rng = np.random.default_rng(3)
+    for lim in ((1 << 31) - 1, (1 << 61) - 1):
+        a, b = _words(rng, 400, lim), _words(rng, 400, lim)
+        for s in (1, 14, 30):
+            for x, y in zip(a + [lim, -lim, lim], b + [lim, lim, 3], strict=True):
+                want = max(-lim, min(lim, (x * y + (1 << (s - 1))) >> s))
+                assert LW.qmul(x, y, s, lim) == laws.qmul(x, y, s, lim) == want, (x, y, s)
+                d = abs(y) or 1
+                if abs(x) < 1 << (61 - s):  # qdiv shifts larger numerators down first
+                    want = max(-lim, min(lim, ((x << s) + (d >> 1)) // d))
+                    assert LW.qdiv(x, d, s, lim) == laws.qdiv(x, d, s, lim) == want, (x, d, s)
+    for n in _words(rng, 300, (1 << 63) - 1) + [0, 1, (1 << 63) - 1]:
+        assert LW.isqrt(abs(n)) == laws.isqrt(abs(n)) == math.isqrt(abs(n))
 
 
 def test_integer_sine_and_the_deflected_normals_follow_the_float_laws():

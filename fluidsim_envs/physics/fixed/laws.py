@@ -19,10 +19,12 @@ Rounding and ranges (``format.py`` documents the formats):
 - ``qmul(a, b, s)`` is ``floor((a b + 2**(s-1)) / 2**s)``: the product rounded to nearest,
   ties toward +infinity (round half up), by adding half before the arithmetic right shift.
   32-bit words (``|a|, |b| < 2**31``) multiply directly in int64. 64-bit words are split at
-  the binary point, ``a = ah 2**s + al`` with ``0 <= al < 2**s``, and the product is summed
-  from ``ah bh 2**s + ah bl + al bh + round(al bl / 2**s)`` (exact, the same number), which
-  stays inside int64 for words below ``2**61`` and ``s <= 30``; where ``ah bh`` alone would
-  pass the word, the product saturates.
+  bit s, ``|a| = ah 2**s + al`` with ``0 <= al < 2**s``, and the product's magnitude summed
+  from ``ah bh 2**s + ah bl + al bh + (al bl + half) >> s`` (the same number), whose terms
+  are >= 0 and stay inside int64 for words up to ``2**61`` and ``s <= 30``; where ``ah bh``
+  alone passes the word, so does the product, which saturates. Either way the result is
+  exactly the rounded product, saturated (tests/physics/test_fixed.py draws words at
+  random and compares with Python's exact integers).
 - ``qdiv(a, d, s)`` is ``floor((a 2**s + d // 2) / d)`` for ``d > 0`` (a 64-bit numerator is
   shifted down with its divisor until ``a 2**s`` fits).
 - Every result saturates to ``[-lim, lim]`` (``prm[P_LIM]``: ``2**31 - 1`` for fixed32,
@@ -99,13 +101,18 @@ def qmul(a, b, s, lim):
     half = 1 << (s - 1)
     if lim <= NARROW:  # 32-bit words: the product fits int64
         return sat((a * b + half) >> s, lim)
-    ah = a >> s
-    al = a - (ah << s)
-    bh = b >> s
-    bl = b - (bh << s)
-    if ah != 0 and bh != 0 and abs(ah) > (lim >> s) // abs(bh):
-        return lim if (a > 0) == (b > 0) else -lim  # the high parts alone pass the word
-    return sat(((ah * bh) << s) + ah * bl + al * bh + ((al * bl + half) >> s), lim)
+    # 64-bit words: the magnitudes split at bit s, P = |a| |b| summed from four partial
+    # products, all >= 0; floor((a b + half) / 2**s) is (P + half) >> s for a b >= 0 and
+    # -((P + half - 1) >> s) below (round half up on both sides of zero)
+    neg = (a < 0) != (b < 0)
+    ma, mb = abs(a), abs(b)
+    ah, bh = ma >> s, mb >> s
+    al, bl = ma - (ah << s), mb - (bh << s)
+    if ah != 0 and bh != 0 and ah > (lim >> s) // bh:
+        return -lim if neg else lim  # ah bh 2**s alone passes the word
+    low = (al * bl + (half - 1 if neg else half)) >> s
+    p = ((ah * bh) << s) + ah * bl + al * bh + low
+    return sat(-p if neg else p, lim)
 
 
 @njit(**_J)
@@ -277,7 +284,7 @@ def quat_rate(qw, qx, qy, qz, wx, wy, wz, f, lim):
 @njit(**_J)
 def speed_clamp(vx, vy, vz, vmax, f, lim):
     """``forces.speed_clamp``: |v| and the factor min(1, vmax / |v|) (1 at rest)."""
-    speed = norm3(vx, vy, vz)
+    speed = sat(norm3(vx, vy, vz), lim)  # up to sqrt(3) words: a factor must be a word
     scale = 1 << f if speed <= vmax else qdiv(vmax, speed, f, lim)
     return speed, scale
 
@@ -323,7 +330,8 @@ def cylinder_force(vx, vy, vz, ax, ay, az, rho, area, vmax, fmax, f, lim):
     px = sub(vx, mul(va, ax, f, lim), lim)
     py = sub(vy, mul(va, ay, f, lim), lim)
     pz = sub(vz, mul(va, az, f, lim), lim)
-    k = mul(mul(-mul(1 << (f - 1), rho, f, lim), area, f, lim), norm3(px, py, pz), f, lim)
+    cross = sat(norm3(px, py, pz), lim)
+    k = mul(mul(-mul(1 << (f - 1), rho, f, lim), area, f, lim), cross, f, lim)
     k = mul(mul(k, scale, f, lim), scale, f, lim)
     return clamp_force(mul(k, px, f, lim), mul(k, py, f, lim), mul(k, pz, f, lim), fmax, f, lim)
 
