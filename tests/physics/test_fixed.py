@@ -177,6 +177,23 @@ def test_projectile_error_is_the_formats_rounding():
         assert abs(sim.lin_vel[0, 0, 2] - -9.81) <= 100 * word_v + word_v
 
 
+def test_reset_state_reads_back_within_a_word():
+    """reset's floats become words and come back (ang_vel through L = R I R^T w and back)."""
+    sim = Simulator(UUV, WATER, 3, dtype="fixed64", fraction_bits=20)
+    q = np.array([0.9, 0.3, -0.2, 0.1]) / np.linalg.norm([0.9, 0.3, -0.2, 0.1])
+    state = dict(pos=(1.5, -2.0, -3.25), quat=q, lin_vel=(1.2, -0.3, 0.4), ang_vel=(0.2, -0.1, 0.3))
+    sim.reset(**state)
+    word = 2.0**-20
+    u = sim.units
+    for name, scale in (("pos", u.length_m), ("quat", 1.0), ("lin_vel", u.length_m / u.time_s)):
+        got = getattr(sim, name)
+        assert got.shape == (3, 1, len(state[name]))
+        assert np.abs(got - state[name]).max() <= scale * word, name
+    assert np.abs(sim.ang_vel - state["ang_vel"]).max() < 1e-4
+    assert sim.fixed_state.dtype == np.int64 and not sim.fixed_state.flags.writeable
+    assert sim.clock.tolist() == [0.0] * 3
+
+
 def test_q14_falls_behind_the_float_trajectory_and_q24_follows_it():
     """The dart's 1 s glide from float64 (same integrator, dt): Q14 in the derived units is
     within centimetres, Q24 within micrometres (docs/study_fixed.csv has the full sweep)."""
