@@ -25,7 +25,7 @@ and format too (rows with ``units = si``).
 - ``submarine`` (water): 20 m down at 3 m/s, throttle 0.6, rudder 0.2, planes -0.2.
 
 Cost: wall time per body-step of ``sim.step(controls, steps=50)`` at E = 1024 on one thread
-(the serial kernels), best of ``--repeats`` (5) interleaved repeats, for the dart and the
+(the serial kernels), best of ``--repeats`` (10) interleaved repeats, for the dart and the
 boat in float64, float32, fixed32 (Q14) and fixed64 (Q24), symplectic Euler.
 """
 
@@ -252,7 +252,7 @@ def markdown(path=DOCS / "study_fixed.csv") -> str:
 
 def main(argv=None) -> int:
     parser = arguments(__doc__, "fraction bits 8, 14, 20, 30 only; 2 cost repeats")
-    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--repeats", type=int, default=10)
     args = parser.parse_args(argv)
     machine = describe()
     bits = (8, 14, 20, 30) if args.quick else range(8, 31)
