@@ -15,9 +15,10 @@ every policy in those CSVs between the ``ppo-results`` markers, and docs/environ
 table of every env parameter (its default and what it may be, from each parameter class's
 ``RANGES``: ``scenes/limits.py``) between the ``params-table`` markers, and docs/reliability.md's
 fuzz and kill tables from docs/fuzz.csv and docs/kill_resume.csv between the ``fuzz-table``
-and ``kill-table`` markers, and docs/study.md's fixed-point tables from docs/study_fixed.csv
-between the ``fixed-table`` markers (``benchmarks.study_fixed.markdown``); none is edited by
-hand.
+and ``kill-table`` markers, and docs/environments.md's trim and phugoid of the paper dart from
+docs/dart_glide.csv (``python -m benchmarks.dart_glide``) between the ``dart-glide`` markers,
+and docs/study.md's fixed-point tables from docs/study_fixed.csv between the ``fixed-table``
+markers (``benchmarks.study_fixed.markdown``); none is edited by hand.
 """
 
 from __future__ import annotations
@@ -58,6 +59,18 @@ FIXED_BEGIN = (
     "<!-- fixed-table: written by `python -m benchmarks.report` from docs/study_fixed.csv -->"
 )
 FIXED_END = "<!-- /fixed-table -->"
+DART_BEGIN = (
+    "<!-- dart-glide: written by `python -m benchmarks.report` from docs/dart_glide.csv -->"
+)
+DART_END = "<!-- /dart-glide -->"
+# docs/dart_glide.csv's phugoid sources, as the table names them
+DART_SOURCES = {
+    "measured": "measured (speed peaks after a level launch 1 m/s below trim)",
+    "linearized": "the craft's longitudinal equations linearized at trim, from its own forces",
+    "glide_with_drag": "point mass with drag, in the glide: ζ = 3 sin γ / (2√2)",
+    "etkin_reid": "Etkin & Reid with drag, level flight: ζ = C_D / (√2 C_L)",
+    "lanchester": "Lanchester, drag-free: ζ = 0",
+}
 # the policies of an evaluation CSV (fluidsim-evaluate's rows) in the tables, by row name
 POLICIES = ("trained PPO", "planner (oracle)", "tuned pilot", "hand-set pilot", "random")
 # the README's table: (column title, row name, envs.csv key)
@@ -263,6 +276,40 @@ def kill_markdown() -> str:
     return "\n".join(lines)
 
 
+def dart_markdown() -> str:
+    """docs/dart_glide.csv as a sentence (the dart's trim) and a table (its phugoid against
+    each approximation, each off the measured value by so much)."""
+    from .dart_glide import CSV as DART_CSV
+    from .dart_glide import published
+
+    if not DART_CSV.is_file():
+        return "(no docs/dart_glide.csv yet: run python -m benchmarks.dart_glide)"
+    v = published(DART_CSV)
+    period, zeta = v[("phugoid_period", "measured")], v[("phugoid_damping", "measured")]
+
+    def off(value: float, measured: float) -> str:
+        return f"{100.0 * (value / measured - 1.0):+.1f}%" if value else ""
+
+    lines = [
+        f"With zero controls the dart glides trimmed at {v[('trim_speed', 'measured')]:.2f} m/s "
+        f"and {v[('glide_ratio', 'measured')]:.2f}:1 ({v[('glide_angle', 'measured')]:.1f}° "
+        "below the horizon). Its phugoid beside the craft's own linearized equations and three "
+        "approximations, each with ω_n = √2 g / V (they differ in the damping ratio ζ; "
+        "`python -m benchmarks.dart_glide`, [dart_glide.csv](dart_glide.csv)):",
+        "",
+        "| phugoid | period (s) | off by | damping ratio | off by |",
+        "|---|---:|---:|---:|---:|",
+    ]
+    for source, name in DART_SOURCES.items():
+        p, z = v[("phugoid_period", source)], v[("phugoid_damping", source)]
+        mine = source == "measured"
+        lines.append(
+            f"| {name} | {p:.3f} | {'' if mine else off(p, period)} | {z:.3f} "
+            f"| {'' if mine else off(z, zeta)} |"
+        )
+    return "\n".join(lines)
+
+
 def with_block(text: str, begin: str, end: str, block: str, where: Path) -> str:
     """``text`` with what lies between the markers ``begin`` and ``end`` replaced."""
     if begin not in text or end not in text:
@@ -287,7 +334,13 @@ def main(argv: list[str] | None = None) -> int:
             TRAINING.read_text(), RESULTS_BEGIN, RESULTS_END, results_markdown(), TRAINING
         ),
         ENVIRONMENTS: with_block(
-            ENVIRONMENTS.read_text(), PARAMS_BEGIN, PARAMS_END, params_markdown(), ENVIRONMENTS
+            with_block(
+                ENVIRONMENTS.read_text(), PARAMS_BEGIN, PARAMS_END, params_markdown(), ENVIRONMENTS
+            ),
+            DART_BEGIN,
+            DART_END,
+            dart_markdown(),
+            ENVIRONMENTS,
         ),
         RELIABILITY: with_block(
             with_block(RELIABILITY.read_text(), FUZZ_BEGIN, FUZZ_END, fuzz_markdown(), RELIABILITY),

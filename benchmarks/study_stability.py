@@ -42,7 +42,13 @@ searched).
   defaults (156 m/s, 1e7 N) and effectively off (1e9 m/s, 1e18 N), over 6 s, run on past
   the step ``Simulator.diverged`` flags (where an env ends the episode; marked).
 
-Writes ``docs/study_stability.csv``, ``docs/study_stability_modes.csv`` and the five charts
+- ``seed_methods``: the seed's methods: accurate Euler's energy gain on the spring,
+  ``(1 + (omega dt)^2 / 2)^n``; in float32 the velocity-less Verlet's speed lost to rounding
+  far from the origin (``x - x_old`` keeps ulp(x) / dt of it), against symplectic Euler and
+  the prescaled NSV; the implicit midpoint's fixed-point iterations against omega dt on the
+  spring, up to where they no longer converge (flagged).
+
+Writes ``docs/study_stability.csv``, ``docs/study_stability_modes.csv`` and the six charts
 (machine description in ``#`` lines at the top of each CSV)::
 
     python -m benchmarks.study_stability            # full size, about a minute on 2 cores
@@ -59,7 +65,8 @@ import numpy as np
 
 from benchmarks import study_accuracy as SA
 from benchmarks.common import arguments, describe, fmt, out_dir, write_csv
-from fluidsim_envs.physics import Buoyancy, Craft, World
+from fluidsim_envs.physics import Buoyancy, Craft, Simulator, World
+from fluidsim_envs.physics import integrators as IT
 
 FACTOR = 10.0
 TORQUE_FREE_BAND = 0.1  # the torque-free body's energy: bounded within 10% of its start
@@ -186,6 +193,83 @@ def mode_euler_spring(probs, rows, plt, out):
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, loc="center right")
     fig.savefig(out / "study_stability_euler_spring.png", dpi=100)
+    plt.close(fig)
+
+
+def mode_seed_methods(rows, plt, out):
+    """How the seed's own methods fail: accurate Euler's energy gain on the spring, the
+    velocity-less Verlet's velocity lost to rounding far from the origin, and the implicit
+    midpoint's fixed-point iteration as omega dt grows."""
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8), constrained_layout=True)
+    # (a) accurate Euler gains energy by 1 + (omega dt)^2 / 2 a step (its map's determinant)
+    p = SA.problems()[1]
+    e0 = 0.5 * SA.K_SPRING * SA.AMPLITUDE**2
+    leave = (SA.Z_EQ / SA.AMPLITUDE) ** 2
+    ax = axes[0]
+    for m, dt in (("accurate_euler", 1 / 100), ("accurate_euler", 1 / 300),
+                  ("explicit_euler", 1 / 300), ("symplectic_euler", 1 / 100)):  # fmt: skip
+        h = SA.run(p, m, dt, samples=400)["hist"]
+        e = SA.spring_energy(h[:, 1], h[:, 2]) / e0
+        keep = np.concatenate([[True], e[:-1] < leave])
+        (line,) = ax.semilogy(h[keep, 0], e[keep], lw=1, label=f"{m}, dt = 1/{round(1 / dt)} s")
+        if m == "accurate_euler":
+            n = h[keep, 0] / dt
+            growth = (1 + 0.5 * (SA.OMEGA * dt) ** 2) ** n
+            ax.semilogy(h[keep, 0], growth, "--", color=line.get_color(), lw=0.8)
+        rows.append(("seed_methods", m, dt, "energy_ratio_end", float(e[keep][-1])))
+        rows.append(("seed_methods", m, dt, "t_end_s", float(h[keep, 0][-1])))
+    ax.set_title("accurate Euler gains energy on the spring\n(dashed: (1 + (omega dt)^2/2)^n)",
+                 fontsize=10)  # fmt: skip
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("energy / initial energy")
+    ax.legend(fontsize=7)
+    ax.grid(True, which="both", alpha=0.3)
+    # (b) a body coasting at 1 m/s, x0 from the origin, float32: the velocity after 1000 steps
+    ax = axes[1]
+    ball = Craft(name="ball", mass_kg=1.0, inertia_kgm2=(0.4, 0.4, 0.4))
+    far = np.geomspace(1.0, 1e5, 11)
+    for m in ("symplectic_euler", "prescaled_symplectic_euler", "position_verlet"):
+        sim = Simulator(ball, World(gravity_mps2=0.0), num_envs=far.size, dt=0.01,
+                        integrator=m, dtype=np.float32)  # fmt: skip
+        sim.reset(pos=np.stack([far, 0 * far, 0 * far], 1), lin_vel=(1.0, 0.0, 0.0))
+        sim.step(steps=1000)
+        err = np.abs(sim.lin_vel[:, 0, 0].astype(np.float64) - 1.0)
+        ax.loglog(far, np.maximum(err, 1e-9), marker="o", lw=1, label=m)
+        for x0, e in zip(far, err, strict=True):
+            rows.append(("seed_methods", m, 0.01, f"f32_speed_err_at_{x0:.3g}_m", float(e)))
+    ax.loglog(far, np.spacing(far.astype(np.float32)) / 0.01, "k:", lw=0.8,
+              label="ulp(x0) / dt")  # fmt: skip
+    ax.set_title("float32, 1 m/s coast for 10 s: speed error\n(floored at 1e-9)", fontsize=10)
+    ax.set_xlabel("distance from the origin (m)")
+    ax.set_ylabel("|v - 1| (m/s)")
+    ax.legend(fontsize=7)
+    ax.grid(True, which="both", alpha=0.3)
+    # (c) the implicit midpoint's iterations on the spring against omega dt
+    ax = axes[2]
+    world = World(water=True, water_density_kgm3=SA.RHO)
+    theta = np.linspace(0.05, 2.4, 48)
+    its = []
+    for th in theta:
+        sim = Simulator(SA.FLOAT, world, dt=th / SA.OMEGA, integrator="implicit_midpoint")
+        sim.reset(pos=(0.0, 0.0, SA.Z_EQ + SA.AMPLITUDE))
+        sim.step(steps=5)
+        its.append(float(sim.iterations[0]))
+        rows.append(("seed_methods", "implicit_midpoint", th / SA.OMEGA, "iterations", its[-1]))
+        rows.append(("seed_methods", "implicit_midpoint", th / SA.OMEGA, "diverged",
+                     float(sim.diverged[0])))  # fmt: skip
+    its = np.array(its)
+    flagged = its > IT.IMPLICIT_MAX_ITERATIONS
+    ax.plot(theta[~flagged], its[~flagged], "o-", ms=3, label="iterations (most of 5 steps)")
+    ax.plot(theta[flagged], np.full(flagged.sum(), IT.IMPLICIT_MAX_ITERATIONS + 1), "rx",
+            label="flagged diverged")  # fmt: skip
+    ax.axvline(2.0, color="gray", lw=0.8)
+    ax.text(2.02, 5, "contraction omega dt / 2 = 1", fontsize=8, rotation=90)
+    ax.set_title("implicit midpoint: fixed-point iterations per step\non the spring", fontsize=10)
+    ax.set_xlabel("omega dt")
+    ax.set_ylabel("iterations")
+    ax.legend(fontsize=7)
+    ax.grid(True, alpha=0.3)
+    fig.savefig(out / "study_stability_seed_methods.png", dpi=100)
     plt.close(fig)
 
 
@@ -442,13 +526,14 @@ def main() -> None:
     limit = limits["paper_airplane", "symplectic_euler", "float64"]
     mode_airplane_damping(probs, limit, rows, plt, out)
     mode_clamps(probs, limit, rows, plt, out)
+    mode_seed_methods(rows, plt, out)
     write_csv(
         out / "study_stability_modes.csv",
         ("chart", "case", "dt_s", "quantity", "value"),
         [(c, m, fmt(float(dt)), q, fmt(float(v))) for c, m, dt, q, v in rows],
         machine,
     )
-    print(f"wrote {out}/study_stability*.csv and 5 charts in {time.perf_counter() - t_start:.0f} s")
+    print(f"wrote {out}/study_stability*.csv and 6 charts in {time.perf_counter() - t_start:.0f} s")
 
 
 if __name__ == "__main__":

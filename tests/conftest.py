@@ -1,6 +1,42 @@
-"""Suite-wide fixtures."""
+"""Suite-wide fixtures, and the Hypothesis profile every property test runs under."""
+
+import importlib
+import pkgutil
 
 import pytest
+from hypothesis import settings
+
+# Property tests are derandomized: each draws the same examples on every run (seeded from a
+# hash of the test), so a failure in CI is a failure on every machine and a pass is not luck.
+# No example database (nothing replayed from, or written to, .hypothesis/examples), no
+# deadline (the first example may compile numba kernels). Each test sets its own max_examples.
+settings.register_profile("fluidsim", derandomize=True, database=None, deadline=None)
+settings.load_profile("fluidsim")
+
+# the project's own modules, whose constants Hypothesis mixes into what it draws
+PROJECT_PACKAGES = ("fluidsim_envs", "benchmarks")
+
+
+def project_modules() -> list[str]:
+    """Every module of :data:`PROJECT_PACKAGES`, by name."""
+    names = []
+    for package in PROJECT_PACKAGES:
+        root = importlib.import_module(package)
+        names += [m.name for m in pkgutil.walk_packages(root.__path__, f"{package}.")]
+    return names
+
+
+def pytest_collection_modifyitems(items):
+    """Where property tests will run, the whole project is imported before the first one
+    draws. Hypothesis mixes in constants found in the local modules imported so far, so a
+    derandomized test would otherwise draw other examples when the tests before it had
+    imported more of the project: another selection of tests, or another share of them on a
+    ``pytest -n 2`` worker (measured: the dart's property test drew different examples alone
+    and after tests/physics/test_tetra.py and tests/scenes/test_registry.py)."""
+    if any(getattr(getattr(item, "obj", None), "is_hypothesis_test", False) for item in items):
+        for name in project_modules():
+            importlib.import_module(name)
+
 
 # test folders that run the physics under many integrators
 _MANY_INTEGRATORS = {"physics", "craft"}

@@ -122,9 +122,13 @@ from .state import (
     B_SECOND_MOMENT,
     BLOCK,
     BODY,
+    CARRY,
     DERIV,
+    END,
     FLUID,
     HEIGHT,
+    ITERATIONS,
+    MEMORY,
     NBODY,
     NSTATE,
     OL,
@@ -140,6 +144,7 @@ from .state import (
     SAMPLE_X,
     SAMPLE_Y,
     SOURCE,
+    STALE,
     START,
     STATE,
 )
@@ -149,7 +154,7 @@ from .wake import W_ON, wake_at
 # A slot's scratch is one flat row-major array S[row * BLOCK + i] (rows: state.SCRATCH_FIELDS):
 # with the row length a compile-time constant the compiler can prove that rows do not
 # overlap, and vectorizes.
-assert ROWS == BODY + NBODY
+assert ROWS == ITERATIONS + 1 and MEMORY == BODY + NBODY
 # _evaluate has one loop per sample kind, in this order: a kind added to model.KINDS needs
 # its loop there (and its share of _first_sample) before this module imports
 assert tuple(k.name for k in KINDS) == ("plate", "flap", "cyl", "buoy", "thr"), KINDS
@@ -164,6 +169,10 @@ EXPLICIT_EULER, SYMPLECTIC_EULER, VELOCITY_VERLET = (
     IT.VELOCITY_VERLET,
 )
 RK2, RK4, VERLET_TETRA = IT.RK2, IT.RK4, IT.VERLET_TETRA
+ACCURATE_EULER, POSITION_VERLET = IT.ACCURATE_EULER, IT.POSITION_VERLET
+PRESCALED_SYMPLECTIC_EULER = IT.PRESCALED_SYMPLECTIC_EULER
+VELOCITY_VERLET_CACHED = IT.VELOCITY_VERLET_CACHED
+TRAPEZOID_SYMPLECTIC_EULER, IMPLICIT_MIDPOINT = IT.TRAPEZOID_SYMPLECTIC_EULER, IT.IMPLICIT_MIDPOINT
 
 # prm[] slots: world and step parameters, in the simulation dtype
 P_G, P_RHO_AIR, P_RHO_WATER, P_WATER = 0, 1, 2, 3
@@ -173,7 +182,10 @@ P_NWAVES = 14  # swell: the number of waves (0: calm water), then per wave (a, k
 P_SWELL = 15
 P_TETRA_SWITCH = P_SWELL + 4 * MAX_WAVES  # verlet_tetra: rigid above this |w| dt (rad)
 P_GM = P_TETRA_SWITCH + 1  # World.central_gravity_m3s2 (0: none)
-NPRM = P_GM + 1
+# implicit_midpoint: the iteration's tolerance (integrators.IMPLICIT_TOLERANCE_ULP times the
+# dtype's machine epsilon) and its most iterations
+P_IMPLICIT_TOL, P_IMPLICIT_MAX = P_GM + 1, P_GM + 2
+NPRM = P_IMPLICIT_MAX + 1
 POLAR_ITERATIONS = 8  # fit passes from the rigid turn: energy floor ~1e-11 (docs/tetra_spin.csv)
 
 SIX = np.float32(6.0)
@@ -910,6 +922,255 @@ def _rk4(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
                 _normalize_quat(S, STATE + OQ, n)
 
 
+# --------------------------------------------------------------------------------------------
+# the seed's remaining methods (docs/seed_map.md). Three of them carry numbers of their own
+# from step to step (rows CARRY, kept between calls in ``Data.memory``); each takes them afresh
+# from the state where the state is not the one its last step left (rows END), so that a
+# reset, a contact or ``set_state`` never meets a stale memory.
+
+
+@njit(**_INLINE)
+def _kick_spin(S, n, h):
+    """L += h dL (the angular half of :func:`_kick`)."""
+    for k in range(OL, NSTATE):
+        for i in range(n):
+            S[(STATE + k) * BLOCK + i] += h * S[(DERIV + k) * BLOCK + i]
+
+
+@njit(**_INLINE)
+def _find_stale(S, n):
+    """Row STALE: 1 where the state rows differ from rows END (the state the integrator's last
+    step left; NaN before the first step), else 0; returns whether any is 1."""
+    stale = False
+    for i in range(n):
+        same = True
+        for k in range(NSTATE):
+            same &= S[(STATE + k) * BLOCK + i] == S[(END + k) * BLOCK + i]
+        S[STALE * BLOCK + i] = ZERO if same else ONE
+        stale |= not same
+    return stale
+
+
+@njit(**_INLINE)
+def _mark_end(S, n):
+    """Rows END = the state rows: what the next step compares with (:func:`_find_stale`)."""
+    for k in range(NSTATE):
+        for i in range(n):
+            S[(END + k) * BLOCK + i] = S[(STATE + k) * BLOCK + i]
+
+
+@njit(**_JIT)
+def _accurate_euler(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+    """The seed's "more accurate" Euler: the old state's acceleration carried exactly over the
+    step, x += v dt + a dt^2 / 2, then v += a dt (velocity Verlet with one force evaluation,
+    at the step's start); L likewise, the turn by the half-kicked L."""
+    dt = prm[P_DT]
+    h2 = HALF * dt
+    for b in range(nb):
+        _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
+    for b in range(nb):
+        S = scr_blk[b]
+        _kick(S, n, h2)
+        _drift(S, n, dt)
+        _rotate_by_omega(S, n, dt)
+        _kick(S, n, h2)
+
+
+@njit(**_JIT)
+def _position_verlet(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+    """The seed's velocity-less Verlet (Stormer's form): the memory keeps the last position,
+    the step's displacement is the last one plus a dt^2, ``d = (x - x_old) + a dt^2``, and the
+    velocity (what the forces and the user read) is ``d / dt``. Algebraically symplectic
+    Euler; it rounds differently (``x - x_old`` cancels where x is large against d). The turn
+    is symplectic Euler's (a quaternion has no velocity-less form that stays a rotation)."""
+    dt = prm[P_DT]
+    dt2 = dt * dt
+    for b in range(nb):
+        _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
+    for b in range(nb):
+        S = scr_blk[b]
+        _find_stale(S, n)
+        for k in range(3):
+            for i in range(n):
+                x = S[(STATE + OX + k) * BLOCK + i]
+                kept = S[(CARRY + k) * BLOCK + i]
+                v = S[(STATE + OV + k) * BLOCK + i]
+                old = kept if S[STALE * BLOCK + i] == ZERO else x - dt * v
+                d = (x - old) + dt2 * S[(DERIV + OV + k) * BLOCK + i]
+                S[(CARRY + k) * BLOCK + i] = x
+                S[(STATE + OX + k) * BLOCK + i] = x + d
+                S[(STATE + OV + k) * BLOCK + i] = d / dt
+        _kick_spin(S, n, dt)
+        _rotate_by_omega(S, n, dt)
+        _mark_end(S, n)
+
+
+@njit(**_JIT)
+def _prescaled_euler(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+    """The seed's prescaled NSV: the memory keeps the velocity times dt (a displacement per
+    step), ``u += a dt^2``, ``x += u``; the velocity is ``u / dt``. Symplectic Euler with one
+    multiplication less per step (what made it the seed's choice in fixed point); in floats
+    it rounds differently. The turn is symplectic Euler's."""
+    dt = prm[P_DT]
+    dt2 = dt * dt
+    for b in range(nb):
+        _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
+    for b in range(nb):
+        S = scr_blk[b]
+        _find_stale(S, n)
+        for k in range(3):
+            for i in range(n):
+                kept = S[(CARRY + k) * BLOCK + i]
+                u = kept if S[STALE * BLOCK + i] == ZERO else dt * S[(STATE + OV + k) * BLOCK + i]
+                u += dt2 * S[(DERIV + OV + k) * BLOCK + i]
+                S[(CARRY + k) * BLOCK + i] = u
+                S[(STATE + OX + k) * BLOCK + i] += u
+                S[(STATE + OV + k) * BLOCK + i] = u / dt
+        _kick_spin(S, n, dt)
+        _rotate_by_omega(S, n, dt)
+        _mark_end(S, n)
+
+
+@njit(**_JIT)
+def _velocity_verlet_cached(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+    """The seed's velocity Verlet: :func:`_velocity_verlet` with its first evaluation taken
+    from the memory, the acceleration (and dL/dt) its last step ended with: one evaluation
+    per step. Where the memory is stale (the first step, a reset, a contact) the block
+    evaluates at the step's start first. The cached forces were taken with the last step's
+    controls, so a new control reaches the first half kick a step late."""
+    dt = prm[P_DT]
+    h2 = HALF * dt
+    tdt = np.float64(dt)
+    stale = False
+    for b in range(nb):
+        stale |= _find_stale(scr_blk[b], n)
+    if stale:  # the forces at the start, where the memory cannot be trusted
+        for b in range(nb):
+            S = scr_blk[b]
+            _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
+            for k in range(6):
+                for i in range(n):
+                    kept = S[(CARRY + k) * BLOCK + i]
+                    new = S[(DERIV + OV + k) * BLOCK + i]
+                    S[(CARRY + k) * BLOCK + i] = kept if S[STALE * BLOCK + i] == ZERO else new
+    for b in range(nb):
+        S = scr_blk[b]
+        for k in range(6):  # DERIV rows OV..OV+2, OL..OL+2: the kick's
+            for i in range(n):
+                S[(DERIV + OV + k) * BLOCK + i] = S[(CARRY + k) * BLOCK + i]
+        _omega_row(S, n)  # ROT for the turn (no evaluation has set it this step)
+        _kick(S, n, h2)
+        _drift(S, n, dt)
+        _rotate_by_omega(S, n, dt)
+    for b in range(nb):  # at the step's end
+        _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tdt, None)
+    for b in range(nb):
+        S = scr_blk[b]
+        for k in range(6):
+            for i in range(n):
+                S[(CARRY + k) * BLOCK + i] = S[(DERIV + OV + k) * BLOCK + i]
+        _kick(S, n, h2)
+        _mark_end(S, n)
+
+
+@njit(**_INLINE)
+def _rotate_trapezoid(S, n, h):
+    """Turn q by L over h with the trapezoid rule (Heun): the rates at q and at the Euler
+    prediction q + h dq, averaged; then normalized."""
+    hh = HALF * h
+    for i in range(n):
+        inv_inertia = _inv_inertia(S, i)
+        lx, ly, lz = (
+            S[(STATE + OL) * BLOCK + i],
+            S[(STATE + OL + 1) * BLOCK + i],
+            S[(STATE + OL + 2) * BLOCK + i],
+        )
+        qw, qx = S[(STATE + OQ) * BLOCK + i], S[(STATE + OQ + 1) * BLOCK + i]
+        qy, qz = S[(STATE + OQ + 2) * BLOCK + i], S[(STATE + OQ + 3) * BLOCK + i]
+        w = world_omega(_matrix(S, i), lx, ly, lz, inv_inertia)
+        d0 = quat_rate(qw, qx, qy, qz, w[0], w[1], w[2])
+        pw, px, py, pz = qw + h * d0[0], qx + h * d0[1], qy + h * d0[2], qz + h * d0[3]
+        w = world_omega(quat_to_matrix(pw, px, py, pz), lx, ly, lz, inv_inertia)
+        d1 = quat_rate(pw, px, py, pz, w[0], w[1], w[2])
+        S[(STATE + OQ) * BLOCK + i] = qw + hh * (d0[0] + d1[0])
+        S[(STATE + OQ + 1) * BLOCK + i] = qx + hh * (d0[1] + d1[1])
+        S[(STATE + OQ + 2) * BLOCK + i] = qy + hh * (d0[2] + d1[2])
+        S[(STATE + OQ + 3) * BLOCK + i] = qz + hh * (d0[3] + d1[3])
+    _normalize_quat(S, STATE + OQ, n)
+
+
+@njit(**_JIT)
+def _trapezoid_euler(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+    """Symplectic Euler with the turn by the trapezoid rule (:func:`_rotate_trapezoid`): the
+    seed's "trapezoid" trick for fast spins. In translation a trapezoid of the old and new
+    velocity would be the accurate Euler (a row of its own, and not symplectic), so the
+    trapezoid goes where the seed says it helps: the rotation."""
+    dt = prm[P_DT]
+    for b in range(nb):
+        _evaluate(scr_blk[b], b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, None)
+    for b in range(nb):
+        S = scr_blk[b]
+        _kick(S, n, dt)
+        _drift(S, n, dt)
+        _rotate_trapezoid(S, n, dt)
+
+
+@njit(**_JIT)
+def _implicit_midpoint(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external):
+    """Implicit midpoint, ``y1 = y0 + dt f((y0 + y1) / 2)`` on the whole state, solved by
+    fixed-point iteration from ``y1 = y0`` (the first iterate is explicit Euler's). An
+    environment stops iterating when no number of its state moved by more than
+    ``prm[P_IMPLICIT_TOL]`` of its size (``|y0| + |dt f|``) and keeps that iterate, whatever its
+    block's neighbours still do; row ITERATIONS keeps the most iterations a step took, past
+    ``prm[P_IMPLICIT_MAX]`` the iteration has failed (it converges only while dt times the
+    forces' stiffness stays below about 2) and the step is flagged diverged. Rows: START y0,
+    RK_SUM the iterate, STATE the midpoint, STALE 1 while an environment iterates."""
+    dt = prm[P_DT]
+    th = 0.5 * np.float64(dt)
+    tol, most = prm[P_IMPLICIT_TOL], int(prm[P_IMPLICIT_MAX])
+    for b in range(nb):
+        S = scr_blk[b]
+        _copy(S, START, STATE, n)
+        _copy(S, RK_SUM, STATE, n)
+        for i in range(n):
+            S[STALE * BLOCK + i] = ONE
+    left, it = n * nb, 0
+    while left > 0 and it < most:
+        it += 1
+        for b in range(nb):
+            S = scr_blk[b]
+            for k in range(NSTATE):
+                for i in range(n):
+                    S[(STATE + k) * BLOCK + i] = HALF * (
+                        S[(START + k) * BLOCK + i] + S[(RK_SUM + k) * BLOCK + i]
+                    )
+            _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, th, None)
+        left = 0
+        for b in range(nb):
+            S = scr_blk[b]
+            for i in range(n):
+                if S[STALE * BLOCK + i] == ZERO:
+                    continue
+                done = True
+                for k in range(NSTATE):
+                    y0, step = S[(START + k) * BLOCK + i], dt * S[(DERIV + k) * BLOCK + i]
+                    y = y0 + step
+                    done &= abs(y - S[(RK_SUM + k) * BLOCK + i]) <= tol * (abs(y0) + abs(step))
+                    S[(RK_SUM + k) * BLOCK + i] = y
+                if done:
+                    S[STALE * BLOCK + i] = ZERO
+                    S[ITERATIONS * BLOCK + i] = max(S[ITERATIONS * BLOCK + i], it)
+                else:
+                    left += 1
+    for b in range(nb):
+        S = scr_blk[b]
+        for i in range(n):  # not converged: one past the most, which flags it
+            if S[STALE * BLOCK + i] != ZERO:
+                S[ITERATIONS * BLOCK + i] = most + 1
+        _copy(S, STATE, RK_SUM, n)
+        _normalize_quat(S, STATE + OQ, n)
+
+
 # integrator id -> its block step
 STEPPERS = {
     EXPLICIT_EULER: _explicit_euler,
@@ -918,6 +1179,12 @@ STEPPERS = {
     RK2: _rk2,
     RK4: _rk4,
     VERLET_TETRA: _verlet_tetra,
+    ACCURATE_EULER: _accurate_euler,
+    POSITION_VERLET: _position_verlet,
+    PRESCALED_SYMPLECTIC_EULER: _prescaled_euler,
+    VELOCITY_VERLET_CACHED: _velocity_verlet_cached,
+    TRAPEZOID_SYMPLECTIC_EULER: _trapezoid_euler,
+    IMPLICIT_MIDPOINT: _implicit_midpoint,
 }
 assert sorted(STEPPERS) == sorted(IT.BY_ID), "an integrator of integrators.TABLE has no stepper"
 
@@ -938,6 +1205,18 @@ def _integrate(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external,
         _rk4(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
     elif method == VERLET_TETRA:
         _verlet_tetra(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
+    elif method == ACCURATE_EULER:
+        _accurate_euler(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
+    elif method == POSITION_VERLET:
+        _position_verlet(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
+    elif method == PRESCALED_SYMPLECTIC_EULER:
+        _prescaled_euler(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
+    elif method == VELOCITY_VERLET_CACHED:
+        _velocity_verlet_cached(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
+    elif method == TRAPEZOID_SYMPLECTIC_EULER:
+        _trapezoid_euler(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
+    elif method == IMPLICIT_MIDPOINT:
+        _implicit_midpoint(scr_blk, nb, n, e0, samples, prm, wprm, ctrl, flap_now, external)
     else:  # a new row of integrators.TABLE without its branch would leave the state as it was
         raise ValueError("unknown integrator id: see integrators.TABLE")
 
@@ -1029,6 +1308,13 @@ def _load_block(blk, model, samples, data):
             for k in range(src.shape[0]):
                 for i in range(n):
                     scr_blk[b, (SOURCE + k) * BLOCK + i] = src[k, e0 + i]
+        memory = data.memory  # a carrying integrator's (empty for the others)
+        for k in range(memory.shape[0]):
+            for i in range(n):
+                scr_blk[b, (MEMORY + k) * BLOCK + i] = memory[k, b, e0 + i]
+        if data.iterations.shape[0] > 0:
+            for i in range(n):
+                scr_blk[b, ITERATIONS * BLOCK + i] = 0.0
     return e0, n
 
 
@@ -1092,6 +1378,19 @@ def _advance_block(blk, model, samples, data, method, steps, contact, pairs):
         diverged[e0 + i] = False
     # before st is overwritten: it still holds the call's starting positions
     _flag_runaways(scr_blk, nb, n, e0, st, model.prm, steps, diverged)
+    memory, iterations = data.memory, data.iterations  # local names: see touch above
+    for b in range(nb):
+        for k in range(memory.shape[0]):
+            for i in range(n):
+                memory[k, b, e0 + i] = scr_blk[b, (MEMORY + k) * BLOCK + i]
+    if iterations.shape[0] > 0:  # implicit_midpoint: a step whose iteration failed diverged
+        most = model.prm[P_IMPLICIT_MAX]
+        for i in range(n):
+            it = scr_blk[0, ITERATIONS * BLOCK + i]
+            for b in range(1, nb):
+                it = max(it, scr_blk[b, ITERATIONS * BLOCK + i])
+            iterations[e0 + i] = it
+            diverged[e0 + i] |= it > most
     for b in range(nb):
         for k in range(st.shape[0]):
             for i in range(n):

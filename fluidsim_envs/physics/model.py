@@ -233,6 +233,10 @@ class Data(NamedTuple):
     touch: np.ndarray  # [E or 0, pairs] each pair's normal impulse over the last call
     scr: np.ndarray  # [blocks, B, ROWS * BLOCK] the blocks' scratch (state.SCRATCH_FIELDS)
     diverged: np.ndarray  # [E] bool
+    # a carrying integrator's memory (state.MEMORY_FIELDS; integrators.Integrator.carries),
+    # [NMEMORY, B, E]; [0, B, E] for the others
+    memory: np.ndarray
+    iterations: np.ndarray  # [E] implicit_midpoint: the most iterations of a step; [0] else
 
 
 # --------------------------------------------------------------------------------------------

@@ -15,7 +15,7 @@ from . import model as M
 from . import wake as WK
 from .craft import Craft, CraftError, check_inertia, shape_reach, shift_offsets
 from .factors import FactorTable
-from .state import BLOCK, NSTATE, OL, OQ, OV, OX, ROWS
+from .state import BLOCK, NMEMORY, NSTATE, OL, OQ, OV, OX, ROWS
 from .world import World
 
 PARALLEL_MIN_BODIES = 1024  # below this many bodies the serial kernel wins (thread start-up)
@@ -41,9 +41,11 @@ def _entry_point(kernel, args, literal=()):
     return overload.entry_point if overload is not None else kernel
 
 
-def _world_params(world: World, dt: float, swell: np.ndarray) -> np.ndarray:
+def _world_params(world: World, dt: float, swell: np.ndarray, dtype: np.dtype) -> np.ndarray:
     """The kernels' ``prm[NPRM]`` (float64): the world and the step (``kernels.P_*``)."""
     prm = np.zeros(K.NPRM)
+    prm[K.P_IMPLICIT_TOL] = IT.IMPLICIT_TOLERANCE_ULP * np.finfo(dtype).eps
+    prm[K.P_IMPLICIT_MAX] = IT.IMPLICIT_MAX_ITERATIONS
     prm[K.P_G] = world.gravity_mps2
     prm[K.P_GM] = world.central_gravity_m3s2
     prm[K.P_RHO_AIR] = world.air_density_kgm3
@@ -158,6 +160,37 @@ class Simulator:
               Euler, the turn as the particles' drift with the shape restored by the
               best-fitting rotation and the momenta kept. Above ``World.tetra_rigid_spin_rad``
               per step a body turns rigidly instead.
+
+            The seed's remaining methods (docs/seed_map.md; docs/study.md charts each):
+
+            - ``accurate_euler`` [1]: the seed's "more accurate" Euler, ``x += v dt + a dt^2
+              / 2``, ``v += a dt``, all from the old state. Exact for a constant force, first
+              order otherwise; not symplectic: a spring gains energy every step (its map's
+              determinant is ``1 + (omega dt)^2 / 2``), like explicit Euler but slower.
+            - ``position_verlet`` [1]: velocity-less (Stormer) Verlet: it keeps the last
+              position, steps by the last displacement plus ``a dt^2`` and reads velocity as
+              displacement over dt. Symplectic Euler's trajectory, rounded differently:
+              ``x - x_old`` loses digits where positions are large against a step.
+            - ``prescaled_symplectic_euler`` [1]: symplectic Euler with the velocity stored
+              times dt (the seed's fixed-point form): one product less per step, other
+              rounding.
+            - ``velocity_verlet_cached`` [1]: the seed's velocity Verlet: ``velocity_verlet``
+              with its first evaluation reused from the last step's end, so one evaluation
+              per step (two on a first step, after a reset or a contact). Controls changed
+              between calls reach its first half kick a step late.
+            - ``trapezoid_symplectic_euler`` [1]: symplectic Euler with the turn by the
+              trapezoid rule (the seed's trick for fast spins) instead of the midpoint.
+            - ``implicit_midpoint`` [1] per iteration: ``y1 = y0 + dt f((y0 + y1) / 2)``
+              solved by fixed-point iteration to a few ulp (:attr:`iterations` counts them).
+              Second order and symplectic. The iteration contracts by about dt times the
+              forces' stiffness over 2 per pass: past 1 it cannot converge, past about 1/2 it
+              needs more than ``integrators.IMPLICIT_MAX_ITERATIONS``; either way the step is
+              flagged :attr:`diverged`.
+
+            The carrying methods (``position_verlet``, ``prescaled_symplectic_euler``,
+            ``velocity_verlet_cached``) keep their memory per body between calls; wherever
+            the state is not what their last step left (reset, contact, :meth:`set_state`
+            of a snapshot without it), they take it afresh from the state.
 
             Every method keeps world angular momentum exact under zero torque (it is the
             state) and renormalizes the quaternion each step. Contact (crafts with
@@ -295,7 +328,7 @@ class Simulator:
             crafts,
             E,
             dtype,
-            _world_params(world, dt, swell),
+            _world_params(world, dt, swell, dtype),
             wake.params(dtype) if wake is not None else np.zeros(WK.NWPRM, dtype),
             swell,
             cprm,
@@ -330,7 +363,11 @@ class Simulator:
             touch=np.zeros((E if n_pairs else 0, n_pairs), dtype=dtype),
             scr=np.zeros((-(-E // BLOCK), B, ROWS * BLOCK), dtype=dtype),
             diverged=np.zeros(E, dtype=np.bool_),
+            memory=np.zeros((NMEMORY if method.carries else 0, B, E), dtype=dtype),
+            iterations=np.zeros(E if method.iterative else 0, dtype=dtype),
         )
+        # rows END NaN: no step of the integrator's has left this state (state.MEMORY_FIELDS)
+        self._data.memory[:NSTATE] = np.nan
         self._entry = None  # the step kernel's compiled entry, once it has run (step)
         self._omega = np.zeros((3, B, E), dtype=dtype)
         self._wrench = np.zeros((6, B, E), dtype=dtype)
@@ -406,6 +443,20 @@ class Simulator:
     def pairs(self) -> np.ndarray:
         """``[P, 2]``: the bodies (a, b), a < b, of each column of :attr:`pair_impulse`."""
         return np.stack(np.triu_indices(self.num_bodies, 1), axis=1)  # contact.collide's order
+
+    @property
+    def iterations(self) -> np.ndarray:
+        """``[E]`` (read-only view): with ``implicit_midpoint``, the most fixed-point
+        iterations (force evaluations) any step of the last :meth:`step` call took in each
+        environment; past ``integrators.IMPLICIT_MAX_ITERATIONS`` the iteration failed and
+        the environment is :attr:`diverged`. Other integrators: a ``ValueError``."""
+        if not self._data.iterations.shape[0]:
+            raise ValueError(
+                f"iterations: {self.integrator!r} does not iterate (implicit_midpoint does)"
+            )
+        v = self._data.iterations.view()
+        v.flags.writeable = False
+        return v
 
     @property
     def diverged(self) -> np.ndarray:
@@ -621,6 +672,7 @@ class Simulator:
             "warm": (d.warm, 0),
             "touch": (d.touch, 0),
             "diverged": (d.diverged, 0),
+            "memory": (d.memory, 2),
             "body": (m.body, 0),
             "shape": (m.shape, 0),
             "contact_body": (m.contact_body, 0),
@@ -635,6 +687,8 @@ class Simulator:
             )
         if not d.warm.shape[0]:  # no body pairs: no warm starts to keep
             del arrays["warm"], arrays["touch"]
+        if not d.memory.shape[0]:  # an integrator that carries nothing between steps
+            del arrays["memory"]
         # a read-only array is one row broadcast to every environment (model.pack: no
         # collision shapes), nobody's own
         return {k: (a, axis) for k, (a, axis) in arrays.items() if a.flags.writeable}

@@ -11,6 +11,10 @@ Two layouts, both declared here as (name, width) lists and turned into row numbe
   one row per number and ``BLOCK`` environments per row, so that the loops over a block run
   over environments innermost and vectorize. The state rows come first; ``STATE + OX`` is
   where contact and the integrators find a body's position.
+- ``MEMORY_FIELDS``: what an integrator that ``carries`` numbers from step to step
+  (``integrators.Integrator.carries``) keeps per body, ``Data.memory[NMEMORY, B, E]``: the
+  state as its last step left it (a state that differs from it was changed from outside: the
+  carried numbers are then taken afresh from the state) and the carried numbers themselves.
 - ``BODY_FIELDS``: the per-environment body constants ``body[E, B, NBODY]`` (mass, inverse
   inertia, second moment, center-of-mass shift), which ``Simulator.set_mass_properties`` sets
   per environment.
@@ -47,6 +51,14 @@ BODY_FIELDS = (
 _BODY, NBODY = rows(BODY_FIELDS)
 B_MASS, B_INV_INERTIA, B_SECOND_MOMENT, B_COM_SHIFT = (_BODY[n] for n, _ in BODY_FIELDS)
 
+MEMORY_FIELDS = (
+    ("end", NSTATE),  # the state as the integrator's last step left it
+    # position_verlet: the last position (3); prescaled_symplectic_euler: the velocity times
+    # dt, a displacement per step (3); velocity_verlet_cached: the last step's dv/dt and dL/dt
+    ("carry", 6),
+)
+_MEMORY, NMEMORY = rows(MEMORY_FIELDS)
+
 BLOCK = 64  # environments per block: a multiple of the SIMD width, scratch fits in L1/L2
 SCRATCH_FIELDS = (
     ("state", NSTATE),  # the state being stepped
@@ -63,6 +75,9 @@ SCRATCH_FIELDS = (
     ("sample_y", 1),  # and y
     ("phase", MAX_WAVES),  # with swell: each wave's time phase at the step's start
     ("body", NBODY),  # the environment's body constants (BODY_FIELDS)
+    ("memory", NMEMORY),  # a carrying integrator's memory (MEMORY_FIELDS), loaded per call
+    ("stale", 1),  # 1 where the state changed outside the integrator since its last step
+    ("iterations", 1),  # implicit_midpoint: the most iterations a step of this call took
 )
 _ROW, ROWS = rows(SCRATCH_FIELDS)
 STATE, START, RK_SUM, DERIV, ROT, OMEGA = (
@@ -70,3 +85,5 @@ STATE, START, RK_SUM, DERIV, ROT, OMEGA = (
 )
 FLUID, OWN_WATER, SOURCE, HEIGHT = (_ROW[n] for n in ("fluid", "own_water", "source", "height"))
 SAMPLE_X, SAMPLE_Y, PHASE, BODY = (_ROW[n] for n in ("sample_x", "sample_y", "phase", "body"))
+MEMORY, STALE, ITERATIONS = (_ROW[n] for n in ("memory", "stale", "iterations"))
+END, CARRY = MEMORY + _MEMORY["end"], MEMORY + _MEMORY["carry"]

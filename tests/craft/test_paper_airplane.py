@@ -1,8 +1,9 @@
 """Flight qualities of the shipped paper dart (issue 4): trim glide, phugoid, static stability
 on both sides of the neutral point, control signs, and finite forces from any attitude.
 
-Expected values come from the craft's own forces (``Simulator.wrench``) or from the formula
-named in each test; nothing is a tuned constant of the test."""
+Expected values come from the craft's own forces (``Simulator.wrench``), from the formula
+named in each test, or from what the docs publish (docs/dart_glide.csv, which
+``python -m benchmarks.dart_glide`` writes); nothing is a tuned constant of the test."""
 
 import math
 
@@ -12,6 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
+from benchmarks import dart_glide as ref
 from fluidsim_envs.physics import Craft, Simulator, World
 from fluidsim_envs.physics.kernels import quat_matrices
 
@@ -22,6 +24,12 @@ G = 9.81
 @pytest.fixture(scope="module")
 def craft():
     return Craft.load("paper_airplane")
+
+
+@pytest.fixture(scope="module")
+def trimmed(craft):
+    """30 s of :func:`glide` from the default launch: the trimmed glide (not to be stepped)."""
+    return glide(craft, 30.0)
 
 
 def body_rates(sim):
@@ -63,12 +71,13 @@ def test_geometry_is_a_folded_a4_dart(craft):
     assert craft.control_names == ("aileron", "elevator", "rudder")
 
 
-def test_trimmed_glide_at_the_force_balance(craft):
+def test_trimmed_glide_at_the_force_balance(craft, trimmed):
     """Zero controls from a level launch: the pitch oscillation dies out and speed and glide
     angle become constant. In a steady glide lift and drag balance weight, so the glide
     angle is atan(D/L) (e.g. Anderson, Introduction to Flight, 6.7), with L and D the aero
-    force across and along the flight path; a paper dart glides a few to one."""
-    sim, t, rows = glide(craft, 30.0)
+    force across and along the flight path. Trim speed and glide ratio stay within 5% of
+    what docs/environments.md publishes (from docs/dart_glide.csv)."""
+    sim, t, rows = trimmed
     speed, gamma = rows[:, 0], rows[:, 1]
     late = t > 25.0
     assert np.ptp(speed[late]) < 1e-3 * speed[-1]
@@ -84,21 +93,48 @@ def test_trimmed_glide_at_the_force_balance(craft):
     assert gamma[-1] == pytest.approx(math.atan2(drag, lift), abs=1e-4)
     assert np.linalg.norm(force[0, 0]) == pytest.approx(craft.mass_kg * G, rel=1e-3)
     assert np.abs(torque[0, 0]).max() < 1e-6
-    assert 3.0 <= lift / drag <= 8.0
-    assert 4.0 <= speed[-1] <= 9.0  # a thrown dart's speed
+    published = ref.published()
+    assert speed[-1] == pytest.approx(published[("trim_speed", "measured")], rel=0.05)
+    assert lift / drag == pytest.approx(published[("glide_ratio", "measured")], rel=0.05)
 
 
-def test_phugoid_period_matches_lanchester(craft):
-    """Lanchester's phugoid: period pi sqrt(2) V / g at trim speed V (Etkin & Reid, Dynamics
-    of Flight, 5.6). Measured between speed peaks after a launch 1 m/s below trim."""
-    _, t, rows = glide(craft, 30.0)
+def test_phugoid_matches_the_approximations_with_drag(craft, trimmed):
+    """The phugoid after a level launch 1 m/s below trim speed V: period and damping ratio
+    from the speed's peaks (``benchmarks.dart_glide.phugoid_of``), against
+
+    - the point-mass phugoid with drag in the glide: Etkin & Reid's longitudinal
+      small-perturbation equations (Dynamics of Flight: Stability and Control, 3rd ed.,
+      ch. 4) at constant angle of attack, about a flight path tilted down by the glide
+      angle gamma = atan(C_D/C_L): omega_n = sqrt(2) g / V, zeta = 3 sin(gamma) / (2 sqrt(2))
+      (``benchmarks.dart_glide.glide_with_drag``). Measured: period 5.1% longer, damping
+      9.9% lower; allowed 6% and 12%.
+    - Etkin & Reid's phugoid approximation with drag (ch. 6; level flight, thrust
+      independent of speed): omega_n = sqrt(2) g / V, zeta = C_D / (sqrt(2) C_L). Measured:
+      period 6.8% longer; allowed 8%. (Its damping ratio is 24% low: in a glide gravity,
+      not a constant thrust, balances drag. Lanchester's drag-free period is 8.3% short.)
+    - the craft's own longitudinal equations linearized about the trim (derivatives from
+      its forces, ``benchmarks.dart_glide.linearized_phugoid``): measured 0.03% and 1.5%
+      off (the 1.5% is symplectic Euler's: with rk4 at the same dt, 0.02%); allowed 0.5%
+      and 3%. So what the approximations miss is their own: the coupling with the short
+      period (the angle-of-attack freedom they drop).
+
+    C_D/C_L is the trim's drag over lift from the craft's forces. The issue's ceiling for an
+    approximation with drag is 10%."""
+    sim, _, rows = trimmed
     v_trim = rows[-1, 0]
+    lift, drag = ref.lift_and_drag(sim)
     _, t, rows = glide(craft, 12.0, v0=v_trim - 1.0)
-    s = rows[:, 0]
-    peaks = t[1:-1][(s[1:-1] > s[:-2]) & (s[1:-1] >= s[2:])]
-    assert len(peaks) >= 3
-    period = np.mean(np.diff(peaks))
-    assert period == pytest.approx(math.pi * math.sqrt(2) * v_trim / G, rel=0.2)
+    period, zeta, peaks = ref.phugoid_of(t, rows[:, 0], v_trim)
+    assert peaks >= 3
+
+    glide_period, glide_zeta = ref.glide_with_drag(v_trim, G, drag / lift)
+    assert abs(glide_period / period - 1) < 0.06
+    assert abs(glide_zeta / zeta - 1) < 0.12
+    er_period, _ = ref.etkin_reid(v_trim, G, drag / lift)
+    assert abs(er_period / period - 1) < 0.08
+    lin_period, lin_zeta = ref.linearized_phugoid(craft, World(), sim)
+    assert abs(lin_period / period - 1) < 0.005
+    assert abs(lin_zeta / zeta - 1) < 0.03
 
 
 def pitch_moment_slope(craft, speed, alphas):
@@ -183,7 +219,7 @@ def test_controls_do_what_a_pilot_expects(craft, channel, axis, sign, what):
     assert sign * (body_rates(sim)[0, axis] - before) > 0.3, what
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=25)
 @given(
     quat=arrays(np.float64, (32, 4), elements=st.floats(-1, 1)),
     rates=arrays(np.float64, (32, 3), elements=st.floats(-60, 60)),

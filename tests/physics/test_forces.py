@@ -210,7 +210,7 @@ def test_cylinder_in_simulator_and_several_bodies():
 finite = st.floats(-1e6, 1e6, allow_nan=False)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=300)
 @given(
     v=st.tuples(finite, finite, finite),
     n=st.tuples(finite, finite, finite),

@@ -43,7 +43,7 @@ quaternions = st.lists(st.floats(-1.0, 1.0), min_size=4, max_size=4).filter(
 )
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=300)
 @given(mass=st.floats(1e-3, 1e6), s=second_moments, q=quaternions)
 def test_match_is_exact_for_any_possible_tensor(mass, s, q):
     s = np.array(s)
@@ -93,7 +93,7 @@ def test_impossible_bodies_are_refused_with_the_reason(mass, tensor, message):
         match_inertia(mass, tensor)
 
 
-@settings(max_examples=100, deadline=None)
+@settings(max_examples=100)
 @given(
     s=second_moments,
     q=quaternions,

@@ -620,7 +620,7 @@ def test_field_is_finite_at_special_points(wake):
 unit = st.floats(-1.0, 1.0, allow_nan=False)
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=150)
 @given(
     wake_id=st.integers(0, len(FIELDS) - 1),
     body=st.lists(st.tuples(st.floats(-6.0, 2.0), unit, unit), min_size=1, max_size=40),
