@@ -159,22 +159,26 @@ def test_one_env_equals_the_same_env_in_a_batch_of_70_on_any_thread_count():
 def test_projectile_error_is_the_formats_rounding():
     """100 steps of dt = 1/100 from rest at g = 9.81 (the source article's test): symplectic
     Euler's discrete closed form is z = -g dt^2 n (n + 1) / 2 = -4.95405. In fixed point
-    each kick adds the same rounded word, so z misses it by at most the rounding of g and of
-    each kick (n (n + 1) / 2 of them) plus half a word per drift."""
+    each kick adds the same rounded word, so z misses it by at most the roundings, half a
+    word each: of g (times dt^2 n (n + 1) / 2), of the kick (times dt n (n + 1) / 2), of
+    each of the n drifts, and of the step h = dt / T (30 bits) in each kick and drift."""
     ball = Craft(name="ball", mass_kg=1.0, inertia_kgm2=(0.4, 0.4, 0.4))
+    n, dt, sum_n = 100, 0.01, 5050
     for dtype, bits in (("fixed32", 14), ("fixed32", 20), ("fixed64", 30)):
-        sim = Simulator(ball, World(), 1, 0.01, dtype=dtype, fraction_bits=bits)
+        sim = Simulator(ball, World(), 1, dt, dtype=dtype, fraction_bits=bits)
         sim.reset()
-        sim.step(steps=100)
+        sim.step(steps=n)
         u = sim.units
         word_z = u.length_m / 2.0**bits
-        word_v = u.length_m / u.time_s / 2.0**bits
-        kick = word_v * 0.01 + 9.81 * 0.01 * 2.0**-31  # a kick's rounding, as a drift
-        bound = 5050 * kick + 100 * word_z + 5050 * 0.01 * (0.5 * word_v / u.time_s) * 0.01
+        word_v = word_z / u.time_s
+        word_g = word_v / u.time_s
+        word_t = u.time_s * 2.0**-LW.STEP_BITS  # dt's word as h holds it
+        bound = 0.5 * (word_g * dt * dt * sum_n + word_v * dt * sum_n + word_z * n)
+        bound += 0.5 * word_t * 9.81 * dt * sum_n * 2
         err = abs(sim.pos[0, 0, 2] - -4.95405)
-        assert err <= bound, (dtype, bits, err, bound)
-        assert err > 0 or bits == 30  # Q14 and Q20 do not hit it exactly
-        assert abs(sim.lin_vel[0, 0, 2] - -9.81) <= 100 * word_v + word_v
+        assert 0 < err <= bound, (dtype, bits, err, bound)
+        v_bound = 0.5 * (word_g * dt + word_v + word_t * 9.81) * n
+        assert abs(sim.lin_vel[0, 0, 2] - -9.81) <= v_bound, (dtype, bits)
 
 
 def test_reset_state_reads_back_within_a_word():
