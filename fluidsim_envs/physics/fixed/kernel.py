@@ -4,6 +4,11 @@ Each environment is stepped by ``laws.body_step`` on its own state words only, s
 does not depend on the batch size, on how environments are spread over threads, or on the
 machine (integer arithmetic: ``laws.py``). ``step_parallel`` spreads environments over
 numba's threads (``prange``); ``step_serial`` runs on the calling thread.
+
+numba's cache does not see edits to ``laws.py`` (a module these kernels call into): after
+editing it, delete ``fluidsim_envs/physics/fixed/__pycache__/*.nbi`` and ``*.nbc``, or the
+kernels keep running the old laws (tests/physics/test_fixed.py's comparison with the
+plain-Python reference, which runs the new ones, then fails).
 """
 
 from __future__ import annotations
