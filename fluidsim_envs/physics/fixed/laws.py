@@ -12,7 +12,15 @@ Numbers are fixed point with ``f`` fraction bits (``prm[P_F]``): the integer ``n
 ``n / 2**f`` in the craft's units (``format.py``). Every operation is named after the float
 code it mirrors; the force laws are ``forces.py``'s, in the order ``kernels._evaluate`` calls
 them, and the step is ``kernels._symplectic_euler`` (kick, drift, the midpoint turn,
-normalization).
+normalization). The control surfaces are deflected in integers too, once per call
+(:func:`body_inputs`: ``kernels._deflect`` with :func:`sincos`), from the controls rounded
+to ``ANGLE_BITS``.
+
+What differs from the float laws, and why: ``eff (v . n) / |v|`` is taken as ``eff ((v . n)
+/ |v|)`` (a ratio of at most 1 rounds better than ``1 / |v|``); the clamps leave a value
+alone below their limit (the float laws multiply it by exactly 1); the center-of-mass shift
+and the per-environment factors (``Simulator.set_mass_properties``, ``set_sample_scale``)
+are not offered, so the samples sit at the craft's offsets with the craft's sizes.
 
 Rounding and ranges (``format.py`` documents the formats):
 

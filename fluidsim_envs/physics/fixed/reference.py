@@ -18,6 +18,8 @@ from . import laws as LW
 
 def plain_laws() -> types.SimpleNamespace:
     """``laws.py``'s functions as plain Python functions calling each other."""
+    compiled = sorted(k for k, v in vars(LW).items() if hasattr(v, "py_func"))
+    assert compiled == sorted(LW.ORDER), f"laws.ORDER must list {compiled}"  # none compiled
     space = {k: v for k, v in vars(LW).items() if isinstance(v, int) and not isinstance(v, bool)}
     for name in LW.ORDER:
         code = getattr(LW, name).py_func.__code__
