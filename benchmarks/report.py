@@ -16,8 +16,9 @@ table of every env parameter (its default and what it may be, from each paramete
 ``RANGES``: ``scenes/limits.py``) between the ``params-table`` markers, and docs/reliability.md's
 fuzz and kill tables from docs/fuzz.csv and docs/kill_resume.csv between the ``fuzz-table``
 and ``kill-table`` markers, and docs/environments.md's trim and phugoid of the paper dart from
-docs/dart_glide.csv (``python -m benchmarks.dart_glide``) between the ``dart-glide`` markers;
-none is edited by hand.
+docs/dart_glide.csv (``python -m benchmarks.dart_glide``) between the ``dart-glide`` markers,
+and docs/study.md's fixed-point tables from docs/study_fixed.csv between the ``fixed-table``
+markers (``benchmarks.study_fixed.markdown``); none is edited by hand.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ import re
 import sys
 from pathlib import Path
 
+from . import study_fixed
 from .common import DOCS, ROOT, read_csv, write_csv
 
 CSV = DOCS / "envs.csv"
@@ -52,6 +54,11 @@ KILL_BEGIN = (
     "<!-- kill-table: written by `python -m benchmarks.report` from docs/kill_resume.csv -->"
 )
 KILL_END = "<!-- /kill-table -->"
+STUDY = DOCS / "study.md"
+FIXED_BEGIN = (
+    "<!-- fixed-table: written by `python -m benchmarks.report` from docs/study_fixed.csv -->"
+)
+FIXED_END = "<!-- /fixed-table -->"
 DART_BEGIN = (
     "<!-- dart-glide: written by `python -m benchmarks.report` from docs/dart_glide.csv -->"
 )
@@ -342,6 +349,7 @@ def main(argv: list[str] | None = None) -> int:
             kill_markdown(),
             RELIABILITY,
         ),
+        STUDY: with_block(STUDY.read_text(), FIXED_BEGIN, FIXED_END, study_fixed.markdown(), STUDY),
     }
     if args.check:
         _, on_disk = read_csv(CSV) if CSV.is_file() else ([], [])
@@ -359,7 +367,7 @@ def main(argv: list[str] | None = None) -> int:
     print(results_markdown())
     print(
         f"written: {CSV.relative_to(ROOT)}, README.md, docs/training.md, docs/environments.md, "
-        "docs/reliability.md"
+        "docs/reliability.md, docs/study.md"
     )
     return 0
 

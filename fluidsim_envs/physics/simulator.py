@@ -22,6 +22,7 @@ PARALLEL_MIN_BODIES = 1024  # below this many bodies the serial kernel wins (thr
 # groups every craft has for Simulator.set_sample_scale, beside its samples' names and its own
 BUILTIN_GROUPS = ("all", "plates", "control_surfaces", "cylinders", "buoyancy")
 _METHOD_ARG = 3  # the step kernels' integrator id: (model, samples, data, method, ...)
+FIXED = ("fixed32", "fixed64")  # dtypes that Simulator hands to physics/fixed/
 
 
 def _entry_point(kernel, args, literal=()):
@@ -84,8 +85,8 @@ def _dtype(value) -> np.dtype:
         dtype = None
     if dtype not in (np.float32, np.float64):
         raise ValueError(
-            f"Simulator: dtype must be np.float32 or np.float64 (or their names), got "
-            f"{CK.show(value)}"
+            f"Simulator: dtype must be np.float32 or np.float64 (or their names), or a "
+            f"fixed-point format {FIXED}, got {CK.show(value)}"
         )
     return dtype
 
@@ -196,7 +197,9 @@ class Simulator:
             state) and renormalizes the quaternion each step. Contact (crafts with
             ``shapes``, against ``World.ground`` and each other: ``contact.py``) runs after
             each step's integration, whichever the method.
-        dtype: ``np.float64`` (default) or ``np.float32``.
+        dtype: ``np.float64`` (default) or ``np.float32``; ``"fixed32"`` or ``"fixed64"``
+            return a fixed-point simulator (``physics/fixed/``, with ``fraction_bits=14``
+            and ``units=``: docs/physics.md).
         parallel: run blocks of environments on numba's threads; default: when E * B >= 1024.
         wake: a :class:`WakeField` whose flow every fluid sample in the water feels (its
             velocity is added to the water's); each environment's source (the submarine's
@@ -238,6 +241,23 @@ class Simulator:
         >>> np.round(sim.pos[0, 0], 5)          # 1 s of flight: x = 1, z = -g t(t+dt)/2
         array([ 1.     ,  0.     , -4.95405])
     """
+
+    def __new__(cls, *args, **kwargs):
+        """``dtype="fixed32"`` or ``"fixed64"`` (the sixth argument) gives a
+        :class:`~fluidsim_envs.physics.fixed.FixedSimulator` (``physics/fixed/``), which
+        also takes ``fraction_bits`` and ``units``; any other dtype, this class."""
+        dtype = kwargs.get("dtype", args[5] if len(args) > 5 else None)
+        if isinstance(dtype, str) and dtype in FIXED:
+            from .fixed import FixedSimulator
+
+            return FixedSimulator(*args, **kwargs)
+        extra = sorted({"fraction_bits", "units"} & set(kwargs))
+        if extra:
+            raise ValueError(
+                f"Simulator: {extra} apply to a fixed-point dtype {FIXED} only, got dtype="
+                f"{CK.show(dtype) if dtype is not None else 'np.float64 (the default)'}"
+            )
+        return super().__new__(cls)
 
     def __init__(
         self,
