@@ -18,7 +18,10 @@ fuzz and kill tables from docs/fuzz.csv and docs/kill_resume.csv between the ``f
 and ``kill-table`` markers, and docs/environments.md's trim and phugoid of the paper dart from
 docs/dart_glide.csv (``python -m benchmarks.dart_glide``) between the ``dart-glide`` markers,
 and docs/study.md's fixed-point tables from docs/study_fixed.csv between the ``fixed-table``
-markers (``benchmarks.study_fixed.markdown``); none is edited by hand.
+markers (``benchmarks.study_fixed.markdown``) and Hairer's table from docs/study_hairer.csv
+between the ``hairer-table`` markers (``benchmarks.study_hairer.markdown``), and
+docs/seed_map.md's verdicts on the seed article's claims from the studies' CSVs between the
+``seed-claims`` markers (``benchmarks.seed_claims``); none is edited by hand.
 """
 
 from __future__ import annotations
@@ -28,7 +31,7 @@ import re
 import sys
 from pathlib import Path
 
-from . import study_fixed
+from . import seed_claims, study_fixed, study_hairer
 from .common import DOCS, ROOT, read_csv, write_csv
 
 CSV = DOCS / "envs.csv"
@@ -59,6 +62,15 @@ FIXED_BEGIN = (
     "<!-- fixed-table: written by `python -m benchmarks.report` from docs/study_fixed.csv -->"
 )
 FIXED_END = "<!-- /fixed-table -->"
+HAIRER_BEGIN = (
+    "<!-- hairer-table: written by `python -m benchmarks.report` from docs/study_hairer.csv -->"
+)
+HAIRER_END = "<!-- /hairer-table -->"
+CLAIMS_BEGIN = (
+    "<!-- seed-claims: written by `python -m benchmarks.report` from docs/study_*.csv -->"
+)
+CLAIMS_END = "<!-- /seed-claims -->"
+SEED_MAP = DOCS / "seed_map.md"
 DART_BEGIN = (
     "<!-- dart-glide: written by `python -m benchmarks.report` from docs/dart_glide.csv -->"
 )
@@ -349,7 +361,16 @@ def main(argv: list[str] | None = None) -> int:
             kill_markdown(),
             RELIABILITY,
         ),
-        STUDY: with_block(STUDY.read_text(), FIXED_BEGIN, FIXED_END, study_fixed.markdown(), STUDY),
+        STUDY: with_block(
+            with_block(STUDY.read_text(), FIXED_BEGIN, FIXED_END, study_fixed.markdown(), STUDY),
+            HAIRER_BEGIN,
+            HAIRER_END,
+            study_hairer.markdown(),
+            STUDY,
+        ),
+        SEED_MAP: with_block(
+            SEED_MAP.read_text(), CLAIMS_BEGIN, CLAIMS_END, seed_claims.markdown(), SEED_MAP
+        ),
     }
     if args.check:
         _, on_disk = read_csv(CSV) if CSV.is_file() else ([], [])
@@ -367,7 +388,7 @@ def main(argv: list[str] | None = None) -> int:
     print(results_markdown())
     print(
         f"written: {CSV.relative_to(ROOT)}, README.md, docs/training.md, docs/environments.md, "
-        "docs/reliability.md, docs/study.md"
+        "docs/reliability.md, docs/study.md, docs/seed_map.md"
     )
     return 0
 

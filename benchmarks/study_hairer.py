@@ -188,3 +188,41 @@ def main() -> None:
 
 if __name__ == "__main__":
     main()
+
+
+def markdown(path=None) -> str:
+    """docs/study.md's table from the study's CSV (``benchmarks.report`` writes it): per
+    integrator, each error's growth in t and order in h, beside Hairer's table."""
+    from benchmarks.common import DOCS, read_csv
+
+    path = DOCS / "study_hairer.csv" if path is None else path
+    if not path.is_file():
+        return "(no docs/study_hairer.csv yet: run python -m benchmarks.study_hairer)"
+    _, rows = read_csv(path)
+    by = {(r["integrator"], r["quantity"]): r for r in rows}
+    names = {"energy": "H", "angular_momentum": "L", "global": "global"}
+
+    def cell(r: dict) -> str:
+        g, o = r["growth"], r["order"]
+        grown = {"rounding": "exact (rounding)", "lost": "orbit lost"}.get(g, f"t^{g}")
+        order = "" if o == "nan" else f", h^{float(o):.1f}"
+        return grown + order
+
+    head = " | ".join(f"{n} error" for n in names.values())
+    lines = [
+        f"| integrator | {head} | Hairer's table |",
+        "|---|---|---|---|---|",
+    ]
+    for m in dict.fromkeys(r["integrator"] for r in rows):
+        claim = ", ".join(
+            f"{n}: {by[m, q]['hairer']}" for q, n in names.items() if by[m, q]["hairer"]
+        )
+        lines.append(f"| {m} | " + " | ".join(cell(by[m, q]) for q in names) + f" | {claim} |")
+    lines.append("")
+    lines.append(
+        "Growth: the slope of log(error) against log(t) over windows of orbits where the error "
+        "is still small (0 bounded, 1 linear, 2 quadratic); order: log2 of the error at h = "
+        f"{DTS[0]} over h = {DTS[1]} at 32-63 orbits. From docs/study_hairer.csv "
+        "(`python -m benchmarks.study_hairer`)."
+    )
+    return "\n".join(lines)
