@@ -103,6 +103,12 @@ DT_LIMIT_S: dict[str, dict[str, float]] = {
         "rk2": 0.016,
         "rk4": 0.025,
         "verlet_tetra": 0.01,
+        "accurate_euler": 0.012,
+        "position_verlet": 0.0098,
+        "prescaled_symplectic_euler": 0.0098,
+        "velocity_verlet_cached": 0.011,
+        "trapezoid_symplectic_euler": 0.01,
+        "implicit_midpoint": 0.003,
     },
     "SubmarineWake-v0": {
         "explicit_euler": 0.087,
@@ -111,6 +117,12 @@ DT_LIMIT_S: dict[str, dict[str, float]] = {
         "rk2": 0.09,
         "rk4": 0.09,
         "verlet_tetra": 0.073,
+        "accurate_euler": 0.081,
+        "position_verlet": 0.073,
+        "prescaled_symplectic_euler": 0.073,
+        "velocity_verlet_cached": 0.093,
+        "trapezoid_symplectic_euler": 0.073,
+        "implicit_midpoint": 0.025,
     },
     "BoatOnStep-v0": {
         "explicit_euler": 0.047,
@@ -119,6 +131,12 @@ DT_LIMIT_S: dict[str, dict[str, float]] = {
         "rk2": 0.05,
         "rk4": 0.05,
         "verlet_tetra": 0.05,
+        "accurate_euler": 0.05,
+        "position_verlet": 0.05,
+        "prescaled_symplectic_euler": 0.05,
+        "velocity_verlet_cached": 0.05,
+        "trapezoid_symplectic_euler": 0.05,
+        "implicit_midpoint": 0.018,
     },
 }
 
