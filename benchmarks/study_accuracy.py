@@ -27,9 +27,9 @@ Cost: wall time per body-step of ``sim.step(controls, steps=100)`` at E = 1024 e
 the same problem, at the problem's nominal dt, on one thread (the serial kernel: the machine
 these runs share has 2 cores, and one thread is the least disturbed by other work; the
 parallel kernel divides it by up to the thread count), minimum over 15 repeats, per (problem,
-integrator, dtype); plus force evaluations per step
-(``kernels.EVALS_PER_STEP``; the implicit midpoint's is per iteration). A run's cost is its number of steps times the
-cost per body-step: the x axis of the diagrams (microseconds of compute per body to cover the
+integrator, dtype); plus force evaluations per step (``kernels.EVALS_PER_STEP``; the
+implicit midpoint's is per iteration). A run's cost is its number of steps times the cost per
+body-step: the x axis of the diagrams (microseconds of compute per body to cover the
 problem's interval).
 
 - ``kepler``: a point mass about GM = 1 (``World(central_gravity_m3s2=1)``) on the orbit of
@@ -59,6 +59,7 @@ from scipy.special import ellipj, ellipkinc
 
 from benchmarks.common import arguments, best_of, describe, fmt, out_dir, write_csv
 from fluidsim_envs.physics import INTEGRATORS, Buoyancy, Craft, Simulator, World
+from fluidsim_envs.physics import integrators as IT
 from fluidsim_envs.physics.hydrostatics import static_float
 from fluidsim_envs.physics.kernels import EVALS_PER_STEP, quat_matrices
 
@@ -483,16 +484,7 @@ def cost_ns(p: Problem, integrator: str, dtype, num_envs: int, repeats: int, ste
 # the two charts: the first six methods, and the seed's remaining ones beside symplectic Euler
 # and rk2 (one chart of twelve lines is unreadable)
 FIRST = ("explicit_euler", "symplectic_euler", "velocity_verlet", "rk2", "rk4", "verlet_tetra")
-SEED = (
-    "symplectic_euler",
-    "rk2",
-    "accurate_euler",
-    "position_verlet",
-    "prescaled_symplectic_euler",
-    "velocity_verlet_cached",
-    "trapezoid_symplectic_euler",
-    "implicit_midpoint",
-)
+SEED = ("symplectic_euler", "rk2", *IT.SEED_METHODS)
 CHARTS = {"study_accuracy.png": FIRST, "study_accuracy_seed.png": SEED}
 assert set(FIRST) | set(SEED) == set(METHODS), "a method in no chart"
 

@@ -63,6 +63,8 @@ TABLE = (
     Integrator("implicit_midpoint", 11, 1, 0.5, (0.5,), iterative=True),
 )
 BY_NAME = {m.name: m for m in TABLE}
+# the seed article's methods added after the first six (docs/seed_map.md)
+SEED_METHODS = tuple(m.name for m in TABLE[6:])
 BY_ID = {m.id: m for m in TABLE}
 assert len(BY_ID) == len(TABLE) and all(len(m.stage_times) == m.evals_per_step for m in TABLE)
 

@@ -18,14 +18,7 @@ from fluidsim_envs.physics import integrators as IT
 G = 9.81
 BOX = Craft(name="box", mass_kg=1.0, inertia_kgm2=(1.0, 2.0, 3.0))
 CARRYING = [m.name for m in IT.TABLE if m.carries]
-SEED = [
-    "accurate_euler",
-    "position_verlet",
-    "prescaled_symplectic_euler",
-    "velocity_verlet_cached",
-    "trapezoid_symplectic_euler",
-    "implicit_midpoint",
-]
+SEED = IT.SEED_METHODS
 
 # The seed's printed float32 output (x m, v m/s). Ours is float32 too, but its operations are
 # not the seed's in every order (and may fuse a multiply-add): agreement to 1.5e-6, half the

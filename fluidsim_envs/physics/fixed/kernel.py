@@ -18,6 +18,20 @@ from numba import njit, prange
 from .laws import body_inputs, body_step
 
 
+@njit(cache=True, inline="always")
+def _advance(e, st, bc, tab, mix, ctrl, inp, prm, steps, count, diverged):
+    """Environment e's inputs from its controls, then its ``steps`` steps (its own words
+    only); the two kernels' one body."""
+    for b in range(st.shape[1]):
+        body_inputs(ctrl[e], tab[b], mix[b], prm, inp[e, b])
+    flag = 0
+    for _ in range(steps):
+        for b in range(st.shape[1]):
+            flag |= body_step(st[e, b], bc[b], tab[b], inp[e, b], prm)
+    count[e] += steps
+    diverged[e] = flag != 0
+
+
 @njit(cache=True)
 def step_serial(st, bc, tab, mix, ctrl, inp, prm, steps, count, diverged):
     """Advance every environment ``steps`` steps: ``st[E, B, 13]`` (int64 words) in place;
@@ -27,25 +41,11 @@ def step_serial(st, bc, tab, mix, ctrl, inp, prm, steps, count, diverged):
     first (``laws.body_inputs``); ``prm[NPRM]``; ``count[E]`` counts the steps (the clock),
     ``diverged[E]`` is set where a body was flagged during the call."""
     for e in range(st.shape[0]):
-        for b in range(st.shape[1]):
-            body_inputs(ctrl[e], tab[b], mix[b], prm, inp[e, b])
-        flag = 0
-        for _ in range(steps):
-            for b in range(st.shape[1]):
-                flag |= body_step(st[e, b], bc[b], tab[b], inp[e, b], prm)
-        count[e] += steps
-        diverged[e] = flag != 0
+        _advance(e, st, bc, tab, mix, ctrl, inp, prm, steps, count, diverged)
 
 
 @njit(cache=True, parallel=True)
 def step_parallel(st, bc, tab, mix, ctrl, inp, prm, steps, count, diverged):
     """:func:`step_serial` with environments spread over numba's threads."""
     for e in prange(st.shape[0]):
-        for b in range(st.shape[1]):
-            body_inputs(ctrl[e], tab[b], mix[b], prm, inp[e, b])
-        flag = 0
-        for _ in range(steps):
-            for b in range(st.shape[1]):
-                flag |= body_step(st[e, b], bc[b], tab[b], inp[e, b], prm)
-        count[e] += steps
-        diverged[e] = flag != 0
+        _advance(e, st, bc, tab, mix, ctrl, inp, prm, steps, count, diverged)
