@@ -66,6 +66,14 @@ class VHull:
     lift_factor: float = 0.4  # bottom plates' hydrodynamic area over their geometric area
     transom_taper_m: float = 1.5  # lift falls as sqrt(distance) to 0 at the transom (Kutta)
     friction_cf: float = 0.0029  # ITTC-1957 at Re ~ 3e7 (0.0025) + roughness 0.0004
+    # the bottom's skin friction and sidedness (issue 20): "plates" (forward-facing friction
+    # plates of area friction_cf x wetted area, the first hull) or "ittc1957" (the bottom
+    # plates' own skin friction on their geometric area, C_f from the ITTC-1957 line at
+    # Re = |v| friction_length_m / nu, plus roughness_cf)
+    friction: str = "plates"
+    friction_length_m: float = 3.0  # ~ the mean wetted length lambda b planing (lambda ~ 1.7)
+    roughness_cf: float = 0.0004  # the roughness allowance Savitsky (1964) adds
+    one_sided_bottom: bool = False  # bottom plates push only when the water meets them
     max_thrust_n: float = 4500.0  # ~150 hp outboard, static
     min_thrust_n: float = -1500.0  # astern
     rudder_area_m2: float = 0.2
@@ -80,9 +88,22 @@ class VHull:
         CK.plain_fields(self)
         if not isinstance(self.name, str):
             raise ValueError(f"VHull: name must be a string, got {CK.show(self.name)}")
-        signs = {"min_thrust_n": {"le": 0.0}, "transom_taper_m": {"ge": 0.0}}
+        if self.friction not in ("plates", "ittc1957"):
+            raise ValueError(
+                f"VHull: friction must be 'plates' or 'ittc1957', got {CK.show(self.friction)}"
+            )
+        if not isinstance(self.one_sided_bottom, bool):
+            raise ValueError(
+                f"VHull: one_sided_bottom must be True or False, got "
+                f"{CK.show(self.one_sided_bottom)}"
+            )
+        signs = {
+            "min_thrust_n": {"le": 0.0},
+            "transom_taper_m": {"ge": 0.0},
+            "roughness_cf": {"ge": 0.0},
+        }
         for f in fields(self):
-            if f.name in ("name", "gyradius_m"):
+            if f.name in ("name", "gyradius_m", "friction", "one_sided_bottom"):
                 continue
             if f.name in ("stations", "strips"):
                 CK.number("VHull", f.name, getattr(self, f.name), ge=1, integer=True)
@@ -133,15 +154,23 @@ class VHull:
                     n = (slope, sy * math.sin(beta), -math.cos(beta))
                     norm = math.sqrt(sum(c * c for c in n))
                     name = f"bottom_{k}_{side}_{j}"
-                    plates.append(
-                        dict(
-                            name=name,
-                            offset_m=[r(x0 + s), r(sy * y), r(z)],
-                            normal=[r(c / norm) for c in n],
-                            area_m2=r(self.lift_factor * taper * area),
-                            efficiency=0.0,
-                        )
+                    plate = dict(
+                        name=name,
+                        offset_m=[r(x0 + s), r(sy * y), r(z)],
+                        normal=[r(c / norm) for c in n],
+                        area_m2=r(self.lift_factor * taper * area),
+                        efficiency=0.0,
                     )
+                    if self.one_sided_bottom:
+                        plate["one_sided"] = True
+                    if self.friction == "ittc1957":
+                        plate.update(
+                            friction_coefficient=self.roughness_cf,
+                            friction_line="ittc1957",
+                            friction_length_m=self.friction_length_m,
+                            friction_area_m2=r(area),
+                        )
+                    plates.append(plate)
                     buoyancy.append(
                         dict(
                             name=f"volume_{k}_{side}_{j}",
@@ -150,6 +179,8 @@ class VHull:
                             area_m2=r(ds * width),
                         )
                     )
+                if self.friction != "plates":
+                    continue
                 plates.append(
                     dict(
                         name=f"friction_{k}_{j}",
@@ -257,7 +288,11 @@ class VHull:
         # volume, the skin friction, the topsides
         groups = {
             "bottom": [p["name"] for p in plates if p["name"].startswith("bottom")],
-            "friction": [p["name"] for p in plates if p["name"].startswith("friction")],
+            **(
+                {"friction": [p["name"] for p in plates if p["name"].startswith("friction")]}
+                if self.friction == "plates"
+                else {}
+            ),
             "hull_volume": [b["name"] for b in buoyancy],
             "topsides": [p["name"] for p in plates if p["name"].startswith("topside")],
         }

@@ -93,9 +93,11 @@ from .forces import (
     ZERO,
     buoyancy_force,
     cylinder_force,
+    friction_force,
     plate_force,
     rotate_about_axis,
     thrust_of,
+    viscosity,
     water_fraction,
 )
 from .jit import INLINE as _INLINE
@@ -109,7 +111,12 @@ from .model import (
     S_BUOY_AREA,
     S_CYL_AREA,
     S_EFFICIENCY,
+    S_FRICTION_CF,
+    S_FRICTION_ITTC,
+    S_FRICTION_LENGTH,
     S_OFFSET,
+    S_ONE_SIDED,
+    S_SKIN_AREA,
     S_THRUST_MAX,
     S_THRUST_MIN,
     S_VOLUME,
@@ -440,6 +447,26 @@ def _where_rows(S, n, ox, oy, oz, wake, sea, wprm, prm, tau):
         _swell_rows(S, n, ox, oy, oz, prm, tau)
 
 
+@njit(**_INLINE)
+def _skin(S, i, rx, ry, rz, nx, ny, nz, fluid, area, tab, p, vmax, fmax):
+    """Skin friction (``forces.friction_force``) on body i's plate p (row ``tab[:, p]``) at
+    world offset r with world normal n, of wetted ``area``: for the plates that have it, in
+    a loop of their own after the pressure's, so that a craft without it runs the loops it
+    ran before. Branch-free (it takes the scratch)."""
+    vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
+    nu = viscosity(water_fraction(S[HEIGHT * BLOCK + i] + rz, fluid[0], fluid[1]))
+    cf, ittc, length = tab[S_FRICTION_CF, p], tab[S_FRICTION_ITTC, p], tab[S_FRICTION_LENGTH, p]
+    return friction_force(vx, vy, vz, nx, ny, nz, rho, nu, area, cf, ittc, length, vmax, fmax)
+
+
+@njit(**_INLINE)
+def _record_add(rec, j, i, fx, fy, fz):
+    """Add a second force to sample j's record (a plate's skin friction to its pressure)."""
+    rec[j, 3, i] += fx
+    rec[j, 4, i] += fy
+    rec[j, 5, i] += fz
+
+
 @njit(**_JIT)
 def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, rec):
     """Derivative rows DERIV of the state rows STATE: dx = v, dq, dv = F/m + g, dL = torque;
@@ -503,16 +530,26 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
             frow[F_AREA, j],
             frow[F_EFFICIENCY, j],
         )
+        side, skin = tab[S_ONE_SIDED, p], tab[S_SKIN_AREA, p]
         for i in range(n):
             e = e0 + i
             rx, ry, rz = _arm(S, i, ox, oy, oz)
             nx, ny, nz = _rotate(S, i, bx, by, bz)
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
             a, f = area * factor[ra, e], eff * factor[re, e]
-            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, a, f, vmax, fmax)
+            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, a, f, vmax, fmax, side)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
             if rec is not None:
                 _record(rec, j, i, rx, ry, rz, fx, fy, fz)
+        if skin > ZERO:  # skin friction, where the craft has it
+            for i in range(n):
+                rx, ry, rz = _arm(S, i, ox, oy, oz)
+                nx, ny, nz = _rotate(S, i, bx, by, bz)
+                a = skin * factor[ra, e0 + i]
+                fx, fy, fz = _skin(S, i, rx, ry, rz, nx, ny, nz, fluid, a, tab, p, vmax, fmax)
+                _add_force(S, i, rx, ry, rz, fx, fy, fz)
+                if rec is not None:
+                    _record_add(rec, j, i, fx, fy, fz)
         j += 1
 
     tab, normal = samples.flap, flap_now  # control surfaces: normals deflected per env
@@ -526,16 +563,27 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
             frow[F_AREA, j],
             frow[F_EFFICIENCY, j],
         )
+        side, skin = tab[S_ONE_SIDED, p], tab[S_SKIN_AREA, p]
         for i in range(n):
             e = e0 + i
             rx, ry, rz = _arm(S, i, ox, oy, oz)
             nx, ny, nz = _rotate(S, i, normal[0, p, e], normal[1, p, e], normal[2, p, e])
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
             a, f = area * factor[ra, e], eff * factor[re, e]
-            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, a, f, vmax, fmax)
+            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, a, f, vmax, fmax, side)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
             if rec is not None:
                 _record(rec, j, i, rx, ry, rz, fx, fy, fz)
+        if skin > ZERO:  # skin friction, where the craft has it
+            for i in range(n):
+                e = e0 + i
+                rx, ry, rz = _arm(S, i, ox, oy, oz)
+                nx, ny, nz = _rotate(S, i, normal[0, p, e], normal[1, p, e], normal[2, p, e])
+                a = skin * factor[ra, e]
+                fx, fy, fz = _skin(S, i, rx, ry, rz, nx, ny, nz, fluid, a, tab, p, vmax, fmax)
+                _add_force(S, i, rx, ry, rz, fx, fy, fz)
+                if rec is not None:
+                    _record_add(rec, j, i, fx, fy, fz)
         j += 1
 
     tab, axis = samples.cyl, samples.cyl_axis
