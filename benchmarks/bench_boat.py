@@ -1,7 +1,8 @@
 """What the speedboat's physics costs, part by part: the step kernel on the speedboat craft with
 all its samples, and with each group left out, so that the cost split between the hull's
-plates (lift and skin friction), its buoyancy columns and the rest reads off one table; and
-the whole craft in two-wave swell (the surface height under every sample).
+bottom plates (lift), their skin friction, its buoyancy columns and the rest reads off one
+table; the one-sided bottom and the first hull (forward-facing friction plates, issue 20's
+"before"); and the whole craft in two-wave swell (the surface height under every sample).
 
 For each variant: body-steps per second of ``Simulator.step(controls, steps=k)`` at
 E = 4096 environments (float64, symplectic Euler, the parallel kernel on all threads; the
@@ -15,11 +16,13 @@ Writes ``docs/bench_boat.csv`` (machine in ``#`` lines).
 
 from __future__ import annotations
 
+import tomllib
 from dataclasses import replace
 
 import numpy as np
 
 from benchmarks.common import arguments, best_of, describe, sized, write_csv
+from fluidsim_envs.craft.hull import VHull, speedboat_toml
 from fluidsim_envs.physics import Craft, Simulator, World
 
 NUM_ENVS = 4096
@@ -27,17 +30,40 @@ DT = 1.0 / 200.0
 
 
 def variants(craft: Craft) -> dict[str, Craft]:
+    """The shipped boat, each group left out ("without ...": the group's share of a
+    body-step), the sample rules of issue 20 turned off one at a time, and the first hull
+    (forward-facing friction plates, two-sided bottom: ``VHull(friction="plates")``)."""
+
     def plates(prefix: str, keep: bool):
         return tuple(p for p in craft.plates if p.name.startswith(prefix) == keep)
 
+    def smooth(p):  # the plate without skin friction
+        return replace(
+            p,
+            friction_coefficient=0.0,
+            friction_line=None,
+            friction_length_m=None,
+            friction_area_m2=None,
+        )
+
     drop_bottom = plates("bottom", keep=False)
-    drop_friction = plates("friction", keep=False)
     controls = {c for s in (craft.controls) for c in (x.sample for x in s.surfaces)}
+    first = VHull(friction="plates", one_sided_bottom=False)
     return {
         "full": craft,
         "without bottom plates": replace(craft, plates=drop_bottom),
-        "without friction plates": replace(craft, plates=drop_friction),
+        "without skin friction": replace(craft, plates=tuple(smooth(p) for p in craft.plates)),
         "without buoyancy": replace(craft, buoyancy=()),
+        "one-sided bottom": replace(
+            craft,
+            plates=tuple(
+                replace(p, one_sided=True) if p.name.startswith("bottom") else p
+                for p in craft.plates
+            ),
+        ),
+        "first hull (friction plates, two-sided)": Craft.from_dict(
+            tomllib.loads(speedboat_toml(first)), "VHull(friction='plates')"
+        ),
         "thrust and control surfaces only": replace(
             craft, plates=tuple(p for p in craft.plates if p.name in controls), buoyancy=()
         ),
@@ -82,7 +108,9 @@ def main() -> None:
     full = 1e9 / rows[0][2]
     print("\nshare of a body-step's time")
     shares = {}
-    for label, _, r in rows[1:4]:
+    for label, _, r in rows:
+        if not label.startswith("without "):
+            continue
         group = label.removeprefix("without ")
         shares[group] = (full - 1e9 / r) / full
         print(f"  {group:24s} {100 * shares[group]:5.1f}%")
