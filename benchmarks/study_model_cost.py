@@ -15,7 +15,8 @@ from its control channel, which stays, so the control array keeps its shape):
   (horizontal distance over height lost) and airspeed at the end.
 - ``speedboat`` in ``World(water=True)``: full throttle, rudder 0.1, from rest at its floating
   height and trim (``hydrostatics.static_float``) for 10 s at dt = 1/100 s. Groups: bottom
-  plates, skin-friction plates, topsides, skeg/stem/windscreen, control surfaces (rudder, trim
+  plates, the bottom's skin friction (issue 20: the plates kept without their friction),
+  topsides, skeg/stem/windscreen, control surfaces (rudder, trim
   tabs), buoyancy columns. Scene quantities: top speed (horizontal) and trim at the end.
 - ``uuv`` in ``World(water=True)``: thrust 0.7 (84 N ahead), rudder 0.3, dive planes -0.2 from
   rest 10 m down, for 10 s at dt = 1/20 s. Groups: hull cylinders, nose plate, rudder fins,
@@ -96,9 +97,21 @@ SWELL = ((0.2, 40.0, 45.0),)  # demo.py's: 0.4 m crest to trough, 40 m long
 # ---- craft level ----------------------------------------------------------------------------
 
 
+SKIN_FRICTION = "<skin friction>"  # a group that leaves the plates but not their friction
+
+
 def without(craft: Craft, prefixes: tuple[str, ...]) -> Craft:
     """``craft`` with every plate, cylinder and buoyancy sample whose name starts with one of
-    ``prefixes`` left out; control channels keep their names but lose the surfaces left out."""
+    ``prefixes`` left out; control channels keep their names but lose the surfaces left out.
+    ``(SKIN_FRICTION,)``: every plate kept, without its skin friction (issue 20)."""
+    if prefixes == (SKIN_FRICTION,):
+        smooth = dict(
+            friction_coefficient=0.0,
+            friction_line=None,
+            friction_length_m=None,
+            friction_area_m2=None,
+        )
+        return replace(craft, plates=tuple(replace(p, **smooth) for p in craft.plates))
 
     def keep(samples):
         return tuple(s for s in samples if not s.name.startswith(prefixes))
@@ -115,6 +128,7 @@ def without(craft: Craft, prefixes: tuple[str, ...]) -> Craft:
         cylinders=cylinders,
         buoyancy=keep(craft.buoyancy),
         controls=controls,
+        groups=(),  # a group naming a sample left out is refused (Craft.groups)
     )
 
 
@@ -235,7 +249,7 @@ def cases() -> list[Case]:
             (1.0, 0.1, 0.0),
             {
                 "bottom plates": ("bottom",),
-                "friction plates": ("friction",),
+                "skin friction": (SKIN_FRICTION,),
                 "topsides": ("topside",),
                 "skeg, stem, windscreen": ("skeg", "stem", "windscreen"),
                 "control surfaces": ("rudder", "tab_"),

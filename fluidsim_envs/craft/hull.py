@@ -1,7 +1,7 @@
 """The speedboat's hull, built from its lines: a V-bottom planing runabout cut into stations.
 
 ``speedboat.toml`` is generated from :class:`VHull` by ``python -m fluidsim_envs.craft.hull``
-(a test checks that the shipped file matches), so that the 80-odd samples follow from a few
+(a test checks that the shipped file matches), so that its 75 samples follow from a few
 dimensions a naval architect would give: length, chine beam, deadrise, center of gravity.
 
 How the hull becomes samples (body frame at the center of gravity, x forward, y left, z up):

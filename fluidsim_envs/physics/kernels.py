@@ -94,10 +94,10 @@ from .forces import (
     buoyancy_force,
     cylinder_force,
     friction_force,
+    inverse_viscosity,
     plate_force,
     rotate_about_axis,
     thrust_of,
-    viscosity,
     water_fraction,
 )
 from .jit import INLINE as _INLINE
@@ -448,15 +448,16 @@ def _where_rows(S, n, ox, oy, oz, wake, sea, wprm, prm, tau):
 
 
 @njit(**_INLINE)
-def _skin(S, i, rx, ry, rz, nx, ny, nz, fluid, area, tab, p, vmax, fmax):
-    """Skin friction (``forces.friction_force``) on body i's plate p (row ``tab[:, p]``) at
-    world offset r with world normal n, of wetted ``area``: for the plates that have it, in
-    a loop of their own after the pressure's, so that a craft without it runs the loops it
-    ran before. Branch-free (it takes the scratch)."""
-    vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
-    nu = viscosity(water_fraction(S[HEIGHT * BLOCK + i] + rz, fluid[0], fluid[1]))
-    cf, ittc, length = tab[S_FRICTION_CF, p], tab[S_FRICTION_ITTC, p], tab[S_FRICTION_LENGTH, p]
-    return friction_force(vx, vy, vz, nx, ny, nz, rho, nu, area, cf, ittc, length, vmax, fmax)
+def _skin(pt, rx, ry, rz, nx, ny, nz, fluid, area, cf, ittc, length, vmax, fmax):
+    """Skin friction (``forces.friction_force``) on a plate at world offset r with world
+    normal n of the body at ``pt = _body_point(S, i)``, of wetted ``area``, coefficient or
+    roughness allowance ``cf``, ITTC-1957 line ``ittc`` (0 or 1) on ``length``: for the
+    plates that have it, in a loop of their own after the pressure's, so that a craft
+    without it runs the loops it ran before. Scalars only, as :func:`_flow` (it branches):
+    taking the scratch, it left reference counting in the loop and ran 10 times slower."""
+    vx, vy, vz, rho = _flow(pt, rx, ry, rz, fluid)
+    inv_nu = inverse_viscosity(water_fraction(pt[0] + rz, fluid[0], fluid[1]))
+    return friction_force(vx, vy, vz, nx, ny, nz, rho, inv_nu, area, cf, ittc, length, vmax, fmax)
 
 
 @njit(**_INLINE)
@@ -531,6 +532,7 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
             frow[F_EFFICIENCY, j],
         )
         side, skin = tab[S_ONE_SIDED, p], tab[S_SKIN_AREA, p]
+        cf, ittc, reach = tab[S_FRICTION_CF, p], tab[S_FRICTION_ITTC, p], tab[S_FRICTION_LENGTH, p]
         for i in range(n):
             e = e0 + i
             rx, ry, rz = _arm(S, i, ox, oy, oz)
@@ -545,8 +547,10 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
             for i in range(n):
                 rx, ry, rz = _arm(S, i, ox, oy, oz)
                 nx, ny, nz = _rotate(S, i, bx, by, bz)
-                a = skin * factor[ra, e0 + i]
-                fx, fy, fz = _skin(S, i, rx, ry, rz, nx, ny, nz, fluid, a, tab, p, vmax, fmax)
+                a, pt = skin * factor[ra, e0 + i], _body_point(S, i)
+                fx, fy, fz = _skin(
+                    pt, rx, ry, rz, nx, ny, nz, fluid, a, cf, ittc, reach, vmax, fmax
+                )
                 _add_force(S, i, rx, ry, rz, fx, fy, fz)
                 if rec is not None:
                     _record_add(rec, j, i, fx, fy, fz)
@@ -564,6 +568,7 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
             frow[F_EFFICIENCY, j],
         )
         side, skin = tab[S_ONE_SIDED, p], tab[S_SKIN_AREA, p]
+        cf, ittc, reach = tab[S_FRICTION_CF, p], tab[S_FRICTION_ITTC, p], tab[S_FRICTION_LENGTH, p]
         for i in range(n):
             e = e0 + i
             rx, ry, rz = _arm(S, i, ox, oy, oz)
@@ -579,8 +584,10 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
                 e = e0 + i
                 rx, ry, rz = _arm(S, i, ox, oy, oz)
                 nx, ny, nz = _rotate(S, i, normal[0, p, e], normal[1, p, e], normal[2, p, e])
-                a = skin * factor[ra, e]
-                fx, fy, fz = _skin(S, i, rx, ry, rz, nx, ny, nz, fluid, a, tab, p, vmax, fmax)
+                a, pt = skin * factor[ra, e], _body_point(S, i)
+                fx, fy, fz = _skin(
+                    pt, rx, ry, rz, nx, ny, nz, fluid, a, cf, ittc, reach, vmax, fmax
+                )
                 _add_force(S, i, rx, ry, rz, fx, fy, fz)
                 if rec is not None:
                     _record_add(rec, j, i, fx, fy, fz)
