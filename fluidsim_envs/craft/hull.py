@@ -33,13 +33,14 @@ How the hull becomes samples (body frame at the center of gravity, x forward, y 
   instead, under each strip, one plate facing forward of area ``friction_cf * wetted area``:
   friction against forward motion only, at one ``C_f``. Beside Savitsky's method at common
   speeds (``python -m benchmarks.study_savitsky``, docs/study_savitsky_grid.csv) the trim is
-  the same (rms error 0.784 against 0.785 deg planing) and the resistance closer (R/W rms
-  error 2.9% against 3.3% planing, largest 5.2% against 7.5%): the shipped hull has it.
+  the same (rms error 0.786 against 0.785 deg planing) and the resistance closer (R/W rms
+  error 2.5% against 3.3% planing, largest 6.5% against 7.5%): the shipped hull has it, at
+  a cost: a body-step 2.45 times the first hull's (421 against 172 ns, docs/bench_boat.csv).
 - The bottom stays two-sided (``one_sided_bottom = False``). One-sided plates (issue 20: a
   plate that moves away from its normal side gives nothing) change no steady run: every wet
   bottom plate meets the water there (the study's one-sided hulls match to 1e-4 deg). In
   motion they take away the bottom's damping on the rising side: hard over at 15 m/s the
-  one-sided hull's heel swings between -9 and +17 degrees (seconds 4-8 of the turn,
+  one-sided hull's heel swings between -9 and +18 degrees (seconds 4-8 of the turn,
   docs/study_savitsky_turn.csv) where the shipped hull holds 6-8, and heave and pitch die
   more slowly. So the option is there, measured, and off.
 - Topsides (side plates), a skeg, the stem (the bow above the chines, which ploughs when
