@@ -19,8 +19,9 @@ How the hull becomes samples (body frame at the center of gravity, x forward, y 
   area. And the pressure falls to zero at the transom where
   the flow leaves the hull (the Kutta condition), so within ``transom_taper_m`` of it the
   area falls off as the square root of the distance, as thin-wing pressure does near a
-  trailing edge. With both, the steady trim and resistance sit within 1 degree and 10% of
-  Savitsky's method once planing (tests/craft/test_speedboat.py).
+  trailing edge. With both, the steady trim and resistance sit within 1.1 degrees and 2.1%
+  of Savitsky's method from 12 m/s (Fn_V 3.8) up to where the method holds, 16.5 m/s
+  (tests/craft/test_speedboat.py).
 - Buoyancy: an area sample at each bottom plate's centre with the plate's plan area. Its
   force ``rho g A depth`` is the weight of the water column between the bottom and the
   surface, so the samples together displace the hull's immersed volume (vertical sides above
