@@ -218,8 +218,8 @@ def markdown(path=None) -> str:
     def cell(r: dict) -> str:
         g, o = r["growth"], r["order"]
         grown = {"rounding": "exact (rounding)", "lost": "orbit lost"}.get(g, f"t^{g}")
-        order = "" if o == "nan" else f", h^{float(o):.1f}"
-        return grown + order
+        order = "" if o == "nan" or g == "lost" else f", h^{float(o):.1f}"
+        return f"{grown}{order} ({float(r['error_32_orbits']):.2g})"
 
     head = " | ".join(f"{n} error" for n in names.values())
     lines = [
@@ -235,7 +235,8 @@ def markdown(path=None) -> str:
     lines.append(
         "Growth: the slope of log(error) against log(t) over windows of orbits where the error "
         "is still small (0 bounded, 1 linear, 2 quadratic); order: log2 of the error at h over "
-        f"h / 2 at 32-63 orbits; h = {DTS[0]}, explicit and accurate Euler "
+        "h / 2 at 32-63 orbits; in brackets the error there; "
+        f"h = {DTS[0]}, explicit and accurate Euler "
         f"{FINE_DTS['explicit_euler'][0]:g}. From docs/study_hairer.csv "
         "(`python -m benchmarks.study_hairer`)."
     )

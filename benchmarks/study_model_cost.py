@@ -115,6 +115,7 @@ def without(craft: Craft, prefixes: tuple[str, ...]) -> Craft:
         cylinders=cylinders,
         buoyancy=keep(craft.buoyancy),
         controls=controls,
+        groups=(),  # a group naming a sample left out is refused (Craft.groups)
     )
 
 

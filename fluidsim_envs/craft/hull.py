@@ -1,7 +1,7 @@
 """The speedboat's hull, built from its lines: a V-bottom planing runabout cut into stations.
 
 ``speedboat.toml`` is generated from :class:`VHull` by ``python -m fluidsim_envs.craft.hull``
-(a test checks that the shipped file matches), so that the 80-odd samples follow from a few
+(a test checks that the shipped file matches), so that its 75 samples follow from a few
 dimensions a naval architect would give: length, chine beam, deadrise, center of gravity.
 
 How the hull becomes samples (body frame at the center of gravity, x forward, y left, z up):
@@ -19,15 +19,31 @@ How the hull becomes samples (body frame at the center of gravity, x forward, y 
   area. And the pressure falls to zero at the transom where
   the flow leaves the hull (the Kutta condition), so within ``transom_taper_m`` of it the
   area falls off as the square root of the distance, as thin-wing pressure does near a
-  trailing edge. With both, the steady trim and resistance sit within 1 degree and 10% of
-  Savitsky's method once planing (tests/craft/test_speedboat.py).
+  trailing edge. With both, the steady trim and resistance sit within 1.1 degrees and 2.1%
+  of Savitsky's method from 12 m/s (Fn_V 3.8) up to where the method holds, 16.5 m/s
+  (tests/craft/test_speedboat.py).
 - Buoyancy: an area sample at each bottom plate's centre with the plate's plan area. Its
   force ``rho g A depth`` is the weight of the water column between the bottom and the
   surface, so the samples together displace the hull's immersed volume (vertical sides above
   the chine).
-- Skin friction: under each strip, one plate facing forward with area ``cf * wetted area``
-  of the strip's two plates (``cf`` the ITTC-1957 line near planing speed plus a roughness
-  allowance), so a wet strip feels ``1/2 rho cf S V^2`` against the motion, a dry one nothing.
+- Skin friction (``friction = "ittc1957"``, issue 20): each bottom plate's own shear along
+  its plane on its geometric wetted area, ``C_f`` from the ITTC-1957 line at
+  ``Re = |v| friction_length_m / nu`` plus Savitsky's roughness allowance 0.0004, so a wet
+  plate feels ``1/2 rho C_f S |v_t| v_t`` against its sliding in any direction (a
+  sideslipping hull too), a dry one the air's. The first hull (``friction = "plates"``) had
+  instead, under each strip, one plate facing forward of area ``friction_cf * wetted area``:
+  friction against forward motion only, at one ``C_f``. Beside Savitsky's method at common
+  speeds (``python -m benchmarks.study_savitsky``, docs/study_savitsky_grid.csv) the trim is
+  the same (rms error 0.786 against 0.785 deg planing) and the resistance closer (R/W rms
+  error 2.5% against 3.3% planing, largest 6.5% against 7.5%): the shipped hull has it, at
+  a cost: a body-step 2.45 times the first hull's (421 against 172 ns, docs/bench_boat.csv).
+- The bottom stays two-sided (``one_sided_bottom = False``). One-sided plates (issue 20: a
+  plate that moves away from its normal side gives nothing) change no steady run: every wet
+  bottom plate meets the water there (the study's one-sided hulls match to 1e-4 deg). In
+  motion they take away the bottom's damping on the rising side: hard over at 15 m/s the
+  one-sided hull's heel swings between -9 and +18 degrees (seconds 4-8 of the turn,
+  docs/study_savitsky_turn.csv) where the shipped hull holds 6-8, and heave and pitch die
+  more slowly. So the option is there, measured, and off.
 - Topsides (side plates), a skeg, the stem (the bow above the chines, which ploughs when
   buried), the rudder and trim tabs (control surfaces), a windscreen (air drag), and the
   propeller below the transom, its thrust line below the CG as on an outboard.
@@ -66,6 +82,14 @@ class VHull:
     lift_factor: float = 0.4  # bottom plates' hydrodynamic area over their geometric area
     transom_taper_m: float = 1.5  # lift falls as sqrt(distance) to 0 at the transom (Kutta)
     friction_cf: float = 0.0029  # ITTC-1957 at Re ~ 3e7 (0.0025) + roughness 0.0004
+    # the bottom's skin friction and sidedness (issue 20): "plates" (forward-facing friction
+    # plates of area friction_cf x wetted area, the first hull) or "ittc1957" (the bottom
+    # plates' own skin friction on their geometric area, C_f from the ITTC-1957 line at
+    # Re = |v| friction_length_m / nu, plus roughness_cf)
+    friction: str = "plates"
+    friction_length_m: float = 3.0  # ~ the mean wetted length lambda b planing (lambda ~ 1.7)
+    roughness_cf: float = 0.0004  # the roughness allowance Savitsky (1964) adds
+    one_sided_bottom: bool = False  # True: bottom plates push only when the water meets them
     max_thrust_n: float = 4500.0  # ~150 hp outboard, static
     min_thrust_n: float = -1500.0  # astern
     rudder_area_m2: float = 0.2
@@ -80,9 +104,22 @@ class VHull:
         CK.plain_fields(self)
         if not isinstance(self.name, str):
             raise ValueError(f"VHull: name must be a string, got {CK.show(self.name)}")
-        signs = {"min_thrust_n": {"le": 0.0}, "transom_taper_m": {"ge": 0.0}}
+        if self.friction not in ("plates", "ittc1957"):
+            raise ValueError(
+                f"VHull: friction must be 'plates' or 'ittc1957', got {CK.show(self.friction)}"
+            )
+        if not isinstance(self.one_sided_bottom, bool):
+            raise ValueError(
+                f"VHull: one_sided_bottom must be True or False, got "
+                f"{CK.show(self.one_sided_bottom)}"
+            )
+        signs = {
+            "min_thrust_n": {"le": 0.0},
+            "transom_taper_m": {"ge": 0.0},
+            "roughness_cf": {"ge": 0.0},
+        }
         for f in fields(self):
-            if f.name in ("name", "gyradius_m"):
+            if f.name in ("name", "gyradius_m", "friction", "one_sided_bottom"):
                 continue
             if f.name in ("stations", "strips"):
                 CK.number("VHull", f.name, getattr(self, f.name), ge=1, integer=True)
@@ -133,15 +170,23 @@ class VHull:
                     n = (slope, sy * math.sin(beta), -math.cos(beta))
                     norm = math.sqrt(sum(c * c for c in n))
                     name = f"bottom_{k}_{side}_{j}"
-                    plates.append(
-                        dict(
-                            name=name,
-                            offset_m=[r(x0 + s), r(sy * y), r(z)],
-                            normal=[r(c / norm) for c in n],
-                            area_m2=r(self.lift_factor * taper * area),
-                            efficiency=0.0,
-                        )
+                    plate = dict(
+                        name=name,
+                        offset_m=[r(x0 + s), r(sy * y), r(z)],
+                        normal=[r(c / norm) for c in n],
+                        area_m2=r(self.lift_factor * taper * area),
+                        efficiency=0.0,
                     )
+                    if self.one_sided_bottom:
+                        plate["one_sided"] = True
+                    if self.friction == "ittc1957":
+                        plate.update(
+                            friction_coefficient=self.roughness_cf,
+                            friction_line="ittc1957",
+                            friction_length_m=self.friction_length_m,
+                            friction_area_m2=r(area),
+                        )
+                    plates.append(plate)
                     buoyancy.append(
                         dict(
                             name=f"volume_{k}_{side}_{j}",
@@ -150,6 +195,8 @@ class VHull:
                             area_m2=r(ds * width),
                         )
                     )
+                if self.friction != "plates":
+                    continue
                 plates.append(
                     dict(
                         name=f"friction_{k}_{j}",
@@ -257,7 +304,11 @@ class VHull:
         # volume, the skin friction, the topsides
         groups = {
             "bottom": [p["name"] for p in plates if p["name"].startswith("bottom")],
-            "friction": [p["name"] for p in plates if p["name"].startswith("friction")],
+            **(
+                {"friction": [p["name"] for p in plates if p["name"].startswith("friction")]}
+                if self.friction == "plates"
+                else {}
+            ),
             "hull_volume": [b["name"] for b in buoyancy],
             "topsides": [p["name"] for p in plates if p["name"].startswith("topside")],
         }
@@ -334,13 +385,30 @@ at the deadrise angle along 8 stations (the planing lift), area-buoyancy samples
 (the displaced volume), skin-friction plates, topsides, skeg, rudder, trim tabs and an
 outboard propeller; two collision boxes (run and bow). Origin at the center of gravity;
 x forward, y left, z up."""
+HEADER_ITTC = """\
+GENERATED by `python -m fluidsim_envs.craft.hull` from VHull(name="speedboat_ittc",
+friction="ittc1957"): edit the dimensions there. The speedboat's hull with its bottom plates'
+own skin friction on the ITTC-1957 line instead of forward-facing friction plates (closer to
+Savitsky's resistance, friction in any direction, 2.45 times the body-step: docs/study_savitsky.md).
+A 5 m V-bottom planing runabout (about 1 t with engine, fuel and two people): bottom plates
+at the deadrise angle along 8 stations (the planing lift and its skin friction), area-buoyancy
+samples under them (the displaced volume), topsides, skeg, rudder, trim tabs and an outboard
+propeller; two collision boxes (run and bow). Origin at the center of gravity; x forward,
+y left, z up."""
+# the shipped hulls: the first (BoatOnStep-v0's) and the one with ITTC-1957 skin friction
+HULLS = {
+    "speedboat": VHull(),
+    "speedboat_ittc": VHull(name="speedboat_ittc", friction="ittc1957"),
+}
 
 
 def speedboat_toml(hull: VHull | None = None) -> str:
-    return to_toml((hull or VHull()).samples(), HEADER)
+    hull = hull or VHull()
+    return to_toml(hull.samples(), HEADER_ITTC if hull.friction == "ittc1957" else HEADER)
 
 
 if __name__ == "__main__":
-    out = Path(__file__).with_name("speedboat.toml")
-    out.write_text(speedboat_toml())
-    print(f"wrote {out}")
+    for name, hull in HULLS.items():
+        out = Path(__file__).with_name(f"{name}.toml")
+        out.write_text(speedboat_toml(hull))
+        print(f"wrote {out}")

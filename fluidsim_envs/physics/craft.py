@@ -11,7 +11,9 @@ File layout (every table optional except the top-level keys)::
     mass_kg = 0.005
     inertia_kgm2 = [1e-6, 4e-6, 5e-6]      # principal moments about x, y, z, or a 3x3 tensor
 
-    [[plates]]        # flat plate: name, offset_m, normal, area_m2, efficiency, hinge_axis
+    [[plates]]        # flat plate: name, offset_m, normal, area_m2, efficiency, hinge_axis,
+                      # one_sided, friction_coefficient, friction_line, friction_length_m,
+                      # friction_area_m2
     [[cylinders]]     # cross-flow cylinder: name, offset_m, axis, area_m2
     [[buoyancy]]      # name, offset_m, kind = "volume" (volume_m3) or "area" (area_m2)
     [[thrusters]]     # name, offset_m, direction, max_thrust_n, min_thrust_n, control
@@ -85,6 +87,8 @@ def _wanted(annotation: str, value: Any) -> str | None:
     if value is None and annotation.endswith(" | None"):
         return None
     base = annotation.removesuffix(" | None")
+    if base == "bool":
+        return None if isinstance(value, (bool, np.bool_)) else "true or false"
     if base == "str":
         return None if isinstance(value, str) else "a string"
     if base == "float":
@@ -132,6 +136,11 @@ def _check_table(where: str, path: str, data: Any, cls: type) -> None:
 # the parts of a craft
 
 
+FRICTION_LINES = ("ittc1957",)  # a plate's friction_line (forces.ittc1957)
+FRICTION_COEFFICIENT_MAX = 0.1  # C_f of real surfaces: 0.001-0.01 (a flat plate's at Re 1e4)
+FRICTION_LENGTH_RANGE_M = (1e-4, 1e3)
+
+
 @dataclass(frozen=True)
 class Plate:
     """A flat plate: force along its normal, ``F = -1/2 rho A (v|v| . n) n``.
@@ -139,6 +148,16 @@ class Plate:
     ``efficiency`` in [0, 1] removes that fraction of the force's component along the flow
     (1: pure lift, 0: lift and drag of a bare plate). ``hinge_axis`` is the axis its normal
     turns about when a control channel deflects it.
+
+    ``one_sided``: only the face the normal points out of acts, when the plate moves toward
+    its normal side (``v . n > 0``, v relative to the fluid); moving away it gives no force
+    (``forces.plate_force``). Give such a plate a normal pointing out of the body.
+
+    Skin friction along the plate's plane, ``F = -1/2 rho C_f A_f |v_t| v_t``
+    (``forces.friction_force``), on ``friction_area_m2`` (default: ``area_m2``):
+    ``C_f = friction_coefficient``, or with ``friction_line = "ittc1957"`` the ITTC-1957
+    line at ``Re = |v| friction_length_m / nu`` plus ``friction_coefficient`` as its roughness
+    allowance. None of them set: no skin friction.
     """
 
     name: str
@@ -147,6 +166,11 @@ class Plate:
     area_m2: float
     efficiency: float = 0.0
     hinge_axis: Vec3 | None = None
+    one_sided: bool = False
+    friction_coefficient: float = 0.0
+    friction_line: str | None = None
+    friction_length_m: float | None = None
+    friction_area_m2: float | None = None
 
     def __post_init__(self) -> None:
         where = f"plate {_name('plate', 'name', self.name)!r}"
@@ -159,6 +183,69 @@ class Plate:
         object.__setattr__(self, "efficiency", eff)
         if self.hinge_axis is not None:
             object.__setattr__(self, "hinge_axis", _unit(where, "hinge_axis", self.hinge_axis))
+        self._check_friction(where)
+
+    def _check_friction(self, where: str) -> None:
+        if not isinstance(self.one_sided, (bool, np.bool_)):
+            raise CraftError(
+                f"{where}: one_sided must be true or false, got {CK.show(self.one_sided)}"
+            )
+        object.__setattr__(self, "one_sided", bool(self.one_sided))
+        cf = _finite(where, "friction_coefficient", self.friction_coefficient)
+        if not 0.0 <= cf <= FRICTION_COEFFICIENT_MAX:
+            raise CraftError(
+                f"{where}: friction_coefficient must be in [0, {FRICTION_COEFFICIENT_MAX}] "
+                f"(C_f of real surfaces is 0.001-0.01), got {self.friction_coefficient!r}"
+            )
+        object.__setattr__(self, "friction_coefficient", cf)
+        line, length = self.friction_line, self.friction_length_m
+        if line is not None and line not in FRICTION_LINES:
+            raise CraftError(
+                f"{where}: friction_line must be one of {list(FRICTION_LINES)}, got {line!r}"
+            )
+        if line is not None and length is None:
+            raise CraftError(
+                f"{where}: friction_line {line!r} needs friction_length_m (the length of the "
+                "surface along the flow, for the Reynolds number)"
+            )
+        if length is not None:
+            if line is None:
+                raise CraftError(
+                    f"{where}: friction_length_m ({length!r}) is only read with a "
+                    f"friction_line ({list(FRICTION_LINES)})"
+                )
+            lo, hi = FRICTION_LENGTH_RANGE_M
+            length = _finite(where, "friction_length_m", length)
+            if not lo <= length <= hi:
+                raise CraftError(
+                    f"{where}: friction_length_m must be in [{lo:g}, {hi:g}] m, got {length!r}"
+                )
+            object.__setattr__(self, "friction_length_m", length)
+        if self.friction_area_m2 is not None:
+            if not self.has_friction:
+                raise CraftError(
+                    f"{where}: friction_area_m2 ({self.friction_area_m2!r}) needs a "
+                    "friction_coefficient > 0 or a friction_line"
+                )
+            area = _positive(where, "friction_area_m2", self.friction_area_m2)
+            object.__setattr__(self, "friction_area_m2", area)
+
+    @property
+    def has_friction(self) -> bool:
+        return self.friction_coefficient > 0.0 or self.friction_line is not None
+
+    @property
+    def skin_area_m2(self) -> float:
+        """The area skin friction acts on: ``friction_area_m2`` or ``area_m2``; 0 without
+        skin friction (the kernels skip the plate's friction loop)."""
+        if not self.has_friction:
+            return 0.0
+        return self.area_m2 if self.friction_area_m2 is None else self.friction_area_m2
+
+    @property
+    def friction_ittc(self) -> float:
+        """1.0 where ``friction_line`` is ``"ittc1957"``, else 0.0 (the kernels' row)."""
+        return 1.0 if self.friction_line == "ittc1957" else 0.0
 
 
 @dataclass(frozen=True)

@@ -93,6 +93,8 @@ from .forces import (
     ZERO,
     buoyancy_force,
     cylinder_force,
+    friction_force,
+    inverse_viscosity,
     plate_force,
     rotate_about_axis,
     thrust_of,
@@ -109,7 +111,12 @@ from .model import (
     S_BUOY_AREA,
     S_CYL_AREA,
     S_EFFICIENCY,
+    S_FRICTION_CF,
+    S_FRICTION_ITTC,
+    S_FRICTION_LENGTH,
     S_OFFSET,
+    S_ONE_SIDED,
+    S_SKIN_AREA,
     S_THRUST_MAX,
     S_THRUST_MIN,
     S_VOLUME,
@@ -454,6 +461,27 @@ def _where_rows(S, n, ox, oy, oz, wake, sea, wprm, prm, tau):
         _swell_rows(S, n, ox, oy, oz, prm, tau)
 
 
+@njit(**_INLINE)
+def _skin(pt, rx, ry, rz, nx, ny, nz, fluid, area, cf, ittc, length, vmax, fmax):
+    """Skin friction (``forces.friction_force``) on a plate at world offset r with world
+    normal n of the body at ``pt = _body_point(S, i)``, of wetted ``area``, coefficient or
+    roughness allowance ``cf``, ITTC-1957 line ``ittc`` (0 or 1) on ``length``: for the
+    plates that have it, in a loop of their own after the pressure's, so that a craft
+    without it runs the loops it ran before. Scalars only, as :func:`_flow` (it branches):
+    taking the scratch, it left reference counting in the loop and ran 10 times slower."""
+    vx, vy, vz, rho = _flow(pt, rx, ry, rz, fluid)
+    inv_nu = inverse_viscosity(water_fraction(pt[0] + rz, fluid[0], fluid[1]))
+    return friction_force(vx, vy, vz, nx, ny, nz, rho, inv_nu, area, cf, ittc, length, vmax, fmax)
+
+
+@njit(**_INLINE)
+def _record_add(rec, j, i, fx, fy, fz):
+    """Add a second force to sample j's record (a plate's skin friction to its pressure)."""
+    rec[j, 3, i] += fx
+    rec[j, 4, i] += fy
+    rec[j, 5, i] += fz
+
+
 @njit(**_JIT)
 def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, rec):
     """Derivative rows DERIV of the state rows STATE: dx = v, dq, dv = F/m + g, dL = torque;
@@ -517,16 +545,29 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
             frow[F_AREA, j],
             frow[F_EFFICIENCY, j],
         )
+        side, skin = tab[S_ONE_SIDED, p], tab[S_SKIN_AREA, p]
+        cf, ittc, reach = tab[S_FRICTION_CF, p], tab[S_FRICTION_ITTC, p], tab[S_FRICTION_LENGTH, p]
         for i in range(n):
             e = e0 + i
             rx, ry, rz = _arm(S, i, ox, oy, oz)
             nx, ny, nz = _rotate(S, i, bx, by, bz)
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
             a, f = area * factor[ra, e], eff * factor[re, e]
-            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, a, f, vmax, fmax)
+            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, a, f, vmax, fmax, side)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
             if rec is not None:
                 _record(rec, j, i, rx, ry, rz, fx, fy, fz)
+        if skin > ZERO:  # skin friction, where the craft has it
+            for i in range(n):
+                rx, ry, rz = _arm(S, i, ox, oy, oz)
+                nx, ny, nz = _rotate(S, i, bx, by, bz)
+                a, pt = skin * factor[ra, e0 + i], _body_point(S, i)
+                fx, fy, fz = _skin(
+                    pt, rx, ry, rz, nx, ny, nz, fluid, a, cf, ittc, reach, vmax, fmax
+                )
+                _add_force(S, i, rx, ry, rz, fx, fy, fz)
+                if rec is not None:
+                    _record_add(rec, j, i, fx, fy, fz)
         j += 1
 
     tab, normal = samples.flap, flap_now  # control surfaces: normals deflected per env
@@ -540,16 +581,30 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
             frow[F_AREA, j],
             frow[F_EFFICIENCY, j],
         )
+        side, skin = tab[S_ONE_SIDED, p], tab[S_SKIN_AREA, p]
+        cf, ittc, reach = tab[S_FRICTION_CF, p], tab[S_FRICTION_ITTC, p], tab[S_FRICTION_LENGTH, p]
         for i in range(n):
             e = e0 + i
             rx, ry, rz = _arm(S, i, ox, oy, oz)
             nx, ny, nz = _rotate(S, i, normal[0, p, e], normal[1, p, e], normal[2, p, e])
             vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
             a, f = area * factor[ra, e], eff * factor[re, e]
-            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, a, f, vmax, fmax)
+            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, a, f, vmax, fmax, side)
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
             if rec is not None:
                 _record(rec, j, i, rx, ry, rz, fx, fy, fz)
+        if skin > ZERO:  # skin friction, where the craft has it
+            for i in range(n):
+                e = e0 + i
+                rx, ry, rz = _arm(S, i, ox, oy, oz)
+                nx, ny, nz = _rotate(S, i, normal[0, p, e], normal[1, p, e], normal[2, p, e])
+                a, pt = skin * factor[ra, e], _body_point(S, i)
+                fx, fy, fz = _skin(
+                    pt, rx, ry, rz, nx, ny, nz, fluid, a, cf, ittc, reach, vmax, fmax
+                )
+                _add_force(S, i, rx, ry, rz, fx, fy, fz)
+                if rec is not None:
+                    _record_add(rec, j, i, fx, fy, fz)
         j += 1
 
     tab, axis = samples.cyl, samples.cyl_axis

@@ -103,6 +103,19 @@ def is_flap(craft: Craft) -> set[str]:
     return {s.sample for ctl in craft.controls for s in ctl.surfaces}
 
 
+# a plate's rows after the offset, control surfaces' too (craft.Plate): pressure (area,
+# efficiency, one-sided 0/1), then skin friction (forces.friction_force: its area, 0 for a
+# plate without; C_f or the roughness allowance; the ITTC-1957 line 0/1; its length)
+PLATE_SIZES = (
+    "area_m2",
+    "efficiency",
+    "one_sided",
+    "skin_area_m2",
+    "friction_coefficient",
+    "friction_ittc",
+    "friction_length_m",
+)
+
 # The kinds, in the order their samples are numbered everywhere (``sample_forces``, the
 # kernel's loops). A new kind: a row here (with its glyph: a new form needs a drawing in
 # wrappers/rerun_logger.py, which tests/wrappers checks), its Samples fields
@@ -112,19 +125,19 @@ KINDS = (
     SampleKind(
         "plate",  # plates without a control channel
         lambda c: [p for p in c.plates if p.name not in is_flap(c)],
-        sizes=("area_m2", "efficiency"),
+        sizes=PLATE_SIZES,
         glyph=lambda p: Glyph("square", p.offset_m, p.normal, math.sqrt(p.area_m2)),
         geometry=(("normal", "normal"),),
-        area=("area_m2",),
+        area=("area_m2", "skin_area_m2"),
         efficiency=("efficiency",),
     ),
     SampleKind(
         "flap",  # control surfaces: normals turned about a hinge by the controls
         lambda c: [p for p in c.plates if p.name in is_flap(c)],
-        sizes=("area_m2", "efficiency"),
+        sizes=PLATE_SIZES,
         glyph=lambda p: Glyph("square", p.offset_m, p.normal, math.sqrt(p.area_m2)),
         geometry=(("normal", "normal"), ("hinge", "hinge_axis")),
-        area=("area_m2",),
+        area=("area_m2", "skin_area_m2"),
         efficiency=("efficiency",),
     ),
     SampleKind(
@@ -161,6 +174,11 @@ KIND = {k.name: k for k in KINDS}
 S_OFFSET = 0  # rows 0-2 of every kind: the offset from the center of mass (body frame, m)
 S_AREA = KIND["plate"].row("area_m2")  # plates and control surfaces: area (m^2)
 S_EFFICIENCY = KIND["plate"].row("efficiency")
+S_ONE_SIDED = KIND["plate"].row("one_sided")  # 1: only the face n points out of acts
+S_SKIN_AREA = KIND["plate"].row("skin_area_m2")  # skin friction's area (m^2); 0: none
+S_FRICTION_CF = KIND["plate"].row("friction_coefficient")  # C_f, or the ITTC line's allowance
+S_FRICTION_ITTC = KIND["plate"].row("friction_ittc")  # 1: C_f from the ITTC-1957 line
+S_FRICTION_LENGTH = KIND["plate"].row("friction_length_m")  # the Reynolds number's length (m)
 S_CYL_AREA = KIND["cyl"].row("area_m2")  # side area times drag coefficient (m^2)
 S_VOLUME, S_BUOY_AREA = KIND["buoy"].row("volume_m3"), KIND["buoy"].row("area_m2")
 S_THRUST_MIN, S_THRUST_MAX = KIND["thr"].row("min_thrust_n"), KIND["thr"].row("max_thrust_n")
@@ -181,10 +199,10 @@ class Samples(NamedTuple):
     parallel loops take no named tuple nested in another).
     """
 
-    plate: np.ndarray  # [width, n] offset, area, efficiency
+    plate: np.ndarray  # [width, n] offset, model.PLATE_SIZES
     plate_normal: np.ndarray  # [3, n] body frame
     plate_at: np.ndarray  # [B + 1] int64
-    flap: np.ndarray  # [width, n] offset, area, efficiency
+    flap: np.ndarray  # [width, n] offset, model.PLATE_SIZES
     flap_normal: np.ndarray  # [3, n] undeflected
     flap_hinge: np.ndarray  # [3, n] the axis the normal turns about
     flap_mix: np.ndarray  # [n, C] deflection (rad) per unit of each control channel
