@@ -18,7 +18,9 @@ fuzz and kill tables from docs/fuzz.csv and docs/kill_resume.csv between the ``f
 and ``kill-table`` markers, and docs/environments.md's trim and phugoid of the paper dart from
 docs/dart_glide.csv (``python -m benchmarks.dart_glide``) between the ``dart-glide`` markers,
 and docs/study.md's fixed-point tables from docs/study_fixed.csv between the ``fixed-table``
-markers (``benchmarks.study_fixed.markdown``) and Hairer's table from docs/study_hairer.csv
+markers (``benchmarks.study_fixed.markdown``), its cost table from docs/study_cost.csv
+between the ``cost-table`` markers (``benchmarks.study_accuracy.cost_markdown``), and
+Hairer's table from docs/study_hairer.csv
 between the ``hairer-table`` markers (``benchmarks.study_hairer.markdown``), and
 docs/seed_map.md's verdicts on the seed article's claims from the studies' CSVs between the
 ``seed-claims`` markers (``benchmarks.seed_claims``); none is edited by hand.
@@ -31,7 +33,7 @@ import re
 import sys
 from pathlib import Path
 
-from . import seed_claims, study_fixed, study_hairer
+from . import seed_claims, study_accuracy, study_fixed, study_hairer
 from .common import DOCS, ROOT, read_csv, write_csv
 
 CSV = DOCS / "envs.csv"
@@ -66,6 +68,10 @@ HAIRER_BEGIN = (
     "<!-- hairer-table: written by `python -m benchmarks.report` from docs/study_hairer.csv -->"
 )
 HAIRER_END = "<!-- /hairer-table -->"
+COST_BEGIN = (
+    "<!-- cost-table: written by `python -m benchmarks.report` from docs/study_cost.csv -->"
+)
+COST_END = "<!-- /cost-table -->"
 CLAIMS_BEGIN = (
     "<!-- seed-claims: written by `python -m benchmarks.report` from docs/study_*.csv -->"
 )
@@ -322,6 +328,19 @@ def dart_markdown() -> str:
     return "\n".join(lines)
 
 
+def study_page() -> str:
+    """docs/study.md with its generated tables: the cost per body-step, Hairer's table, fixed
+    point."""
+    text = STUDY.read_text()
+    for begin, end, block in (
+        (COST_BEGIN, COST_END, study_accuracy.cost_markdown()),
+        (HAIRER_BEGIN, HAIRER_END, study_hairer.markdown()),
+        (FIXED_BEGIN, FIXED_END, study_fixed.markdown()),
+    ):
+        text = with_block(text, begin, end, block, STUDY)
+    return text
+
+
 def with_block(text: str, begin: str, end: str, block: str, where: Path) -> str:
     """``text`` with what lies between the markers ``begin`` and ``end`` replaced."""
     if begin not in text or end not in text:
@@ -361,13 +380,7 @@ def main(argv: list[str] | None = None) -> int:
             kill_markdown(),
             RELIABILITY,
         ),
-        STUDY: with_block(
-            with_block(STUDY.read_text(), FIXED_BEGIN, FIXED_END, study_fixed.markdown(), STUDY),
-            HAIRER_BEGIN,
-            HAIRER_END,
-            study_hairer.markdown(),
-            STUDY,
-        ),
+        STUDY: study_page(),
         SEED_MAP: with_block(
             SEED_MAP.read_text(), CLAIMS_BEGIN, CLAIMS_END, seed_claims.markdown(), SEED_MAP
         ),

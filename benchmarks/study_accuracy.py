@@ -658,3 +658,30 @@ def main() -> None:
 
 if __name__ == "__main__":
     main()
+
+
+def cost_markdown(path: Path | None = None) -> str:
+    """docs/study.md's cost table from docs/study_cost.csv (``benchmarks.report`` writes it):
+    ns per body-step, float64 / float32, an integrator a row and a problem a column."""
+    from benchmarks.common import DOCS, read_csv
+
+    path = DOCS / "study_cost.csv" if path is None else path
+    if not path.is_file():
+        return "(no docs/study_cost.csv yet: run python -m benchmarks.study_accuracy)"
+    comments, rows = read_csv(path)
+    ns = {(r["problem"], r["integrator"], r["dtype"]): float(r["ns_per_body_step"]) for r in rows}
+    evals = {r["integrator"]: r["evals_per_step"] for r in rows}
+    samples = {p.name: p.craft.num_samples for p in problems()}
+    names = list(dict.fromkeys(r["problem"] for r in rows))
+    head = " | ".join(f"{p} ({samples[p]})" for p in names)
+    lines = [
+        f"| integrator | evaluations per step | {head} |",
+        "|---|---:|" + "---:|" * len(names),
+    ]
+    for m in dict.fromkeys(r["integrator"] for r in rows):
+        cells = " | ".join(f"{ns[p, m, 'float64']:.1f} / {ns[p, m, 'float32']:.1f}" for p in names)
+        per = " per iteration" if m == "implicit_midpoint" else ""
+        lines.append(f"| {m} | {evals[m]}{per} | {cells} |")
+    load = next((c for c in comments if c.startswith("load average")), "")
+    lines += ["", f"From docs/study_cost.csv (`python -m benchmarks.study_accuracy`; {load})."]
+    return "\n".join(lines)
