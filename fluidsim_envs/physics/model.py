@@ -361,12 +361,14 @@ def pack(
         prm=prm.astype(dtype),
         wprm=wprm.astype(dtype),
         swell=np.ascontiguousarray(swell, dtype=np.float64),
-        body=np.ascontiguousarray(np.broadcast_to(bodies, (E, *bodies.shape))),
+        # copies, each environment's own and writable: np.ascontiguousarray would keep the
+        # read-only broadcast where it is already contiguous (one environment, no shapes),
+        # and a read-only array is another type to numba (a second compile of every kernel
+        # for num_envs=1) and refuses set_mass_properties
+        body=np.broadcast_to(bodies, (E, *bodies.shape)).copy(),
         shape_at=_ranges([len(c.shapes) for c in crafts]),
-        shape=np.ascontiguousarray(np.broadcast_to(shape_table, (E, *shape_table.shape))),
-        contact_body=np.ascontiguousarray(
-            np.broadcast_to(materials.astype(dtype), (E, len(crafts), CT.NCBODY))
-        ),
+        shape=np.broadcast_to(shape_table, (E, *shape_table.shape)).copy(),
+        contact_body=np.broadcast_to(materials.astype(dtype), (E, len(crafts), CT.NCBODY)).copy(),
         cprm=cprm.astype(dtype),
         grid=np.ascontiguousarray(grid, dtype=dtype),
     ), Samples(

@@ -690,9 +690,7 @@ class Simulator:
             del arrays["warm"], arrays["touch"]
         if not d.memory.shape[0]:  # an integrator that carries nothing between steps
             del arrays["memory"]
-        # a read-only array is one row broadcast to every environment (model.pack: no
-        # collision shapes), nobody's own
-        return {k: (a, axis) for k, (a, axis) in arrays.items() if a.flags.writeable}
+        return arrays
 
     def get_state(self, env_ids=None) -> dict[str, np.ndarray]:
         """A copy of everything that decides the future of environments ``env_ids`` (None:

@@ -2,6 +2,7 @@
 ``set_sample_scale``, ``set_thrust_scale``) are physics, not bookkeeping: each is checked
 against a closed form or against the same craft built whole."""
 
+import numba
 import numpy as np
 import pytest
 
@@ -202,3 +203,17 @@ def test_a_snapshot_carries_each_environments_craft():
         np.testing.assert_array_equal(dst.pos[e], src.pos[1])
         np.testing.assert_array_equal(dst.quat[e], src.quat[1])
     assert not np.array_equal(src.pos[0], src.pos[1])  # the environments did differ
+
+
+def test_a_single_environment_takes_its_own_mass_properties():
+    """One environment is a batch of one: its body rows are its own, writable arrays (they
+    were a read-only broadcast at E = 1, which refused this call and made numba compile every
+    kernel a second time, for a read-only array type)."""
+    craft = Craft.load("paper_airplane")
+    one = Simulator(craft, World(), num_envs=1)
+    one.set_mass_properties(mass_kg=0.006)
+    assert one.mass_kg[0, 0] == 0.006
+    many = Simulator(craft, World(), num_envs=3)
+    for field in ("body", "shape", "contact_body"):
+        a, b = getattr(one._model, field), getattr(many._model, field)
+        assert a.flags.writeable and numba.typeof(a) == numba.typeof(b), field
