@@ -54,7 +54,7 @@ from fluidsim_envs.physics import Craft, Simulator, World
 from fluidsim_envs.physics.forces import thrust_control
 from fluidsim_envs.physics.hydrostatics import static_float
 from fluidsim_envs.physics.kernels import quat_matrices
-from fluidsim_envs.physics.reference.savitsky import PrismaticHull, savitsky
+from fluidsim_envs.physics.reference.savitsky import PrismaticHull, of_hull, savitsky
 
 DT = 1 / 200
 SECONDS, WINDOW_S = 45.0, 3.0
@@ -101,18 +101,6 @@ def craft_of(hull: VHull) -> Craft:
     return Craft.from_dict(tomllib.loads(speedboat_toml(hull)), f"VHull {hull.friction}")
 
 
-def reference(hull: VHull) -> PrismaticHull:
-    """Savitsky's prismatic hull for the boat (as tests/craft/test_speedboat.py builds it)."""
-    return PrismaticHull(
-        beam_m=hull.chine_beam_m,
-        deadrise_deg=hull.deadrise_deg,
-        mass_kg=hull.mass_kg,
-        lcg_m=hull.lcg_m,
-        vcg_m=hull.vcg_m,
-        thrust_offset_m=hull.vcg_m + 0.3,  # the propeller is 0.3 m below the keel
-    )
-
-
 def steady_runs(craft: Craft, thrust_n: np.ndarray) -> dict[str, np.ndarray]:
     """Speed, mean trim and the trim's peak-to-peak over the last window, each [E]."""
     E = len(thrust_n)
@@ -157,7 +145,7 @@ def _savitsky(ref: PrismaticHull, speed: float):
 
 def rows_of(name: str, hull: VHull, thrust: np.ndarray) -> list[tuple]:
     runs = steady_runs(craft_of(hull), thrust)
-    ref, weight = reference(hull), hull.mass_kg * WORLD.gravity_mps2
+    ref, weight = of_hull(hull), hull.mass_kg * WORLD.gravity_mps2
     vol = hull.mass_kg / WORLD.water_density_kgm3
     g, rho, b = WORLD.gravity_mps2, WORLD.water_density_kgm3, hull.chine_beam_m
     rows = []
@@ -226,7 +214,7 @@ def on_grid(name: str, hull: VHull, rows: list[tuple]) -> list[tuple]:
     vol = hull.mass_kg / WORLD.water_density_kgm3
     out = []
     for speed in GRID_MPS:
-        s = _savitsky(reference(hull), float(speed))
+        s = _savitsky(of_hull(hull), float(speed))
         if s is None or not s.in_range or not v[0] <= speed <= v[-1]:
             continue
         fnv = speed / math.sqrt(WORLD.gravity_mps2 * vol ** (1 / 3))
@@ -282,7 +270,7 @@ def plot(rows: list[tuple], path) -> None:
     vol = hull.mass_kg / WORLD.water_density_kgm3
     fnv_scale = math.sqrt(WORLD.gravity_mps2 * vol ** (1 / 3))
     speeds = np.arange(3.0, 30.01, 0.1)
-    ref = [_savitsky(reference(hull), float(v)) for v in speeds]
+    ref = [_savitsky(of_hull(hull), float(v)) for v in speeds]
     valid = np.array([s is not None and s.in_range for s in ref])
     for ax, key, sim_col in ((ax_t, "trim_deg", 6), (ax_r, "resistance_over_weight", 12)):
         ys = np.array([math.nan if s is None else getattr(s, key) for s in ref])

@@ -26,7 +26,7 @@ from fluidsim_envs.physics import Craft, Simulator, World
 from fluidsim_envs.physics.forces import thrust_control
 from fluidsim_envs.physics.hydrostatics import static_float
 from fluidsim_envs.physics.kernels import quat_matrices
-from fluidsim_envs.physics.reference.savitsky import PrismaticHull, savitsky
+from fluidsim_envs.physics.reference.savitsky import of_hull, savitsky
 
 WORLD = World(water=True)
 HULL = VHull()
@@ -256,14 +256,7 @@ def test_planing_trim_and_resistance_beside_savitsky(hull, runs, request):
     resistance are far lower (it has no wave-making and no transom ventilation, which raise
     the bow and the drag there)."""
     sweep = request.getfixturevalue(runs)
-    reference = PrismaticHull(
-        beam_m=HULL.chine_beam_m,
-        deadrise_deg=HULL.deadrise_deg,
-        mass_kg=HULL.mass_kg,
-        lcg_m=HULL.lcg_m,
-        vcg_m=HULL.vcg_m,
-        thrust_offset_m=HULL.vcg_m + 0.3,  # the propeller is 0.3 m below the keel
-    )
+    reference = of_hull(HULL)  # the same lines for both hulls
     errors = {}
     for thrust, speed, trim in zip(sweep["thrust"], sweep["speed"], sweep["trim"], strict=True):
         ref = savitsky(reference, float(speed))

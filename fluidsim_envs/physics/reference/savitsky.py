@@ -233,6 +233,20 @@ def savitsky_at_trim(hull: PrismaticHull, speed_mps: float, trim_deg: float, **k
     return at(float(trim_deg))
 
 
+def of_hull(hull) -> PrismaticHull:
+    """The prismatic hull Savitsky's method takes for a generated V-bottom hull
+    (``craft.hull.VHull``: its chine beam, deadrise, weight and center of gravity), its thrust
+    line at the propeller, 0.3 m below the keel."""
+    return PrismaticHull(
+        beam_m=hull.chine_beam_m,
+        deadrise_deg=hull.deadrise_deg,
+        mass_kg=hull.mass_kg,
+        lcg_m=hull.lcg_m,
+        vcg_m=hull.vcg_m,
+        thrust_offset_m=hull.vcg_m + 0.3,
+    )
+
+
 def savitsky(
     hull: PrismaticHull,
     speed_mps: float,
