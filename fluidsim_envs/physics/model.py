@@ -370,7 +370,7 @@ def pack(
         shape=np.broadcast_to(shape_table, (E, *shape_table.shape)).copy(),
         contact_body=np.broadcast_to(materials.astype(dtype), (E, len(crafts), CT.NCBODY)).copy(),
         cprm=cprm.astype(dtype),
-        grid=np.ascontiguousarray(grid, dtype=dtype),
+        grid=np.array(grid, dtype=dtype),  # a copy: a Ground keeps its own read-only
     ), Samples(
         flap_mix=np.asarray(mix, dtype=dtype).reshape(len(mix), int(offsets[-1])),
         thr_channel=np.asarray(thr_ch, dtype=np.int64),

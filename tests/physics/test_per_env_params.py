@@ -208,12 +208,13 @@ def test_a_snapshot_carries_each_environments_craft():
 def test_a_single_environment_takes_its_own_mass_properties():
     """One environment is a batch of one: its body rows are its own, writable arrays (they
     were a read-only broadcast at E = 1, which refused this call and made numba compile every
-    kernel a second time, for a read-only array type)."""
+    kernel a second time, for a read-only array type); a Ground's height grid is copied
+    writable likewise (the Ground keeps its own read-only)."""
     craft = Craft.load("paper_airplane")
     one = Simulator(craft, World(), num_envs=1)
     one.set_mass_properties(mass_kg=0.006)
     assert one.mass_kg[0, 0] == 0.006
-    many = Simulator(craft, World(), num_envs=3)
-    for field in ("body", "shape", "contact_body"):
+    many = Simulator(craft, World(ground=Ground()), num_envs=3)  # a ground's grid, too
+    for field in ("body", "shape", "contact_body", "grid"):
         a, b = getattr(one._model, field), getattr(many._model, field)
         assert a.flags.writeable and numba.typeof(a) == numba.typeof(b), field
