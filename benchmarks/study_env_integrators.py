@@ -120,6 +120,7 @@ class Config:
     dt: float
     substeps: int
     reference: bool = False
+    dtype: str = "float64"  # the physics' precision (benchmarks/study_float32.py)
 
     def evals_per_action(self) -> int:
         return EVALS_PER_STEP[self.integrator] * self.substeps
@@ -199,7 +200,7 @@ def make_env(scene: Scene, cfg: Config, num_envs: int):
         integrator=cfg.integrator,
         dt=cfg.dt,
         substeps=cfg.substeps,
-        dtype="float64",
+        dtype=cfg.dtype,
         **scene.kwargs,
     )
 

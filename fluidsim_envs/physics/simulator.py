@@ -602,6 +602,15 @@ class Simulator:
         ``rotation.env_inv_inertia(body, e, b)``)). Treat them as read-only."""
         return self._data.st, self._data.flow, self._model.body
 
+    def start_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The arrays a scene's compiled episode start writes, without copies: ``(state
+        [13, B, E], flow [6, E], diverged [E], warm [E or 0, P, NWARM])``: what :meth:`reset`,
+        :meth:`set_wind` and :meth:`set_current` write. A start writes a normalized
+        quaternion, clears ``diverged`` and zeroes the environment's contact warm starts
+        (``warm``, empty without contact), as :meth:`reset` does."""
+        d = self._data
+        return d.st, d.flow, d.diverged, d.warm
+
     def wrench(self, controls=None) -> tuple[np.ndarray, np.ndarray]:
         """Net force (N) and torque about the center of mass (N m) on each body from its
         fluid samples, buoyancy and thrusters (not gravity) at the current state, world frame,

@@ -5,6 +5,12 @@ A scene subclasses :class:`FluidVectorEnv`, fills in three hooks (``_draw_reset`
 turns any scene into a single Gymnasium env that is the batch of one, so there is one
 implementation of each scene.
 
+The step path is compiled calls from preallocated arrays: the physics, then the scene's one
+task kernel (reward terms, flags and the observation of every sub-env, in parallel over
+sub-envs from ``PARALLEL_MIN_BODIES`` of them), then, for the sub-envs whose episode ended,
+the scene's start (the dart's compiled, the others' vectorized numpy) and their observation
+alone. Python does the API's checks and the info dict.
+
 Viewers (the ``View`` behind ``render()``, a scene's Rerun hooks) read the env through public,
 read-only accessors (``last_action``, ``episode_steps``, ``episodes`` here, the scene's own
 beside them) and keep their own state; the env's step never touches it.
@@ -14,6 +20,12 @@ Seeding: ``reset(seed=s)`` gives sub-env i the generator of ``SeedSequence(s).sp
 size), and ``reset(seed=[s0, s1, ...])`` gives sub-env i ``SeedSequence(s_i).spawn(1)[0]``,
 which is what the single env seeded with ``s_i`` uses. Each sub-env draws only from its own
 generator, so its episodes do not depend on the others.
+
+Every episode start draws ``draws_per_episode`` uniforms in [0, 1) from its sub-env's
+generator. They are drawn ahead, several episodes' worth at a time, into the sub-env's pool
+(``_pool``; a snapshot keeps it with the generator): a generator's ``random(a)`` then
+``random(b)`` is its ``random(a + b)``, so each episode gets exactly the numbers it would
+have drawn at its start, and an autoreset costs no Python call per sub-env.
 """
 
 from __future__ import annotations
@@ -50,6 +62,8 @@ def check_choice(owner: str, key: str, value, choices: Sequence[str]) -> None:
 
 # --------------------------------------------------------------------------------------------
 # the vector env
+
+POOL_DRAWS = 128  # uniforms drawn ahead per sub-env: 1 KiB each (16 MiB at 16384 sub-envs)
 
 
 class FluidVectorEnv(VectorEnv):
@@ -99,6 +113,11 @@ class FluidVectorEnv(VectorEnv):
         if not autoreset:
             self.metadata = {**self.metadata, "autoreset_mode": AutoresetMode.DISABLED}
         self._build()
+        # each sub-env's pool of episode-start uniforms (see the module docstring): about
+        # POOL_DRAWS numbers, whole episodes of them
+        self._pool_episodes = max(1, POOL_DRAWS // max(self.draws_per_episode, 1))
+        self._pool = np.zeros((E, self._pool_episodes * self.draws_per_episode))
+        self._pool_next = np.full(E, self._pool_episodes, dtype=np.int64)
         n_act = len(self.action_names)
         self.single_action_space = gym.spaces.Box(-1.0, 1.0, (n_act,), np.float32)
         self.action_space = batch_space(self.single_action_space, E)
@@ -127,17 +146,24 @@ class FluidVectorEnv(VectorEnv):
         """Create the simulator and buffers from ``self.params``."""
         raise NotImplementedError
 
-    def _draw_reset(self, ids: np.ndarray, rngs: list[np.random.Generator]) -> None:
-        """Start new episodes in sub-envs ``ids``, drawing from ``rngs`` (one per id)."""
+    # uniforms in [0, 1) each episode start draws (set by _build: it may depend on params)
+    draws_per_episode: int = 0
+
+    def _draw_reset(self, ids: np.ndarray, u: np.ndarray) -> None:
+        """Start new episodes in sub-envs ``ids`` from ``u`` [len(ids), draws_per_episode]:
+        each row the uniforms its sub-env's generator drew for this episode."""
         raise NotImplementedError
 
     def _advance(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
-        """Apply ``actions`` [E, n] in [-1, 1] and step the physics; return new arrays
+        """Apply ``actions`` [E, n] in [-1, 1], step the physics and write the observation of
+        every sub-env whose state did not diverge into ``self._obs`` (one task kernel does
+        the terms, flags and observations); return arrays the env does not write again
         (terminated [E], diverged [E], reward terms [len(reward_terms), E], info {key: [E]})."""
         raise NotImplementedError
 
-    def _observe(self, out: np.ndarray) -> None:
-        """Write the observation of every sub-env into ``out`` [E, obs_dim] (float32)."""
+    def _observe(self, out: np.ndarray, ids: np.ndarray) -> None:
+        """Write the observation of sub-envs ``ids`` (int64) into their rows of ``out``
+        [E, obs_dim] (float32)."""
         raise NotImplementedError
 
     # ---- what viewers read (read-only) ---------------------------------------------------
@@ -196,7 +222,7 @@ class FluidVectorEnv(VectorEnv):
 
         Every input is checked before anything changes."""
         E = self.num_envs
-        ids = self._reset_ids(options)
+        ids = np.unique(self._reset_ids(options))  # a sub-env listed twice starts once
         if seed is None:
             if any(r is None for r in self._rngs):
                 self._seed(np.random.SeedSequence().spawn(E))
@@ -209,7 +235,7 @@ class FluidVectorEnv(VectorEnv):
             seed = CK.seed("reset", f"seed (or a list of {E}, one per sub-env)", seed)
             self._seed(np.random.SeedSequence(seed).spawn(E))
         self._start(ids)
-        self._observe(self._obs)
+        self._observe(self._obs, ids)
         return self._obs.copy(), self._info_after_reset()
 
     def _reset_ids(self, options) -> np.ndarray:
@@ -260,19 +286,14 @@ class FluidVectorEnv(VectorEnv):
         # the actuators' limits: Box(-1, 1) commands beyond them saturate
         np.clip(a, -1.0, 1.0, out=self._act)
 
+        # the observation of a diverged sub-env keeps its last finite one: never NaN to the
+        # learner (the task kernel skips those rows)
         terminated, diverged, terms, info = self._advance(self._act)
         self._elapsed += 1
         reward = terms.sum(axis=0)
         self._sums += terms
         terminated |= diverged
         truncated = (self._elapsed >= self.params.max_episode_steps) & ~terminated
-
-        if diverged.any():  # keep the last finite observation: never NaN to the learner
-            last = self._obs[diverged].copy()
-            self._observe(self._obs)
-            self._obs[diverged] = last
-        else:
-            self._observe(self._obs)
         info["physics_diverged"] = diverged
         info["reward_terms"] = dict(zip(self.reward_terms, terms, strict=True))
 
@@ -292,7 +313,7 @@ class FluidVectorEnv(VectorEnv):
                 for hook in self.before_autoreset:
                     hook(ended, info, reward)
                 self._start(ended)
-                self._observe(self._obs)
+                self._observe(self._obs, ended)
             else:
                 self._needs_reset[ended] = True
         return self._obs.copy(), reward, terminated, truncated, info
@@ -399,9 +420,21 @@ class FluidVectorEnv(VectorEnv):
     def _seed(self, sequences) -> None:
         self._rngs = [np.random.Generator(np.random.PCG64(s)) for s in sequences]
         self._np_random = self._rngs[0]
+        self._pool_next[:] = self._pool_episodes  # new generators: the pools are spent
+
+    def _draws(self, ids: np.ndarray) -> np.ndarray:
+        """The next episode's uniforms of sub-envs ``ids`` [len(ids), draws_per_episode],
+        from their pools, refilled from their generators where spent."""
+        n, k = self.draws_per_episode, self._pool_episodes
+        for i in ids[self._pool_next[ids] >= k]:
+            self._pool[i] = self._rngs[i].random(k * n)
+            self._pool_next[i] = 0
+        at = self._pool_next[ids]
+        self._pool_next[ids] += 1
+        return self._pool.reshape(self.num_envs, k, n)[ids, at]
 
     def _start(self, ids: np.ndarray) -> None:
-        self._draw_reset(ids, [self._rngs[i] for i in ids])
+        self._draw_reset(ids, self._draws(ids))
         self._elapsed[ids] = 0
         self._episodes[ids] += 1
         self._sums[:, ids] = 0.0
@@ -413,6 +446,8 @@ class FluidVectorEnv(VectorEnv):
 
 # what every scene's sub-env holds beyond its scene's state_fields: (attribute, sub-env axis)
 _BASE_STATE = (
+    ("_pool", 0),
+    ("_pool_next", 0),
     ("_obs", 0),
     ("_elapsed", 0),
     ("_sums", 1),

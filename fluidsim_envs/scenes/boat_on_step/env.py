@@ -180,6 +180,8 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         self.buoys = np.zeros((E, 2 * GATES, 2))  # left and right buoy of each gate
         self.task = np.zeros((TK.NTASK, E))
         self._cfg = np.array([self._cfg_value(name) for name in TK.CFG_FIELDS], dtype=np.float64)
+        self.draws_per_episode = 4 + 2 * GATES
+        self._task = TK.task_parallel if self.sim.parallel else TK.task_serial
         self._ctrl = np.zeros((E, 3))
         self._terms = np.zeros((len(REWARD_TERMS), E))
         self._flags = np.zeros((TK.NFLAGS, E), dtype=bool)
@@ -200,10 +202,8 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
 
     # ---- episode start --------------------------------------------------------------------
 
-    def _draw_reset(self, ids, rngs) -> None:
+    def _draw_reset(self, ids, u) -> None:
         p = self.params
-        n_u = 4 + 2 * GATES
-        u = np.array([g.random(n_u) for g in rngs]).reshape(len(ids), n_u)
 
         def span(x, lo_hi):
             return lo_hi[0] + x * (lo_hi[1] - lo_hi[0])
@@ -274,20 +274,12 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         swell, clock = self.sim.surface_arrays()
         if p.buoy_bodies:  # pairs (0, 1) ... (0, 2 GATES) come first: the hull and each buoy
             np.greater(self.sim.pair_impulse[:, : 2 * GATES].max(axis=1), 0.0, out=self._hits)
-        TK.score(
-            st,
-            diverged,
-            actions,
-            self.course,
+        _, _, body = self.sim.kernel_arrays()
+        self._task(
+            st, body, diverged, actions, self.course,
             self.buoys[:, :0] if p.buoy_bodies else self.buoys,
-            self._hits,
-            self.task,
-            swell,
-            clock,
-            self._cfg,
-            self._terms,
-            self._flags,
-        )
+            self._hits, self.task, swell, clock, self._cfg, self._terms, self._flags, self._obs,
+        )  # fmt: skip
         f = self._flags.copy()
         crashed = f[TK.F_CAPSIZE] | f[TK.F_STUFF] | f[TK.F_LEFT]
         info = {
@@ -319,10 +311,10 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
 
     # ---- observation ----------------------------------------------------------------------
 
-    def _observe(self, out) -> None:
+    def _observe(self, out, ids) -> None:
         st, _, body = self.sim.kernel_arrays()
         swell, clock = self.sim.surface_arrays()
-        TK.observe(st, body, self.course, self.task, swell, clock, self._cfg, out)
+        TK.observe(ids, st, body, self.course, self.task, swell, clock, self._cfg, out)
 
     # ---- what viewers read -----------------------------------------------------------------
 

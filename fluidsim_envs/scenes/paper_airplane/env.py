@@ -8,7 +8,7 @@ from typing import ClassVar
 import numpy as np
 
 from ...physics import Craft, Ground, Simulator, World
-from ...physics.kernels import INTEGRATORS, quat_matrices
+from ...physics.kernels import INTEGRATORS
 from ..base import FluidEnv, FluidVectorEnv, check_choice
 from ..limits import (
     EPISODE_STEPS,
@@ -155,76 +155,33 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
         self._terms = np.zeros((len(REWARD_TERMS), E))
         self._flags = np.zeros((TK.NFLAGS, E), dtype=bool)
         self._sink = np.zeros(E)
+        self.draws_per_episode = len(TK.DRAWS)
+        self._spans = np.array(
+            [(0.0, 2 * np.pi) if name in TK.ANGLES else getattr(p, name) for name in TK.DRAWS],
+            dtype=np.float64,
+        )
+        self._task = TK.task_parallel if self.sim.parallel else TK.task_serial
 
     # ---- episode start --------------------------------------------------------------------
 
-    def _draw_reset(self, ids, rngs) -> None:
-        p = self.params
-        u = np.array([g.random(9) for g in rngs]).reshape(len(ids), 9)
-
-        def span(col, lo_hi):
-            return lo_hi[0] + u[:, col] * (lo_hi[1] - lo_hi[0])
-
-        height = span(0, p.launch_height_m)
-        speed = span(1, p.launch_speed_mps)
-        pitch = np.radians(span(2, p.launch_pitch_deg))
-        roll = np.radians(span(3, p.launch_roll_deg))
-        yaw = 2 * np.pi * u[:, 4]
-        bearing = yaw + np.radians(span(5, p.target_bearing_deg))
-        distance = span(6, p.target_distance_ratio) * height
-        wind_speed = span(7, p.wind_speed_mps)
-        wind_dir = 2 * np.pi * u[:, 8]
-
-        # yaw, then nose-up pitch (about -y), then roll right (about +x): q = qz * qy * qx
-        cy, sy = np.cos(yaw / 2), np.sin(yaw / 2)
-        cp, sp = np.cos(-pitch / 2), np.sin(-pitch / 2)
-        cr, sr = np.cos(roll / 2), np.sin(roll / 2)
-        quat = np.stack(
-            [
-                cy * cp * cr + sy * sp * sr,
-                cy * cp * sr - sy * sp * cr,
-                cy * sp * cr + sy * cp * sr,
-                sy * cp * cr - cy * sp * sr,
-            ],
-            axis=1,
-        )
-        rot = quat_matrices(quat)
-        nose = rot[:, :, 0]
-        self.sim.reset(
-            pos=np.stack([0 * height, 0 * height, height], axis=1)[:, None],
-            quat=quat[:, None],
-            lin_vel=(speed[:, None] * nose)[:, None],
-            env_ids=ids,
-        )
-        self._v_prev[ids, :3] = speed[:, None] * nose
-        self._v_prev[ids, 3] = rot[:, 2, 2]
-        wind = np.stack([np.cos(wind_dir), np.sin(wind_dir), 0 * wind_dir], 1) * wind_speed[:, None]
-        self.sim.set_wind(wind, env_ids=ids)
-        self.launch[ids] = 0.0
-        self.target[ids] = np.stack([np.cos(bearing), np.sin(bearing)], 1) * distance[:, None]
-        self._distance[ids] = distance
+    def _draw_reset(self, ids, u) -> None:
+        st, flow, diverged, warm = self.sim.start_arrays()
+        TK.start(
+            ids, u, self._spans, st, flow, diverged, warm, self._v_prev, self.target,
+            self.launch, self._distance,
+        )  # fmt: skip
 
     # ---- step -----------------------------------------------------------------------------
 
     def _advance(self, actions):
         self.sim.step(actions, steps=self.params.substeps)
         diverged = self.sim.diverged.copy()
-        st, _, _ = self.sim.kernel_arrays()
-        TK.score(
-            st,
-            diverged,
-            self._hull,
-            self.target,
-            self.launch,
-            self._distance,
-            actions,
-            self._cfg,
-            self._terms,
-            self._flags,
-            self._sink,
-            self._v_prev,
-            self.sim.ground_impulse[:, 0],
-        )
+        st, flow, body = self.sim.kernel_arrays()
+        self._task(
+            st, body, flow, diverged, self._hull, self.target, self.launch, self._distance,
+            actions, self._cfg, self._terms, self._flags, self._sink, self._v_prev,
+            self.sim.ground_impulse[:, 0], self._obs,
+        )  # fmt: skip
         flags = self._flags.copy()
         info = {
             "distance_m": self._distance.copy(),
@@ -239,9 +196,9 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
 
     # ---- observation ----------------------------------------------------------------------
 
-    def _observe(self, out) -> None:
+    def _observe(self, out, ids) -> None:
         st, flow, body = self.sim.kernel_arrays()
-        TK.observe(st, body, flow, self.target, out)
+        TK.observe(ids, st, body, flow, self.target, out)
 
     # ---- what viewers read -----------------------------------------------------------------
 

@@ -213,6 +213,8 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
         self._flags = np.zeros((TK.NFLAGS, E), dtype=bool)
         self._distance = np.zeros(E)
         self._on_station = np.zeros(E, dtype=np.int64)
+        self.draws_per_episode = 14 + 4 * ROUTE_SEGMENTS
+        self._task = TK.task_parallel if self.sim.parallel else TK.task_serial
 
     def _cfg_value(self, name: str) -> float:
         derived = {
@@ -226,11 +228,9 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
 
     # ---- episode start --------------------------------------------------------------------
 
-    def _draw_reset(self, ids, rngs) -> None:
+    def _draw_reset(self, ids, u) -> None:
         p = self.params
         S = self.route.shape[1]
-        n_u = 14 + 4 * S
-        u = np.array([g.random(n_u) for g in rngs]).reshape(len(ids), n_u)
 
         def span(x, lo_hi):
             return lo_hi[0] + x * (lo_hi[1] - lo_hi[0])
@@ -275,7 +275,7 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
         self._distance[ids] = np.linalg.norm(
             spot - np.stack([c * ox - s * oy, s * ox + c * oy, station[:, 2] - depth], 1), axis=1
         )
-        TK.lead_source(self.lead, self.noise_offset, self._src)
+        TK.lead_source(ids, self.lead, self.noise_offset, self._src)
 
     # ---- step -----------------------------------------------------------------------------
 
@@ -291,23 +291,16 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
 
     def _advance(self, actions):
         p = self.params
-        TK.lead_source(self.lead, self.noise_offset, self._src)  # the kernel moves it on
+        # the physics moves the wake's source on in a straight line; the task kernel then
+        # moves the lead along its route and puts the source back on it
         self.sim.step(self._controls(actions), steps=p.substeps)
-        TK.advance_lead(self.lead, self.route, p.dt * p.substeps, p.route_lag_s)
-        TK.lead_source(self.lead, self.noise_offset, self._src)
         diverged = self.sim.diverged.copy()
-        st, _, _ = self.sim.kernel_arrays()
-        TK.score(
-            st,
-            diverged,
-            self.lead,
-            self.station,
-            actions,
-            self._cfg,
-            self._terms,
-            self._flags,
-            self._distance,
-        )
+        st, _, body = self.sim.kernel_arrays()
+        self._task(
+            st, body, diverged, self.lead, self.route, p.dt * p.substeps, p.route_lag_s,
+            self.noise_offset, self._src, self.station, self._wprm, actions, self._cfg,
+            self._terms, self._flags, self._distance, self._obs,
+        )  # fmt: skip
         flags = self._flags.copy()
         self._on_station += flags[TK.F_ON_STATION]
         crashed = flags[TK.F_HULL] | flags[TK.F_FLOOR] | flags[TK.F_LOST]
@@ -326,9 +319,9 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
 
     # ---- observation ----------------------------------------------------------------------
 
-    def _observe(self, out) -> None:
+    def _observe(self, out, ids) -> None:
         st, _, body = self.sim.kernel_arrays()
-        TK.observe(st, body, self.lead, self.station, self._src, self._wprm, self._cfg, out)
+        TK.observe(ids, st, body, self.lead, self.station, self._src, self._wprm, self._cfg, out)
 
     # ---- what viewers read -----------------------------------------------------------------
 

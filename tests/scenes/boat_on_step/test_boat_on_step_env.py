@@ -235,7 +235,7 @@ def test_capsized_boat_terminates():
     for e, heel in enumerate((80.0, -80.0, 30.0)):
         place(venv, e, 1, along=-50.0, across=0.0, heel_deg=heel)
     o = np.zeros_like(venv._obs)
-    venv._observe(o)
+    venv._observe(o, np.arange(3))
     np.testing.assert_allclose(np.degrees(o[:, OBS["heel"]]), [80.0, -80.0, 30.0], atol=1e-4)
     obs, r, term, trunc, info = venv.step(np.zeros((3, 3)))
     assert term.tolist() == [True, True, False]
