@@ -56,6 +56,7 @@ from benchmarks.bench_envs import actions_for, single_rate, stepping
 from benchmarks.bench_kernel import DT as KERNEL_DT
 from benchmarks.bench_kernel import make_sim, timed_call
 from benchmarks.common import (
+    DOCS,
     ROOT,
     arguments,
     describe,
@@ -414,7 +415,22 @@ def rfmt(x: float) -> str:
     return f"{x:.2f}" if x < 1 else f"{x:.1f}" if x < 10 else f"{x:,.0f}"
 
 
+def page(path: Path | None = None) -> str:
+    """docs/bench_peers.md from the CSV at ``path`` (default docs/bench_peers.csv) alone:
+    ``python -m benchmarks.report --check`` compares the page with it."""
+    path = DOCS / "bench_peers.csv" if path is None else path
+    if not path.is_file():
+        return "(no docs/bench_peers.csv yet: run python -m benchmarks.bench_peers)\n"
+    machine, rows = read_rows(path)
+    return markdown(machine, rows, path.name)
+
+
 def write_md(machine: list[str], rows: list[dict], path: Path, csv_name: str) -> None:
+    path.write_text(markdown(machine, rows, csv_name))
+    print(f"wrote {path}")
+
+
+def markdown(machine: list[str], rows: list[dict], csv_name: str) -> str:
     """The section file: what, how, the tables and their reading, from the CSV's rows."""
     get = {
         (r["section"], r["subject"], r["dtype"], r["num_envs"], r["numba_threads"], r["note"]): r
@@ -719,8 +735,7 @@ def write_md(machine: list[str], rows: list[dict], path: Path, csv_name: str) ->
         "divides between these causes was not measured here."
     )
     L.append("")
-    path.write_text("\n".join(L) + "\n")
-    print(f"wrote {path}")
+    return "\n".join(L) + "\n"
 
 
 # --------------------------------------------------------------------------------------------
