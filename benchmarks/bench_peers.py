@@ -61,6 +61,7 @@ from benchmarks.common import (
     arguments,
     describe,
     interleaved_best,
+    prose,
     rate_over,
     read_csv,
     sized,
@@ -423,6 +424,44 @@ def page(path: Path | None = None) -> str:
         return "(no docs/bench_peers.csv yet: run python -m benchmarks.bench_peers)\n"
     machine, rows = read_rows(path)
     return markdown(machine, rows, path.name)
+
+
+def summary_markdown(path: Path | None = None) -> str:
+    """docs/benchmarks.md's paragraph on the peers, from the CSV at ``path`` (default
+    docs/bench_peers.csv): our vector envs per core at the largest batch on one thread, the
+    peers, the real-time factors and the kernel's share of the measured peak."""
+    path = DOCS / "bench_peers.csv" if path is None else path
+    if not path.is_file():
+        return "(no docs/bench_peers.csv yet: run python -m benchmarks.bench_peers)"
+    _, rows = read_rows(path)
+    n = NUM_ENVS[-1]
+    ours = {
+        r["subject"]: r
+        for r in rows
+        if r["section"] == "vector" and r["subject"] in OURS
+        and r["num_envs"] == n and r["numba_threads"] == 1
+    }  # fmt: skip
+    peer = {r["subject"]: r for r in rows if r["section"] == "peer" and r["note"] != "steps only"}
+    flops = next(r["value"] for r in rows if r["section"] == "flops" and r["subject"] == "total")
+    get = {(r["section"], r["subject"], r["dtype"], r["numba_threads"]): r["value"] for r in rows}
+    shares = []
+    for dtype in ("float32", "float64"):
+        one = get[("peak", "fma", dtype, 1)]
+        for t in THREADS:
+            peak = max(get[("peak", "fma", dtype, t)], t * one)
+            shares.append(get[("kernel", "paper_airplane", dtype, t)] * flops / peak)
+    rates = sorted(r["per_core"] for r in ours.values())
+    dart = ours[OURS[0]]
+    pyflyt, jsbsim = peer["pyflyt"], peer["jsbsim"]
+    return prose(
+        f"Per core, our vector envs run {rates[0] / 1e3:.0f}-{rates[-1] / 1e3:.0f}k env-steps/s "
+        f"at {n} envs on one thread, PyFlyt's fixed-wing env {pyflyt['per_core']:,.0f} and "
+        f"JSBSim's c172x {jsbsim['per_core'] / 1e3:.0f}k FDM steps "
+        f"({jsbsim['sim_s_per_wall_s_per_core']:,.0f} simulated seconds per wall second, "
+        f"against the paper airplane's {dart['sim_s_per_wall_s_per_core']:,.0f}), and the dart's "
+        f"kernel reaches {100 * min(shares):.0f}-{100 * max(shares):.0f}% of the measured "
+        f"floating-point peak ({flops:,.0f} flops per symplectic Euler body-step)."
+    )
 
 
 def write_md(machine: list[str], rows: list[dict], path: Path, csv_name: str) -> None:

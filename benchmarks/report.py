@@ -76,6 +76,40 @@ BLOCKS = (
     Block("docs/study.md", "cost-table", "docs/study_cost.csv", "study_accuracy:cost_markdown"),
     Block("docs/study.md", "hairer-table", "docs/study_hairer.csv", "study_hairer:markdown"),
     Block("docs/study.md", "fixed-table", "docs/study_fixed.csv", "study_fixed:markdown"),
+    Block("docs/benchmarks.md", "kernel-table", "docs/bench_kernel.csv", "bench_kernel:markdown"),
+    Block(
+        "docs/benchmarks.md", "kernel-cost", "docs/bench_kernel.csv", "bench_kernel:cost_markdown"
+    ),
+    Block(
+        "docs/benchmarks.md",
+        "peers-summary",
+        "docs/bench_peers.csv",
+        "bench_peers:summary_markdown",
+    ),
+    Block(
+        "docs/environments.md",
+        "savitsky-steady",
+        "docs/study_savitsky.csv",
+        "study_savitsky:steady_markdown",
+    ),
+    Block(
+        "docs/study_savitsky.md",
+        "savitsky-errors",
+        "docs/study_savitsky_grid.csv",
+        "study_savitsky:grid_markdown",
+    ),
+    Block(
+        "docs/study_savitsky.md",
+        "savitsky-turn",
+        "docs/study_savitsky_turn.csv",
+        "study_savitsky:turn_markdown",
+    ),
+    Block(
+        "docs/study_savitsky.md",
+        "savitsky-cost",
+        "docs/bench_boat.csv",
+        "bench_boat:rules_markdown",
+    ),
     Block("docs/seed_map.md", "seed-claims", "docs/study_*.csv", "seed_claims:markdown"),
 )
 # pages written whole by their benchmark from its CSV: page -> renderer (``module:function``)
@@ -337,12 +371,17 @@ def dart_markdown() -> str:
 
 
 def with_block(text: str, begin: str, end: str, block: str, where: Path) -> str:
-    """``text`` with what lies between the markers ``begin`` and ``end`` replaced."""
+    """``text`` with what lies between the markers ``begin`` and ``end`` replaced; a block
+    whose begin marker is indented (inside a list item) is indented as deep."""
     if begin not in text or end not in text:
         raise SystemExit(f"{where}: the markers {begin!r} ... {end!r} are missing")
     head, rest = text.split(begin, 1)
     _, tail = rest.split(end, 1)
-    return f"{head}{begin}\n{block}\n{end}{tail}"
+    indent = head[head.rfind("\n") + 1 :]
+    if indent.strip():
+        indent = ""
+    block = "\n".join(f"{indent}{line}" if line else line for line in block.split("\n"))
+    return f"{head}{begin}\n{block}\n{indent}{end}{tail}"
 
 
 def pages() -> dict[Path, str]:
