@@ -65,6 +65,12 @@ WAVES = (0, 1, 2, 4)
 CSV = DOCS / "bench_kernel.csv"
 KEPT = "rows of sections not run kept from: "  # a comment line of a partial run
 
+
+def section_of(row_section: str) -> str:
+    """The ``--sections`` name of a CSV row's section (``compile`` for both compile rows)."""
+    return "compile" if row_section.startswith("compile_") else row_section
+
+
 # Run in a fresh interpreter: print the seconds taken by the first step (compile or cache load).
 CHILD = f"""
 import time
@@ -150,7 +156,7 @@ def kept_rows(path, sections) -> tuple[list[str], list[tuple]]:
     if not path.is_file():
         return [], []
     comments, rows = read_csv(path)
-    keep = [r for r in rows if r["section"].split("_")[0] not in sections]
+    keep = [r for r in rows if section_of(r["section"]) not in sections]
     if not keep:
         return [], []
     origin = [c.removeprefix(KEPT) for c in comments if c.startswith(KEPT)]
@@ -221,7 +227,7 @@ def main() -> None:
 
     rows = [*kept, *table.rows]
     order = {name: i for i, name in enumerate(SECTIONS)}
-    rows.sort(key=lambda r: order[r[0].split("_")[0]])  # stable: each section's own order
+    rows.sort(key=lambda r: order[section_of(r[0])])  # stable: each section's own order
     print(f"\nwrote {write_csv(args.out, COLUMNS, rows, [*info, *kept_notes])}")
 
 

@@ -110,6 +110,22 @@ BLOCKS = (
         "docs/bench_boat.csv",
         "bench_boat:rules_markdown",
     ),
+    Block(
+        "docs/study.md", "stability-table", "docs/study_stability.csv", "study_stability:markdown"
+    ),
+    Block("docs/study.md", "contact-table", "docs/study_contact.csv", "study_contact:markdown"),
+    Block(
+        "docs/study.md",
+        "env-integrators-table",
+        "docs/study_env_integrators.csv",
+        "study_env_integrators:markdown",
+    ),
+    Block(
+        "docs/study.md",
+        "defaults-table",
+        "docs/study_stability.csv, study_accuracy.csv",
+        "study_stability:defaults_markdown",
+    ),
     Block("docs/seed_map.md", "seed-claims", "docs/study_*.csv", "seed_claims:markdown"),
 )
 # pages written whole by their benchmark from its CSV: page -> renderer (``module:function``)
