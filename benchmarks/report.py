@@ -126,6 +126,54 @@ BLOCKS = (
         "docs/study_stability.csv, study_accuracy.csv",
         "study_stability:defaults_markdown",
     ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-paper-airplane",
+        "docs/study_model_cost.csv",
+        "study_model_cost:paper_airplane_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-speedboat",
+        "docs/study_model_cost.csv",
+        "study_model_cost:speedboat_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-uuv",
+        "docs/study_model_cost.csv",
+        "study_model_cost:uuv_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-buoy",
+        "docs/study_model_cost.csv",
+        "study_model_cost:buoy_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-floor",
+        "docs/study_model_cost.csv",
+        "study_model_cost:floor_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-submarine",
+        "docs/study_model_cost.csv",
+        "study_model_cost:submarine_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-boat",
+        "docs/study_model_cost.csv",
+        "study_model_cost:boat_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-dart",
+        "docs/study_model_cost.csv",
+        "study_model_cost:dart_markdown",
+    ),
     Block("docs/seed_map.md", "seed-claims", "docs/study_*.csv", "seed_claims:markdown"),
 )
 # pages written whole by their benchmark from its CSV: page -> renderer (``module:function``)
