@@ -11,7 +11,8 @@ boats planing at 15 m/s), the best of ``--repeats`` calls of ~0.3 s each, the va
 in turn each repeat. The share of a group is the time it adds to a body-step over the
 variant without it (``share_of_base``: of the variant it is left out of).
 
-Writes ``docs/bench_boat.csv`` (machine in ``#`` lines).
+Writes ``docs/bench_boat.csv`` (machine in ``#`` lines); :func:`rules_markdown` is
+docs/study_savitsky.md's table and reading of it (``python -m benchmarks.report``).
 
     python -m benchmarks.bench_boat [--quick]
 """
@@ -22,7 +23,17 @@ from dataclasses import replace
 
 import numpy as np
 
-from benchmarks.common import arguments, describe, interleaved_best, sized, timed, write_csv
+from benchmarks.common import (
+    DOCS,
+    arguments,
+    describe,
+    interleaved_best,
+    prose,
+    read_csv,
+    sized,
+    timed,
+    write_csv,
+)
 from fluidsim_envs.physics import Craft, Simulator, World
 
 NUM_ENVS = 4096
@@ -145,3 +156,51 @@ def main() -> None:
 
 if __name__ == "__main__":
     main()
+
+
+# ---- the docs --------------------------------------------------------------------------------
+
+# docs/study_savitsky.md's table: CSV variant -> how the table names it
+RULES = {
+    "full": "`speedboat` (16 friction plates, two-sided bottom)",
+    "ITTC hull": "`speedboat_ittc` (ITTC skin friction on the 32 bottom plates)",
+    "ITTC hull without skin friction": "the same without skin friction",
+    "ITTC hull, one-sided bottom": "the same with a one-sided bottom",
+}
+
+
+def rules_markdown(path=None) -> str:
+    """What issue 20's sample rules cost, from docs/bench_boat.csv: the table and the numbers
+    docs/study_savitsky.md reads from it."""
+    path = DOCS / "bench_boat.csv" if path is None else path
+    if not path.is_file():
+        return "(no docs/bench_boat.csv yet: run python -m benchmarks.bench_boat)"
+    comments, rows = read_csv(path)
+    by = {r["variant"]: r for r in rows}
+    ns = {k: float(by[k]["ns_per_body_step"]) for k in RULES}
+    plates = sum(p.friction_line is not None for p in Craft.load("speedboat_ittc").plates)
+    load = next((c for c in comments if c.startswith("load average at start: ")), "")
+    load = load.removeprefix("load average at start: ").split(",")[0]
+    lines = [
+        prose(
+            f"`python -m benchmarks.bench_boat` ([bench_boat.csv](bench_boat.csv): the "
+            f"symplectic Euler kernel stepping {NUM_ENVS} planing boats in float64 on both "
+            f"threads, load average {load} at the start, the variants timed in turn, the best "
+            "of 5):"
+        ),
+        "",
+        "| variant | samples | ns per body-step |",
+        "|---|---:|---:|",
+        *(f"| {name} | {by[k]['samples']} | {ns[k]:.0f} |" for k, name in RULES.items()),
+        "",
+        prose(
+            f"The ITTC hull's body-step costs {ns['ITTC hull'] / ns['full']:.2f} times the "
+            f"first hull's; its skin friction is "
+            f"{100 * (1 - ns['ITTC hull without skin friction'] / ns['ITTC hull']):.0f}% of it "
+            f"({ns['ITTC hull'] - ns['ITTC hull without skin friction']:.0f} ns for {plates} "
+            f"plates, {(ns['ITTC hull'] - ns['ITTC hull without skin friction']) / plates:.1f} "
+            f"ns a plate); the one-sided bottom runs at {ns['ITTC hull, one-sided bottom']:.0f} "
+            f"against {ns['ITTC hull']:.0f} ns."
+        ),
+    ]
+    return "\n".join(lines)

@@ -56,10 +56,12 @@ from benchmarks.bench_envs import actions_for, single_rate, stepping
 from benchmarks.bench_kernel import DT as KERNEL_DT
 from benchmarks.bench_kernel import make_sim, timed_call
 from benchmarks.common import (
+    DOCS,
     ROOT,
     arguments,
     describe,
     interleaved_best,
+    prose,
     rate_over,
     read_csv,
     sized,
@@ -414,7 +416,60 @@ def rfmt(x: float) -> str:
     return f"{x:.2f}" if x < 1 else f"{x:.1f}" if x < 10 else f"{x:,.0f}"
 
 
+def page(path: Path | None = None) -> str:
+    """docs/bench_peers.md from the CSV at ``path`` (default docs/bench_peers.csv) alone:
+    ``python -m benchmarks.report --check`` compares the page with it."""
+    path = DOCS / "bench_peers.csv" if path is None else path
+    if not path.is_file():
+        return "(no docs/bench_peers.csv yet: run python -m benchmarks.bench_peers)\n"
+    machine, rows = read_rows(path)
+    return markdown(machine, rows, path.name)
+
+
+def summary_markdown(path: Path | None = None) -> str:
+    """docs/benchmarks.md's paragraph on the peers, from the CSV at ``path`` (default
+    docs/bench_peers.csv): our vector envs per core at the largest batch on one thread, the
+    peers, the real-time factors and the kernel's share of the measured peak."""
+    path = DOCS / "bench_peers.csv" if path is None else path
+    if not path.is_file():
+        return "(no docs/bench_peers.csv yet: run python -m benchmarks.bench_peers)"
+    _, rows = read_rows(path)
+    n = NUM_ENVS[-1]
+    ours = {
+        r["subject"]: r
+        for r in rows
+        if r["section"] == "vector" and r["subject"] in OURS
+        and r["num_envs"] == n and r["numba_threads"] == 1
+    }  # fmt: skip
+    peer = {r["subject"]: r for r in rows if r["section"] == "peer" and r["note"] != "steps only"}
+    flops = next(r["value"] for r in rows if r["section"] == "flops" and r["subject"] == "total")
+    get = {(r["section"], r["subject"], r["dtype"], r["numba_threads"]): r["value"] for r in rows}
+    shares = []
+    for dtype in ("float32", "float64"):
+        one = get[("peak", "fma", dtype, 1)]
+        for t in THREADS:
+            peak = max(get[("peak", "fma", dtype, t)], t * one)
+            shares.append(get[("kernel", "paper_airplane", dtype, t)] * flops / peak)
+    rates = sorted(r["per_core"] for r in ours.values())
+    dart = ours[OURS[0]]
+    pyflyt, jsbsim = peer["pyflyt"], peer["jsbsim"]
+    return prose(
+        f"Per core, our vector envs run {rates[0] / 1e3:.0f}-{rates[-1] / 1e3:.0f}k env-steps/s "
+        f"at {n} envs on one thread, PyFlyt's fixed-wing env {pyflyt['per_core']:,.0f} and "
+        f"JSBSim's c172x {jsbsim['per_core'] / 1e3:.0f}k FDM steps "
+        f"({jsbsim['sim_s_per_wall_s_per_core']:,.0f} simulated seconds per wall second, "
+        f"against the paper airplane's {dart['sim_s_per_wall_s_per_core']:,.0f}), and the dart's "
+        f"kernel reaches {100 * min(shares):.0f}-{100 * max(shares):.0f}% of the measured "
+        f"floating-point peak ({flops:,.0f} flops per symplectic Euler body-step)."
+    )
+
+
 def write_md(machine: list[str], rows: list[dict], path: Path, csv_name: str) -> None:
+    path.write_text(markdown(machine, rows, csv_name))
+    print(f"wrote {path}")
+
+
+def markdown(machine: list[str], rows: list[dict], csv_name: str) -> str:
     """The section file: what, how, the tables and their reading, from the CSV's rows."""
     get = {
         (r["section"], r["subject"], r["dtype"], r["num_envs"], r["numba_threads"], r["note"]): r
@@ -719,8 +774,7 @@ def write_md(machine: list[str], rows: list[dict], path: Path, csv_name: str) ->
         "divides between these causes was not measured here."
     )
     L.append("")
-    path.write_text("\n".join(L) + "\n")
-    print(f"wrote {path}")
+    return "\n".join(L) + "\n"
 
 
 # --------------------------------------------------------------------------------------------

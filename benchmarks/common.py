@@ -215,6 +215,14 @@ class Table:
         print(self._line(shown), flush=True)
 
 
+def prose(text: str, width: int = 96) -> str:
+    """A generated paragraph wrapped as the docs' hand-written ones are (never inside a word,
+    a link or at a hyphen)."""
+    import textwrap
+
+    return textwrap.fill(text, width, break_long_words=False, break_on_hyphens=False)
+
+
 def read_csv(path: str | Path) -> tuple[list[str], list[dict]]:
     """The ``#`` lines (without the ``# ``) and the rows (dicts of strings) of a CSV file."""
     lines = Path(path).read_text().splitlines()

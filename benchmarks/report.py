@@ -1,86 +1,186 @@
-"""The docs' tables of envs and results, written from the registry and the committed
-evaluation CSVs.
+"""The docs' tables of numbers, each written from a committed CSV (or the env registry)
+between two markers, so that no number in README.md or docs/*.md is edited by hand.
 
-    python -m benchmarks.report            # writes docs/envs.csv and the tables
+    python -m benchmarks.report            # writes docs/envs.csv and every block
     python -m benchmarks.report --check    # exit 1 if any is out of date (the tests run it)
+    python -m benchmarks.report --list     # every block: page, marker, source, renderer
 
-One row per registered env (:data:`fluidsim_envs.scenes.SCENES`): its observation and action
-sizes, control rate and horizon (from the env's default parameters), what success means (the
-scene's ``success``, with its numbers), and the success rate and mean return, each with its
-95% bootstrap interval, of the planner (oracle), the tuned pilot and trained PPO from
+What it writes is :data:`BLOCKS`, one line per block (the single list: ``--list`` prints it):
+the page, the marker's name, the source the marker names and the function that renders it,
+as ``module:function`` in this package (imported when called). A block lies between
+``<!-- NAME: written by `python -m benchmarks.report` from SOURCE -->`` and
+``<!-- /NAME -->``; the function returns the text between the two lines. :data:`PAGES` are
+pages written whole from a CSV by their benchmark (``bench_peers``), checked the same way.
+
+To add a table: write ``markdown()`` (or ``<what>_markdown()``) in the benchmark that writes
+the CSV, returning the table from the CSV alone (a note in brackets where the CSV is missing);
+put the two marker lines where the table goes; add its :class:`Block` line to ``BLOCKS``;
+run ``python -m benchmarks.report``.
+
+The README's table of envs (``envs-table``) is also kept as docs/envs.csv: one row per
+registered env (:data:`fluidsim_envs.scenes.SCENES`), its observation and action sizes,
+control rate and horizon (from the env's default parameters), what success means (the scene's
+``success``, with its numbers), and the success rate and mean return, each with its 95%
+bootstrap interval, of the planner (oracle), the tuned pilot and trained PPO from
 ``docs/eval_<scene>_ppo.csv`` (what ``fluidsim-evaluate RUN --episodes 256`` wrote for the
-shipped PPO config's run, every baseline beside it; blank where no such file exists). The
-README's table sits between the two ``envs-table`` markers, and docs/training.md's table of
-every policy in those CSVs between the ``ppo-results`` markers, and docs/environments.md's
-table of every env parameter (its default and what it may be, from each parameter class's
-``RANGES``: ``scenes/limits.py``) between the ``params-table`` markers, and docs/reliability.md's
-fuzz and kill tables from docs/fuzz.csv and docs/kill_resume.csv between the ``fuzz-table``
-and ``kill-table`` markers, and docs/environments.md's trim and phugoid of the paper dart from
-docs/dart_glide.csv (``python -m benchmarks.dart_glide``) between the ``dart-glide`` markers,
-and docs/study.md's fixed-point tables from docs/study_fixed.csv between the ``fixed-table``
-markers (``benchmarks.study_fixed.markdown``), its cost table from docs/study_cost.csv
-between the ``cost-table`` markers (``benchmarks.study_accuracy.cost_markdown``), and
-Hairer's table from docs/study_hairer.csv
-between the ``hairer-table`` markers (``benchmarks.study_hairer.markdown``), and
-docs/seed_map.md's verdicts on the seed article's claims from the studies' CSVs between the
-``seed-claims`` markers (``benchmarks.seed_claims``); none is edited by hand.
+shipped PPO config's run, every baseline beside it; blank where no such file exists).
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
+import importlib
 import re
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
-from . import seed_claims, study_accuracy, study_fixed, study_hairer
 from .common import DOCS, ROOT, read_csv, write_csv
 
 CSV = DOCS / "envs.csv"
-README = ROOT / "README.md"
-TRAINING = DOCS / "training.md"
-BEGIN = "<!-- envs-table: written by `python -m benchmarks.report` from docs/envs.csv -->"
-END = "<!-- /envs-table -->"
-RESULTS_BEGIN = (
-    "<!-- ppo-results: written by `python -m benchmarks.report` from docs/eval_*_ppo.csv -->"
+WRITER = "python -m benchmarks.report"
+
+
+@dataclass(frozen=True)
+class Block:
+    """A block of ``page`` (relative to the repository root) between the markers ``name``,
+    rendered by ``render`` (``module:function`` of this package) from ``source``."""
+
+    page: str
+    name: str
+    source: str
+    render: str
+
+    @property
+    def begin(self) -> str:
+        return f"<!-- {self.name}: written by `{WRITER}` from {self.source} -->"
+
+    @property
+    def end(self) -> str:
+        return f"<!-- /{self.name} -->"
+
+    def text(self) -> str:
+        module, function = self.render.split(":")
+        return getattr(importlib.import_module(f"benchmarks.{module}"), function)()
+
+
+# every block this command writes, by page (one line each: keep it so, merges stay simple)
+BLOCKS = (
+    Block("README.md", "envs-table", "docs/envs.csv", "report:envs_markdown"),
+    Block("docs/training.md", "ppo-results", "docs/eval_*_ppo.csv", "report:results_markdown"),
+    Block("docs/environments.md", "dart-glide", "docs/dart_glide.csv", "report:dart_markdown"),
+    Block("docs/environments.md", "params-table", "each scene's RANGES", "report:params_markdown"),
+    Block("docs/reliability.md", "fuzz-table", "docs/fuzz.csv", "report:fuzz_markdown"),
+    Block("docs/reliability.md", "kill-table", "docs/kill_resume.csv", "report:kill_markdown"),
+    Block("docs/study.md", "cost-table", "docs/study_cost.csv", "study_accuracy:cost_markdown"),
+    Block("docs/study.md", "hairer-table", "docs/study_hairer.csv", "study_hairer:markdown"),
+    Block("docs/study.md", "fixed-table", "docs/study_fixed.csv", "study_fixed:markdown"),
+    Block("docs/benchmarks.md", "kernel-table", "docs/bench_kernel.csv", "bench_kernel:markdown"),
+    Block(
+        "docs/benchmarks.md", "kernel-cost", "docs/bench_kernel.csv", "bench_kernel:cost_markdown"
+    ),
+    Block(
+        "docs/benchmarks.md",
+        "peers-summary",
+        "docs/bench_peers.csv",
+        "bench_peers:summary_markdown",
+    ),
+    Block(
+        "docs/environments.md",
+        "savitsky-steady",
+        "docs/study_savitsky.csv",
+        "study_savitsky:steady_markdown",
+    ),
+    Block(
+        "docs/study_savitsky.md",
+        "savitsky-errors",
+        "docs/study_savitsky_grid.csv",
+        "study_savitsky:grid_markdown",
+    ),
+    Block(
+        "docs/study_savitsky.md",
+        "savitsky-turn",
+        "docs/study_savitsky_turn.csv",
+        "study_savitsky:turn_markdown",
+    ),
+    Block(
+        "docs/study_savitsky.md",
+        "savitsky-cost",
+        "docs/bench_boat.csv",
+        "bench_boat:rules_markdown",
+    ),
+    Block(
+        "docs/study.md", "stability-table", "docs/study_stability.csv", "study_stability:markdown"
+    ),
+    Block("docs/study.md", "contact-table", "docs/study_contact.csv", "study_contact:markdown"),
+    Block(
+        "docs/study.md",
+        "env-integrators-table",
+        "docs/study_env_integrators.csv",
+        "study_env_integrators:markdown",
+    ),
+    Block(
+        "docs/study.md",
+        "defaults-table",
+        "docs/study_stability.csv, study_accuracy.csv",
+        "study_stability:defaults_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-paper-airplane",
+        "docs/study_model_cost.csv",
+        "study_model_cost:paper_airplane_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-speedboat",
+        "docs/study_model_cost.csv",
+        "study_model_cost:speedboat_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-uuv",
+        "docs/study_model_cost.csv",
+        "study_model_cost:uuv_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-buoy",
+        "docs/study_model_cost.csv",
+        "study_model_cost:buoy_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-floor",
+        "docs/study_model_cost.csv",
+        "study_model_cost:floor_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-submarine",
+        "docs/study_model_cost.csv",
+        "study_model_cost:submarine_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-boat",
+        "docs/study_model_cost.csv",
+        "study_model_cost:boat_markdown",
+    ),
+    Block(
+        "docs/study_model_cost.md",
+        "cost-dart",
+        "docs/study_model_cost.csv",
+        "study_model_cost:dart_markdown",
+    ),
+    Block("docs/seed_map.md", "seed-claims", "docs/study_*.csv", "seed_claims:markdown"),
 )
-RESULTS_END = "<!-- /ppo-results -->"
-ENVIRONMENTS = DOCS / "environments.md"
-PARAMS_BEGIN = (
-    "<!-- params-table: written by `python -m benchmarks.report` from each scene's RANGES -->"
-)
-PARAMS_END = "<!-- /params-table -->"
-RELIABILITY = DOCS / "reliability.md"
-FUZZ_CSV = DOCS / "fuzz.csv"
-FUZZ_BEGIN = "<!-- fuzz-table: written by `python -m benchmarks.report` from docs/fuzz.csv -->"
-FUZZ_END = "<!-- /fuzz-table -->"
-KILL_CSV = DOCS / "kill_resume.csv"
-KILL_BEGIN = (
-    "<!-- kill-table: written by `python -m benchmarks.report` from docs/kill_resume.csv -->"
-)
-KILL_END = "<!-- /kill-table -->"
-STUDY = DOCS / "study.md"
-FIXED_BEGIN = (
-    "<!-- fixed-table: written by `python -m benchmarks.report` from docs/study_fixed.csv -->"
-)
-FIXED_END = "<!-- /fixed-table -->"
-HAIRER_BEGIN = (
-    "<!-- hairer-table: written by `python -m benchmarks.report` from docs/study_hairer.csv -->"
-)
-HAIRER_END = "<!-- /hairer-table -->"
-COST_BEGIN = (
-    "<!-- cost-table: written by `python -m benchmarks.report` from docs/study_cost.csv -->"
-)
-COST_END = "<!-- /cost-table -->"
-CLAIMS_BEGIN = (
-    "<!-- seed-claims: written by `python -m benchmarks.report` from docs/study_*.csv -->"
-)
-CLAIMS_END = "<!-- /seed-claims -->"
-SEED_MAP = DOCS / "seed_map.md"
-DART_BEGIN = (
-    "<!-- dart-glide: written by `python -m benchmarks.report` from docs/dart_glide.csv -->"
-)
-DART_END = "<!-- /dart-glide -->"
+# pages written whole by their benchmark from its CSV: page -> renderer (``module:function``)
+PAGES = {
+    "docs/bench_peers.md": "bench_peers:page",
+}
+
 # docs/dart_glide.csv's phugoid sources, as the table names them
 DART_SOURCES = {
     "measured": "measured (speed peaks after a level launch 1 m/s below trim)",
@@ -132,6 +232,7 @@ def _scores(env_id: str) -> dict[str, str]:
     return out
 
 
+@functools.cache
 def rows() -> list[dict[str, str]]:
     from fluidsim_envs.scenes import SCENES
 
@@ -161,6 +262,11 @@ def _interval(mean: str, lo: str, hi: str, percent: bool) -> str:
     form = (lambda x: f"{100.0 * float(x):.0f}") if percent else (lambda x: f"{float(x):.1f}")
     unit = "%" if percent else ""
     return f"{form(mean)}{unit} [{form(lo)}, {form(hi)}]" if lo and hi else f"{form(mean)}{unit}"
+
+
+def envs_markdown() -> str:
+    """The README's table of envs (:func:`rows`)."""
+    return markdown(rows())
 
 
 def markdown(table: list[dict[str, str]]) -> str:
@@ -246,9 +352,9 @@ def params_markdown() -> str:
 
 def fuzz_markdown() -> str:
     """docs/fuzz.csv as a table: each case's steps, divergence rate and the checks."""
-    if not FUZZ_CSV.is_file():
+    if not (DOCS / "fuzz.csv").is_file():
         return "(no docs/fuzz.csv yet: run python -m benchmarks.fuzz)"
-    comments, table = read_csv(FUZZ_CSV)
+    comments, table = read_csv(DOCS / "fuzz.csv")
     lines = [
         "| env | parameters | dtype | integrator | dt (s) | env-steps | episodes | diverged "
         "| non-finite | unflagged runaways | max \\|reward\\| |",
@@ -270,9 +376,9 @@ def fuzz_markdown() -> str:
 def kill_markdown() -> str:
     """docs/kill_resume.csv by kind of kill: trials, those that passed every check, and the
     timesteps lost (the run's checkpoint interval beside them)."""
-    if not KILL_CSV.is_file():
+    if not (DOCS / "kill_resume.csv").is_file():
         return "(no docs/kill_resume.csv yet: run python -m benchmarks.kill_resume)"
-    comments, table = read_csv(KILL_CSV)
+    comments, table = read_csv(DOCS / "kill_resume.csv")
     lines = [
         "| kill | trials | passed every check | resumed past a damaged checkpoint (this "
         "trial's or an earlier one's) "
@@ -328,81 +434,65 @@ def dart_markdown() -> str:
     return "\n".join(lines)
 
 
-def study_page() -> str:
-    """docs/study.md with its generated tables: the cost per body-step, Hairer's table, fixed
-    point."""
-    text = STUDY.read_text()
-    for begin, end, block in (
-        (COST_BEGIN, COST_END, study_accuracy.cost_markdown()),
-        (HAIRER_BEGIN, HAIRER_END, study_hairer.markdown()),
-        (FIXED_BEGIN, FIXED_END, study_fixed.markdown()),
-    ):
-        text = with_block(text, begin, end, block, STUDY)
-    return text
-
-
 def with_block(text: str, begin: str, end: str, block: str, where: Path) -> str:
-    """``text`` with what lies between the markers ``begin`` and ``end`` replaced."""
+    """``text`` with what lies between the markers ``begin`` and ``end`` replaced; a block
+    whose begin marker is indented (inside a list item) is indented as deep."""
     if begin not in text or end not in text:
         raise SystemExit(f"{where}: the markers {begin!r} ... {end!r} are missing")
     head, rest = text.split(begin, 1)
     _, tail = rest.split(end, 1)
-    return f"{head}{begin}\n{block}\n{end}{tail}"
+    indent = head[head.rfind("\n") + 1 :]
+    if indent.strip():
+        indent = ""
+    block = "\n".join(f"{indent}{line}" if line else line for line in block.split("\n"))
+    return f"{head}{begin}\n{block}\n{indent}{end}{tail}"
+
+
+def pages() -> dict[Path, str]:
+    """Every page this command writes, as it should read."""
+    out = {}
+    for block in BLOCKS:
+        path = ROOT / block.page
+        text = out.get(path, path.read_text() if path.is_file() else "")
+        out[path] = with_block(text, block.begin, block.end, block.text(), path)
+    for page, render in PAGES.items():
+        module, function = render.split(":")
+        out[ROOT / page] = getattr(importlib.import_module(f"benchmarks.{module}"), function)()
+    return out
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
-        prog="python -m benchmarks.report",
+        prog=f"{WRITER}",
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--check", action="store_true", help="only check, write nothing")
+    parser.add_argument("--list", action="store_true", help="list the blocks and pages")
     args = parser.parse_args(argv)
+    if args.list:
+        for b in BLOCKS:
+            print(f"{b.page:24s} {b.name:22s} {b.source:34s} {b.render}")
+        for page, render in PAGES.items():
+            print(f"{page:24s} {'(whole page)':22s} {'':34s} {render}")
+        return 0
     table = rows()
-    pages = {
-        README: with_block(README.read_text(), BEGIN, END, markdown(table), README),
-        TRAINING: with_block(
-            TRAINING.read_text(), RESULTS_BEGIN, RESULTS_END, results_markdown(), TRAINING
-        ),
-        ENVIRONMENTS: with_block(
-            with_block(
-                ENVIRONMENTS.read_text(), PARAMS_BEGIN, PARAMS_END, params_markdown(), ENVIRONMENTS
-            ),
-            DART_BEGIN,
-            DART_END,
-            dart_markdown(),
-            ENVIRONMENTS,
-        ),
-        RELIABILITY: with_block(
-            with_block(RELIABILITY.read_text(), FUZZ_BEGIN, FUZZ_END, fuzz_markdown(), RELIABILITY),
-            KILL_BEGIN,
-            KILL_END,
-            kill_markdown(),
-            RELIABILITY,
-        ),
-        STUDY: study_page(),
-        SEED_MAP: with_block(
-            SEED_MAP.read_text(), CLAIMS_BEGIN, CLAIMS_END, seed_claims.markdown(), SEED_MAP
-        ),
-    }
+    written = pages()
     if args.check:
         _, on_disk = read_csv(CSV) if CSV.is_file() else ([], [])
         checks = [("docs/envs.csv", on_disk == table)]
-        checks += [(p.relative_to(ROOT), text == p.read_text()) for p, text in pages.items()]
+        checks += [(p.relative_to(ROOT), text == p.read_text()) for p, text in written.items()]
         stale = [str(name) for name, ok in checks if not ok]
         if stale:
-            print(f"out of date: {', '.join(stale)}; run python -m benchmarks.report")
+            print(f"out of date: {', '.join(stale)}; run {WRITER}")
             return 1
         return 0
     write_csv(CSV, COLUMNS, ([r[c] for c in COLUMNS] for r in table))
-    for path, text in pages.items():
-        path.write_text(text)
-    print(markdown(table))
-    print(results_markdown())
-    print(
-        f"written: {CSV.relative_to(ROOT)}, README.md, docs/training.md, docs/environments.md, "
-        "docs/reliability.md, docs/study.md, docs/seed_map.md"
-    )
+    changed = [p for p, text in written.items() if text != p.read_text()]
+    for path in changed:
+        path.write_text(written[path])
+    names = ", ".join(str(p.relative_to(ROOT)) for p in changed) or "nothing changed"
+    print(f"written: {CSV.relative_to(ROOT)}; {names}")
     return 0
 
 

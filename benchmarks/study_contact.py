@@ -247,5 +247,27 @@ def main() -> None:
     print(f"wrote {out}/study_contact.csv and .png in {time.perf_counter() - t_start:.0f} s")
 
 
+def markdown(path=None) -> str:
+    """docs/study.md's table from docs/study_contact.csv: per integrator and passes, the
+    largest dt of the sweep at and below which every run of each scene held."""
+    from benchmarks.common import DOCS, read_csv
+
+    path = DOCS / "study_contact.csv" if path is None else path
+    if not path.is_file():
+        return "(no docs/study_contact.csv yet: run python -m benchmarks.study_contact)"
+    rows = read_csv(path)[1]
+    scenes_ = list(dict.fromkeys(r["scene"] for r in rows))
+    limit = {(r["scene"], r["integrator"], r["passes"]): float(r["holds_up_to_dt_s"]) for r in rows}
+    lines = [
+        "| integrator, passes | " + " | ".join(scenes_) + " |",
+        "|---|" + "---:|" * len(scenes_),
+    ]
+    for integrator, passes in dict.fromkeys((r["integrator"], r["passes"]) for r in rows):
+        cells = [limit[name, integrator, passes] for name in scenes_]
+        text = ["never" if math.isnan(x) else f"1/{round(1 / x)} s" for x in cells]
+        lines.append(f"| {integrator}, {passes} | " + " | ".join(text) + " |")
+    return "\n".join(lines)
+
+
 if __name__ == "__main__":
     main()

@@ -63,10 +63,14 @@ episode is its result (later episodes in that sub-env are run but ignored).
    or parallel kernel by E x bodies (parallel from 1024: only ``boat_buoys`` at E = 256).
 
 Writes ``docs/study_env_integrators.csv`` (one row per scene and configuration; ``#`` lines
-describing the machine, the method and the checks) and prints a table::
+describing the machine, the method and the checks) and ``docs/study_env_integrators.png``
+(each configuration's compute, force evaluations per action, against its position error, one
+panel per scene: :func:`plot`), and prints a table; :func:`markdown` is docs/study.md's table
+(``python -m benchmarks.report`` writes it)::
 
     python -m benchmarks.study_env_integrators           # 256 episodes: 284 s on 2 shared cores
     python -m benchmarks.study_env_integrators --quick   # 8 episodes, ~30 s, into build/study_quick
+    python -m benchmarks.study_env_integrators --plot-only   # the chart again from the CSV
 """
 
 from __future__ import annotations
@@ -77,7 +81,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from benchmarks.common import arguments, describe, out_dir, write_csv
+from benchmarks.common import DOCS, arguments, describe, out_dir, read_csv, write_csv
 from fluidsim_envs.envs import BoatOnStepVectorEnv, PaperAirplaneVectorEnv, SubmarineWakeVectorEnv
 from fluidsim_envs.physics.kernels import EVALS_PER_STEP
 from fluidsim_envs.rl.evaluate import scripted_pilot
@@ -396,8 +400,12 @@ def main() -> None:
     parser.add_argument("--check-envs", type=int, default=None, help="sub-envs of the checks")
     parser.add_argument("--seed", type=int, default=0, help="reset seed of the episodes")
     parser.add_argument("--scenes", default=None, help="comma-separated subset of the scenes")
+    parser.add_argument("--plot-only", action="store_true", help="redraw the chart from the CSV")
     args = parser.parse_args()
     out = out_dir(args.out, args.quick)
+    if args.plot_only:
+        plot(read_rows(out / "study_env_integrators.csv"), out / "study_env_integrators.png")
+        return
     episodes = args.episodes or (8 if args.quick else 256)
     check_envs = min(episodes, args.check_envs or (4 if args.quick else 32))
     scenes = SCENES
@@ -510,7 +518,146 @@ def main() -> None:
     header = list(dict.fromkeys(k for r in rows for k in r))
     path = out / "study_env_integrators.csv"
     write_csv(path, header, [[fmt(r.get(k, "")) for k in header] for r in rows], machine + notes)
-    print(f"wrote {path} in {time.perf_counter() - t_start:.0f} s")
+    plot(read_rows(path), out / "study_env_integrators.png")
+    print(f"wrote {path} and its chart in {time.perf_counter() - t_start:.0f} s")
+
+
+# ---- the docs -----------------------------------------------------------------------------------
+
+# docs/study.md's table: each scene's label there, and whether it shows the dt/2 yardstick
+TABLE_SCENES = {
+    "paper_airplane": ("PaperAirplane-v0", True),
+    "submarine_wake": ("SubmarineWake-v0", True),
+    "submarine_nowake": ("(wake off)", False),
+    "boat_on_step": ("BoatOnStep-v0", True),
+    "boat_swell": ("(two-wave swell)", False),
+    "boat_buoys": ("(buoy bodies)", False),
+}
+INTEGRATOR_NAMES = {"symplectic_euler": "symplectic Euler", "rk2": "rk2", "rk4": "rk4"}
+
+
+def read_rows(path) -> list[dict]:
+    """The CSV's rows, numbers as floats (NaN where blank), flags as bools."""
+    rows = read_csv(path)[1]
+    for r in rows:
+        for k, x in r.items():
+            if x in ("True", "False"):
+                r[k] = x == "True"
+            elif k not in ("scene", "env_id", "env_kwargs", "config", "integrator"):
+                try:
+                    r[k] = float(x) if x != "" else math.nan
+                except ValueError:
+                    pass
+    return rows
+
+
+def sci(x: float) -> str:
+    """An error as the table shows it: 2 digits, ``1.5e-2`` below 0.1."""
+    if math.isnan(x):
+        return ""
+    if x < 0.1:
+        return f"{x:.1e}".replace("e-0", "e-")
+    return f"{x:.2f}" if x < 1 else f"{x:.1f}" if x < 10 else f"{x:.0f}"
+
+
+def markdown(path=None) -> str:
+    """docs/study.md's table from docs/study_env_integrators.csv: per scene the first default,
+    the env's default (bold) and symplectic Euler at half the dt (the yardstick, main scenes
+    only): force evaluations per action, the open-loop position error against the reference
+    (median / 90th percentile) at 1, 3 and 10 s and at the episode's end, and the pilot's
+    closed-loop success."""
+    path = DOCS / "study_env_integrators.csv" if path is None else path
+    if not path.is_file():
+        return "(no docs/study_env_integrators.csv yet: run the study: module docstring)"
+    rows = read_rows(path)
+    hz = ("1s", "3s", "10s", "end")
+    lines = [
+        "| scene | configuration | evaluations per action | error at 1 s (m) | at 3 s | at 10 s "
+        "| at episode end | pilot success |",
+        "|---|---|---:|---:|---:|---:|---:|---:|",
+    ]
+    for scene, (label, yardstick) in TABLE_SCENES.items():
+        mine = [r for r in rows if r["scene"] == scene]
+        first = next((r for r in mine if r["config"] == "symplectic_euler, dt"), None)
+        if first is None:
+            continue
+        shown = [first, *(r for r in mine if r["env_default"])]
+        if yardstick:
+            shown += [r for r in mine if r["config"] == "symplectic_euler, dt/2"]
+        for i, r in enumerate(shown):
+            name = f"{INTEGRATOR_NAMES[r['integrator']]}, 1/{1 / r['dt_s']:.0f} s"
+            name = f"**{name}**" if r["env_default"] and yardstick else name
+            errs = [
+                f"{sci(r[f'err_{h}_median_m'])} / {sci(r[f'err_{h}_p90_m'])}"
+                if r[f"n_{h}"] > 0 else ""
+                for h in hz
+            ]  # fmt: skip
+            lines.append(
+                f"| {label if i == 0 else ''} | {name} | {r['evals_per_action']:.0f} | "
+                + " | ".join(errs)
+                + f" | {100 * r['success_rate']:.1f}% |"
+            )
+    return "\n".join(lines)
+
+
+def plot(rows: list[dict], path) -> None:
+    """Compute (force evaluations per action) against the open-loop position error, one panel
+    per scene: each configuration's median error at 1 s (filled) and at the episode's end
+    (open), the bar up to the 90th percentile; the env's default ringed."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    scenes_ = list(dict.fromkeys(r["scene"] for r in rows))
+    cols = 3
+    fig, axes = plt.subplots(
+        math.ceil(len(scenes_) / cols), cols, figsize=(15, 4.2 * math.ceil(len(scenes_) / cols)),
+        squeeze=False,
+    )  # fmt: skip
+    colors = {"symplectic_euler": "tab:blue", "rk2": "tab:orange", "rk4": "tab:green"}
+    for ax, scene in zip(axes.flat, scenes_, strict=False):
+        for r in (r for r in rows if r["scene"] == scene and not r["reference"]):
+            x, c = r["evals_per_action"], colors.get(r["integrator"], "k")
+            for h, face in (("1s", c), ("end", "none")):
+                med, p90 = r[f"err_{h}_median_m"], r[f"err_{h}_p90_m"]
+                if not (med > 0):
+                    continue
+                ax.errorbar(x, med, yerr=[[0.0], [max(p90 - med, 0.0)]], fmt="o", color=c,
+                            mfc=face, ms=7, capsize=3)  # fmt: skip
+            if r["env_default"] and r["err_1s_median_m"] > 0:
+                ax.plot(x, r["err_1s_median_m"], "o", ms=15, mfc="none", mec="k")
+            ax.annotate(r["config"], (x, r["err_1s_median_m"]), fontsize=7,
+                        xytext=(6, -3), textcoords="offset points")  # fmt: skip
+        label = TABLE_SCENES.get(scene, (scene,))[0]
+        ax.set_title(f"{scene}: {label}" if label != scene else scene, fontsize=10)
+        ax.set_xscale("log", base=2)
+        ax.set_yscale("log")
+        evals = sorted({r["evals_per_action"] for r in rows if r["scene"] == scene})
+        ax.set_xticks(evals, [f"{x:.0f}" for x in evals])
+        ax.minorticks_off()
+        ax.set_xlabel("force evaluations per action (compute)")
+        ax.set_ylabel("position error vs reference (m)")
+        ax.grid(True, which="both", alpha=0.3)
+    for ax in list(axes.flat)[len(scenes_) :]:
+        ax.axis("off")
+    handles = [
+        plt.Line2D([], [], color=c, marker="o", ls="", label=m) for m, c in colors.items()
+    ] + [
+        plt.Line2D([], [], color="0.3", marker="o", ls="", label="median at 1 s (bar: p90)"),
+        plt.Line2D([], [], color="0.3", marker="o", mfc="none", ls="",
+                   label="median at episode end"),
+        plt.Line2D([], [], color="k", marker="o", ms=12, mfc="none", ls="", label="env default"),
+    ]  # fmt: skip
+    fig.legend(handles=handles, loc="lower center", ncol=6, fontsize=8)
+    fig.suptitle(
+        "Integrators in the envs: compute against open-loop error, pilot actions replayed "
+        "(python -m benchmarks.study_env_integrators)"
+    )
+    fig.tight_layout(rect=(0, 0.04, 1, 0.97))
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    print(f"wrote {path}")
 
 
 if __name__ == "__main__":

@@ -77,6 +77,7 @@ from benchmarks.common import (
     interleaved_best,
     load_average,
     out_dir,
+    prose,
     rate_over,
     timed,
     write_csv,
@@ -713,6 +714,184 @@ def main() -> None:
         f"\nwrote {out / 'study_model_cost.csv'}, {out / 'study_model_cost.png'} "
         f"in {time.perf_counter() - t_start:.0f} s"
     )
+
+
+# ---- the docs' tables (docs/study_model_cost.md, from the CSV) -------------------------------
+
+# the craft tables' own columns: quantity -> title
+QUANTITY_TITLES = {
+    "glide_ratio": "glide ratio", "final_speed": "final speed (m/s)",
+    "top_speed": "top speed (m/s)", "final_trim": "final trim (°)",
+    "depth_change": "depth change (m)", "heading_change": "heading change (°)",
+    "heave_left": "heave left (m)", "drift": "drift (m)",
+}  # fmt: skip
+# the scene tables: scene -> (column title, quantity, format) after the rates
+SCENE_COLUMNS = {
+    "SubmarineWake-v0": (
+        ("return", "return_mean", ".1f"), ("success", "success", "%"),
+        ("time on station", "on_station_fraction", "%"),
+        ("mean station error (m)", "station_error_mean", ".2f"),
+        ("crash or lost", "crash_or_lost", "%0"),
+    ),
+    "BoatOnStep-v0": (
+        ("return", "return_mean", ".1f"), ("success", "success", "%"),
+        ("gates passed", "gates_passed_mean", ".2f"),
+        ("porpoising", "porpoising_fraction", "%"), ("crash", "crash", "%"),
+        ("episodes touching a buoy", "episodes_hitting_a_buoy", "%"),
+        ("buoy contact steps", "buoy_contact_steps_mean", ".2f"),
+    ),
+}  # fmt: skip
+
+
+def _csv_rows(path=None) -> list | None:
+    from benchmarks.common import DOCS, read_csv
+
+    path = DOCS / "study_model_cost.csv" if path is None else path
+    if not path.is_file():
+        return None
+    return [(r["part"], r["subject"], r["variant"], r["quantity"], float(r["value"]), r["unit"])
+            for r in read_csv(path)[1]]  # fmt: skip
+
+
+def _g3(x: float) -> str:
+    """Three significant digits, trailing zeros kept (0.100), a bare 0 for zero."""
+    if x == 0:
+        return "0"
+    if not math.isfinite(x):
+        return "diverged"
+    return f"{x:#.3g}".rstrip(".")
+
+
+def craft_markdown(craft: str) -> str:
+    """One craft's table: each group left out, its cost and what it changes."""
+    rows = _csv_rows()
+    if rows is None:
+        return "(no docs/study_model_cost.csv yet: run python -m benchmarks.study_model_cost)"
+    v = lookup(rows)
+    variants = list(dict.fromkeys(r[2] for r in rows if r[:2] == ("craft", craft)))
+    qs = [r[3] for r in rows if r[:3] == ("craft", craft, "full")][5:]
+    lines = [
+        "| left out | samples | ns per body-step | share of full | position diff (m) | "
+        "attitude diff (°) | " + " | ".join(QUANTITY_TITLES.get(q, q) for q in qs) + " |",
+        "|---|" + "---:|" * (5 + len(qs)),
+    ]
+    for label in variants:
+        k = ("craft", craft, label)
+        cells = [
+            f"{v[(*k, 'samples')]:.0f}",
+            f"{v[(*k, 'ns_per_body_step')]:.1f}",
+            f"{100 * v[(*k, 'share_of_full_cost')]:.0f}%",
+            _g3(v[(*k, "final_pos_diff")]),
+            _g3(v[(*k, "final_att_diff")]),
+        ] + [_g3(v[(*k, q)]) if (*k, q) in v else "diverged" for q in qs]
+        name = "nothing (full)" if label == "full" else label.removeprefix("without ")
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def floor_markdown() -> str:
+    """The dart's floor contact: ns per body-step with and without the floor, per window."""
+    rows = _csv_rows()
+    if rows is None:
+        return "(no docs/study_model_cost.csv yet: run python -m benchmarks.study_model_cost)"
+    v = lookup(rows)
+    windows = {"airborne 1 s": "first 1 s, airborne",
+               "glide and landing 6 s": "whole 6 s: glide, touchdown, slide, rest"}  # fmt: skip
+    lines = [
+        "| window | floor (ns per body-step) | no floor | floor / no floor |",
+        "|---|---:|---:|---:|",
+    ]
+    for key, name in windows.items():
+        floor = v[("floor", "paper_airplane", "floor", f"ns_per_body_step, {key}")]
+        bare = v[("floor", "paper_airplane", "no floor", f"ns_per_body_step, {key}")]
+        ratio = v[("floor", "paper_airplane", "floor", f"cost_vs_no_floor, {key}")]
+        lines.append(f"| {name} | {floor:.1f} | {bare:.1f} | {ratio:.2f} |")
+    crossing = v[("floor", "paper_airplane", "no floor", "crossing_time")]
+    rest = v[("floor", "paper_airplane", "floor", "rest_vs_floorless_crossing")]
+    lines += [
+        "",
+        f"Without the floor the dart passes its resting height at {crossing:.2f} s; with it, "
+        f"the dart comes to rest {rest:.2f} m from that point (bounce and slide).",
+    ]
+    return "\n".join(lines)
+
+
+def scene_markdown(scene: str) -> str:
+    """One scene's table: env-steps/s of each variant on 1 and 2 threads and the pilot's
+    task metrics."""
+    rows = _csv_rows()
+    if rows is None:
+        return "(no docs/study_model_cost.csv yet: run python -m benchmarks.study_model_cost)"
+    v = lookup(rows)
+    cols = SCENE_COLUMNS[scene]
+    variants = list(dict.fromkeys(r[2] for r in rows if r[:2] == ("scene", scene)))
+    lines = [
+        "| variant | env-steps/s, 1 thread | vs default | 2 threads | "
+        + " | ".join(title for title, _, _ in cols)
+        + " |",
+        "|---|" + "---:|" * (3 + len(cols)),
+    ]
+
+    def rate(x: float) -> str:
+        return f"{float(f'{x:.4g}'):,.0f}"
+
+    for label in variants:
+        k = ("scene", scene, label)
+        one = v.get((*k, "env_steps_per_s, 1 thread"), math.nan)
+        cells = [
+            rate(one), f"{v.get((*k, 'rate_vs_default, 1 thread'), math.nan):.3g}",
+            rate(v.get((*k, "env_steps_per_s, 2 threads"), math.nan)),
+        ]  # fmt: skip
+        for _, q, form in cols:
+            x = v.get((*k, q))
+            if x is None:
+                cells.append("")
+            elif form.startswith("%"):
+                cells.append(f"{100 * x:.{form[1:] or '1'}f}%")
+            else:
+                cells.append(f"{x:{form}}")
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def dart_markdown() -> str:
+    """PaperAirplane-v0 as shipped: its rate and its pilot's task metrics."""
+    rows = _csv_rows()
+    if rows is None:
+        return "(no docs/study_model_cost.csv yet: run python -m benchmarks.study_model_cost)"
+    v = lookup(rows)
+    k = ("scene", "PaperAirplane-v0", "floor (default)")
+    one, two = (float(f"{v[(*k, f'env_steps_per_s, {t}')]:.4g}") for t in ("1 thread", "2 threads"))
+    return prose(
+        f"**PaperAirplane-v0** (as shipped, with its floor): {one:,.0f} env-steps/s on one "
+        f"thread ({two:,.0f} on two); pilot return {v[(*k, 'return_mean')]:.2f}, landed "
+        f"{100 * v[(*k, 'landed')]:.1f}%, success {100 * v[(*k, 'success')]:.1f}%, mean miss "
+        f"{v[(*k, 'miss_mean')]:.2f} m."
+    )
+
+
+def paper_airplane_markdown() -> str:
+    return craft_markdown("paper_airplane")
+
+
+def speedboat_markdown() -> str:
+    return craft_markdown("speedboat")
+
+
+def uuv_markdown() -> str:
+    return craft_markdown("uuv")
+
+
+def buoy_markdown() -> str:
+    return craft_markdown("buoy")
+
+
+def submarine_markdown() -> str:
+    return scene_markdown("SubmarineWake-v0")
+
+
+def boat_markdown() -> str:
+    return scene_markdown("BoatOnStep-v0")
 
 
 if __name__ == "__main__":

@@ -47,7 +47,16 @@ from dataclasses import replace
 
 import numpy as np
 
-from benchmarks.common import arguments, describe, fmt, out_dir, write_csv
+from benchmarks.common import (
+    DOCS,
+    arguments,
+    describe,
+    fmt,
+    out_dir,
+    prose,
+    read_csv,
+    write_csv,
+)
 from fluidsim_envs.craft.hull import HULLS as SHIPPED
 from fluidsim_envs.craft.hull import VHull, speedboat_toml
 from fluidsim_envs.physics import Craft, Simulator, World
@@ -101,8 +110,27 @@ def craft_of(hull: VHull) -> Craft:
     return Craft.from_dict(tomllib.loads(speedboat_toml(hull)), f"VHull {hull.friction}")
 
 
-def steady_runs(craft: Craft, thrust_n: np.ndarray) -> dict[str, np.ndarray]:
-    """Speed, mean trim and the trim's peak-to-peak over the last window, each [E]."""
+def wetted_length_m(hull: VHull, pos_z: np.ndarray, quat: np.ndarray) -> np.ndarray:
+    """Mean wetted length [E] (m): the average of the keel's and the chine's wetted lengths
+    (Savitsky's lambda times the beam), each from the transom to where that line of the hull
+    (with its rise toward the bow) comes out of the water; ``pos_z`` [E], ``quat`` [E, 4]."""
+    s = np.linspace(0.0, hull.length_m, 501)
+    rot = quat_matrices(np.ascontiguousarray(quat))
+    wet = []
+    for side in (0.0, 1.0):  # keel, port chine
+        pts = []
+        for x in s:
+            half, rise, beta = hull.station(x)
+            pts.append((x - hull.lcg_m, side * half, rise + side * half * math.tan(beta)))
+        pts = np.array(pts) - (0.0, 0.0, hull.vcg_m)
+        z = pos_z[:, None] + np.einsum("ej,nj->en", rot[:, 2, :], pts)
+        wet.append(np.where(z < 0.0, s[None, :], 0.0).max(axis=1))
+    return 0.5 * (wet[0] + wet[1])
+
+
+def steady_runs(craft: Craft, thrust_n: np.ndarray, hull: VHull) -> dict[str, np.ndarray]:
+    """Speed, mean trim, the trim's peak-to-peak and the CG's mean rise from its floating
+    height over the last window, and the wetted length at the end, each [E]."""
     E = len(thrust_n)
     (prop,) = craft.thrusters
     sim = Simulator(craft, WORLD, num_envs=E, dt=DT)
@@ -113,16 +141,19 @@ def steady_runs(craft: Craft, thrust_n: np.ndarray) -> dict[str, np.ndarray]:
     ctrl[:, 2] = -1.0  # tabs flush
     n, window = int(round(SECONDS / DT)), int(round(WINDOW_S / DT))
     sim.step(ctrl, steps=n - window)
-    trims = []
+    trims, heights = [], []
     for _ in range(window // 4):
         sim.step(ctrl, steps=4)
         rot = quat_matrices(np.ascontiguousarray(sim.quat[:, 0]))
         trims.append(np.degrees(np.arcsin(np.clip(rot[:, 2, 0], -1, 1))))
+        heights.append(sim.pos[:, 0, 2].copy())
     trims = np.array(trims)
     return dict(
         speed=np.linalg.norm(sim.lin_vel[:, 0], axis=1),
         trim=trims.mean(axis=0),
         trim_ptp=np.ptp(trims, axis=0),
+        cg_rise=np.mean(heights, axis=0) - height,
+        wetted=wetted_length_m(hull, sim.pos[:, 0, 2], sim.quat[:, 0]),
     )
 
 
@@ -130,6 +161,7 @@ HEADER = (
     "hull", "thrust_n", "speed_mps", "cv", "fnv", "region", "trim_deg", "trim_ptp_deg",
     "porpoising", "savitsky_in_range", "savitsky_trim_deg", "trim_error_deg", "rw",
     "savitsky_rw", "rw_error_rel", "sqrt_cl_half", "critical_trim_deg", "chart_range",
+    "cg_rise_m", "wetted_length_m",
 )  # fmt: skip
 
 
@@ -144,12 +176,14 @@ def _savitsky(ref: PrismaticHull, speed: float):
 
 
 def rows_of(name: str, hull: VHull, thrust: np.ndarray) -> list[tuple]:
-    runs = steady_runs(craft_of(hull), thrust)
+    runs = steady_runs(craft_of(hull), thrust, hull)
     ref, weight = of_hull(hull), hull.mass_kg * WORLD.gravity_mps2
     vol = hull.mass_kg / WORLD.water_density_kgm3
     g, rho, b = WORLD.gravity_mps2, WORLD.water_density_kgm3, hull.chine_beam_m
     rows = []
-    for t, v, trim, ptp in zip(thrust, runs["speed"], runs["trim"], runs["trim_ptp"], strict=True):
+    for t, v, trim, ptp, rise, wet in zip(
+        thrust, *(runs[k] for k in ("speed", "trim", "trim_ptp", "cg_rise", "wetted")), strict=True
+    ):
         v = float(v)
         fnv = v / math.sqrt(g * vol ** (1 / 3))
         lo, hi = FNV_TRANSITION
@@ -166,6 +200,7 @@ def rows_of(name: str, hull: VHull, thrust: np.ndarray) -> list[tuple]:
             bool(ptp > PORPOISE_PTP_DEG), ok, s.trim_deg if ok else nan,
             float(trim) - s.trim_deg if ok else nan, rw, s.resistance_over_weight if ok else nan,
             rw / s.resistance_over_weight - 1.0 if ok else nan, x, crit, in_chart,
+            float(rise), float(wet),
         ))  # fmt: skip
     return rows
 
@@ -340,6 +375,136 @@ def main() -> None:
     )
     plot(rows, out / "study_savitsky.png")
     print(f"wrote {path}, study_savitsky_grid.csv, study_savitsky_turn.csv, study_savitsky.png")
+
+
+# ---- the docs -------------------------------------------------------------------------------
+
+# how the docs name each hull (the first two: the shipped ones)
+LABELS = {
+    "friction plates": "friction plates (first: `speedboat`)",
+    "one-sided": "one-sided",
+    "ittc friction": "ITTC friction (`speedboat_ittc`)",
+    "one-sided + ittc friction": "one-sided + ITTC friction",
+}
+# the thrusts (N) of docs/environments.md's table of the shipped hull's steady runs
+STEADY_TABLE_N = (0, 600, 900, 1200, 1500, 1800, 2100, 3000)
+
+
+def _read(name: str) -> list[dict] | None:
+    path = DOCS / name
+    if not path.is_file():
+        return None
+    rows = read_csv(path)[1]
+    for r in rows:
+        for k, x in r.items():
+            if x in ("True", "False"):
+                r[k] = x == "True"
+            elif k not in ("hull", "region"):
+                r[k] = float(x)
+    return rows
+
+
+def _num(x: float, digits: int) -> str:
+    """``x`` to ``digits`` decimals, a bare 0 where it rounds to zero, blank where NaN."""
+    if math.isnan(x):
+        return ""
+    return "0" if abs(x) < 0.5 * 10.0**-digits else f"{x:.{digits}f}"
+
+
+def steady_markdown() -> str:
+    """docs/environments.md's table: the shipped hull's steady runs at some thrusts beside
+    Savitsky's trim and R/W (blank where his method is not valid), from
+    docs/study_savitsky.csv; the largest trim in bold."""
+    rows = _read("study_savitsky.csv")
+    if rows is None:
+        return "(no docs/study_savitsky.csv yet: run python -m benchmarks.study_savitsky)"
+    runs = {r["thrust_n"]: r for r in rows if r["hull"] == "friction plates"}
+    peak = max(r["trim_deg"] for r in runs.values() if not r["porpoising"])
+    lines = [
+        "| thrust (N) | speed (m/s) | FnV | trim (deg) | Savitsky | R/W | Savitsky | CG rise (m) "
+        "| wetted length (m) |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for thrust in STEADY_TABLE_N:
+        r = runs[float(thrust)]
+        trim = _num(r["trim_deg"], 2)
+        trim = f"**{trim}**" if r["trim_deg"] == peak else trim
+        trim += " (porpoising)" if r["porpoising"] else ""
+        cells = (
+            _num(r["speed_mps"], 1), _num(r["fnv"], 2), trim, _num(r["savitsky_trim_deg"], 2),
+            _num(r["rw"], 3), _num(r["savitsky_rw"], 3), _num(r["cg_rise_m"], 3),
+            _num(r["wetted_length_m"], 2),
+        )  # fmt: skip
+        lines.append(f"| {thrust} | " + " | ".join(cells) + " |")
+    lines += [
+        "",
+        prose(
+            "(Savitsky blank: outside his method's range there; porpoising: the trim swings "
+            f"more than {PORPOISE_PTP_DEG} deg over the last {WINDOW_S:g} s. From "
+            "[study_savitsky.csv](study_savitsky.csv), `python -m benchmarks.study_savitsky`.)"
+        ),
+    ]
+    return "\n".join(lines)
+
+
+def grid_markdown() -> str:
+    """docs/study_savitsky.md's table of each hull's errors against Savitsky on the common
+    speeds (docs/study_savitsky_grid.csv) and its porpoising onset (study_savitsky.csv)."""
+    grid, rows = _read("study_savitsky_grid.csv"), _read("study_savitsky.csv")
+    if grid is None or rows is None:
+        return "(no docs/study_savitsky_grid.csv yet: run python -m benchmarks.study_savitsky)"
+    cols = ("hull", "speed_mps", "fnv", "region", "trim_deg", "savitsky_trim_deg",
+            "trim_error_deg", "rw", "savitsky_rw", "rw_error_rel")  # fmt: skip
+    assert cols == GRID_HEADER
+    lines = [
+        "| hull | trim rms, all valid (deg) | R/W rms, all valid | trim rms, planing (deg) "
+        "| trim max, planing | R/W rms, planing | R/W max, planing | porpoising from |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for name in dict.fromkeys(r["hull"] for r in grid):
+        g = grid_summary([tuple(r[c] for c in cols) for r in grid if r["hull"] == name])
+        onset = min(
+            (r["speed_mps"] for r in rows if r["hull"] == name and r["porpoising"]
+             and r["speed_mps"] > 10.0),
+            default=math.nan,
+        )  # fmt: skip
+        lines.append(
+            f"| {LABELS.get(name, name)} | {g['valid_trim_rms_deg']:.3f} | "
+            f"{100 * g['valid_rw_rms']:.1f}% | {g['planing_trim_rms_deg']:.3f} | "
+            f"{g['planing_trim_max_deg']:.3f} | {100 * g['planing_rw_rms']:.1f}% | "
+            f"{100 * g['planing_rw_max']:.1f}% | {onset:.1f} m/s |"
+        )
+    n = {k: sum(1 for r in grid if r["hull"] == next(iter(LABELS)) and k(r))
+         for k in (lambda r: True, lambda r: r["region"] == "planing")}  # fmt: skip
+    total, planing = n.values()
+    note = (
+        f"Planing is Fn_V above {FNV_TRANSITION[1]} ({total} common speeds in all, {planing} "
+        f"planing); the transition (shaded on the chart) is Fn_V {FNV_TRANSITION[0]:g} to "
+        f"{FNV_TRANSITION[1]}: planing hulls beat displacement hulls above Fn_V = "
+        f"{FNV_TRANSITION[0]:g} and plane fully around 3-3.5 (Radojcic et al., Polish Maritime "
+        "Research 2(82), 2014)."
+    )
+    lines += ["", prose(note)]
+    return "\n".join(lines)
+
+
+def turn_markdown() -> str:
+    """docs/study_savitsky.md's table of each hull hard over at 15 m/s, from
+    docs/study_savitsky_turn.csv."""
+    turns = _read("study_savitsky_turn.csv")
+    if turns is None:
+        return "(no docs/study_savitsky_turn.csv yet: run python -m benchmarks.study_savitsky)"
+    lines = [
+        "| hull | heel (deg) | yaw rate mean (rad/s) | yaw rate swing (rad/s) |",
+        "|---|---|---:|---:|",
+    ]
+    for r in turns:
+        label = LABELS.get(r["hull"], r["hull"]).replace("first: ", "")
+        lines.append(
+            f"| {label} | {r['heel_min_deg']:.1f} to {r['heel_max_deg']:.1f} | "
+            f"{r['yaw_rate_mean_rps']:.3f} | {r['yaw_rate_ptp_rps']:.3f} |"
+        )
+    return "\n".join(lines)
 
 
 if __name__ == "__main__":

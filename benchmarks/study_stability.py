@@ -536,5 +536,112 @@ def main() -> None:
     print(f"wrote {out}/study_stability*.csv and 6 charts in {time.perf_counter() - t_start:.0f} s")
 
 
+# ---- the docs -------------------------------------------------------------------------------
+
+# docs/study.md's stability table: its rows (problems) and columns (the first six integrators)
+TABLE_PROBLEMS = ("projectile", "spring", "kepler", "torque_free", *CRAFTS)
+TABLE_INTEGRATORS = (
+    "explicit_euler", "symplectic_euler", "velocity_verlet", "rk2", "rk4", "verlet_tetra",
+)  # fmt: skip
+# docs/study.md's Reading table: each env's craft in the studies
+ENV_CRAFTS = {
+    "PaperAirplane-v0": "paper_airplane",
+    "BoatOnStep-v0": "speedboat",
+    "SubmarineWake-v0": "uuv",
+}
+
+
+def markdown(path=None) -> str:
+    """docs/study.md's table of the largest bounded dt, from docs/study_stability.csv (float64;
+    says whether float32's limits are the same to the digits shown)."""
+    from benchmarks.common import DOCS, read_csv
+
+    path = DOCS / "study_stability.csv" if path is None else path
+    if not path.is_file():
+        return "(no docs/study_stability.csv yet: run python -m benchmarks.study_stability)"
+    by = {(r["problem"], r["integrator"], r["dtype"]): r for r in read_csv(path)[1]}
+
+    def cell(r: dict) -> str:
+        at_ceiling = "≥ " if float(r["dt_unbounded_s"]) == math.inf else ""
+        return (
+            f"{at_ceiling}{float(r['dt_bounded_s']):.3g} s "
+            f"({float(r['bounded_over_nominal']):.3g}×)"
+        )
+
+    lines = [
+        "| problem (nominal dt) | " + " | ".join(TABLE_INTEGRATORS) + " |",
+        "|---|" + "---:|" * len(TABLE_INTEGRATORS),
+    ]
+    same = True
+    for p in TABLE_PROBLEMS:
+        cells = [cell(by[p, m, "float64"]) for m in TABLE_INTEGRATORS]
+        same &= cells == [cell(by[p, m, "float32"]) for m in TABLE_INTEGRATORS]
+        nominal = float(by[p, TABLE_INTEGRATORS[0], "float64"]["nominal_dt_s"])
+        lines.append(f"| {p} ({nominal:.4g} s) | " + " | ".join(cells) + " |")
+    lines += [
+        "",
+        "float32 gives the same limits to the digits shown."
+        if same
+        else "float32's limits differ (docs/study_stability.csv's float32 rows).",
+    ]
+    return "\n".join(lines)
+
+
+def defaults_markdown() -> str:
+    """docs/study.md's Reading table: each env's default integrator and dt, its stability
+    margin on the craft's maneuver (docs/study_stability.csv) and its position error over it
+    (docs/study_accuracy.csv), beside the first default's (symplectic Euler at the craft's
+    nominal dt)."""
+    from benchmarks.common import DOCS, read_csv
+    from fluidsim_envs.scenes import SCENES
+
+    stab, acc = DOCS / "study_stability.csv", DOCS / "study_accuracy.csv"
+    if not stab.is_file() or not acc.is_file():
+        return "(no docs/study_stability.csv or study_accuracy.csv yet: run the studies)"
+    limits = {
+        (r["problem"], r["integrator"]): r for r in read_csv(stab)[1] if r["dtype"] == "float64"
+    }
+    sweep = [r for r in read_csv(acc)[1] if r["dtype"] == "float64"]
+
+    def error(craft: str, integrator: str, dt: float) -> str:
+        """The error at ``dt``, or at the sweep's nearest dt below it, named."""
+        runs = [(float(r["dt_s"]), float(r["pos_err_m"])) for r in sweep
+                if (r["problem"], r["integrator"]) == (craft, integrator)]  # fmt: skip
+        below = [(d, e) for d, e in runs if d <= dt * (1 + 1e-5)]
+        if not below:
+            return "not in the sweep"
+        d, e = max(below)
+        text = f"{e:.2e}".replace("e-0", "e-")
+        if math.isclose(d, dt, rel_tol=1e-5):
+            return f"{text} m"
+        return f"{text} m at 1/{1 / d:.0f} s (1/{1 / dt:.0f} s is not in the sweep)"
+
+    probs = {p.name: p for p in SA.problems()}
+    lines = [
+        "| env | default (first default) | stability margin (this maneuver) | error of the "
+        "default over the maneuver (first default) |",
+        "|---|---|---|---|",
+    ]
+    for env_id, scene in SCENES.items():
+        name = env_id.split("/")[1]
+        craft = ENV_CRAFTS.get(name)
+        if craft is None:
+            continue
+        p, first = scene.params_cls(), probs[craft]
+        lim = limits[craft, p.integrator]
+        bounded = float(lim["dt_bounded_s"])
+        ceiling = "≥ " if float(lim["dt_unbounded_s"]) == math.inf else ""
+        margin = f"{ceiling or 'limit '}{1e3 * bounded:.3g} ms, {ceiling}{bounded / p.dt:.3g}×"
+        n_first = round(p.dt * p.substeps / first.nominal_dt)
+        label = f"{name} ({craft})" if craft == "uuv" else name
+        lines.append(
+            f"| {label} | {p.integrator}, 1/{1 / p.dt:.0f} s, {p.substeps} substeps "
+            f"(symplectic Euler, 1/{1 / first.nominal_dt:.0f} s, {n_first}) | {margin} | "
+            f"{error(craft, p.integrator, p.dt)} after {first.seconds:g} s "
+            f"({error(craft, 'symplectic_euler', first.nominal_dt)}) |"
+        )
+    return "\n".join(lines)
+
+
 if __name__ == "__main__":
     main()
