@@ -182,6 +182,7 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         self._cfg = np.array([self._cfg_value(name) for name in TK.CFG_FIELDS], dtype=np.float64)
         self.draws_per_episode = 4 + 2 * GATES
         self._task = TK.task_parallel if self.sim.parallel else TK.task_serial
+        self._keep_none = np.zeros(E, dtype=bool)  # observe: no row kept
         self._ctrl = np.zeros((E, 3))
         self._terms = np.zeros((len(REWARD_TERMS), E))
         self._flags = np.zeros((TK.NFLAGS, E), dtype=bool)
@@ -314,7 +315,9 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
     def _observe(self, out, ids) -> None:
         st, _, body = self.sim.kernel_arrays()
         swell, clock = self.sim.surface_arrays()
-        TK.observe(ids, st, body, self.course, self.task, swell, clock, self._cfg, out)
+        TK.observe(
+            ids, self._keep_none, st, body, self.course, self.task, swell, clock, self._cfg, out
+        )
 
     # ---- what viewers read -----------------------------------------------------------------
 

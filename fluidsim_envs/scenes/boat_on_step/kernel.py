@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit, prange
 
 from ...physics.forces import thrust_control
@@ -149,6 +150,7 @@ C_STEP, C_REST = CFG["step_s"], CFG["rest_height_m"]
 C_BOW_X, C_BOW_Z, C_HALF_BEAM = CFG["bow_x_m"], CFG["bow_z_m"], CFG["hull_half_beam_m"]
 
 _JIT = dict(cache=True, error_model="numpy")
+TASK_BLOCK = 64  # sub-envs per call of a parallel task kernel (paper_airplane/kernel.py)
 
 
 @njit(**_JIT)
@@ -193,42 +195,39 @@ def _gate_frame(course, e, g, px, py):
 
 
 @njit(**_JIT)
-def _observe_one(e, st, body, course, task, swell, clock, cfg, out):
-    """Sub-env e's observation row out[e, len(OBSERVATION)] (float32) from the boat's state
-    st[13, 1, E]; heave is measured from the water surface under the boat (the swell at the
+def observe(ids, skip, st, body, course, task, swell, clock, cfg, out):
+    """Observation rows out[ids, len(OBSERVATION)] (float32) from the boat's state
+    st[13, 1, E], except where ``skip`` [E] is set (a diverged state keeps its last finite
+    observation); heave is measured from the water surface under the boat (the swell at the
     env's clock)."""
     last = course.shape[1] - 1
-    (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, env_inv_inertia(body, e, 0))
-    r0, r3 = rot[0], rot[3]
-    out[e, O_U], out[e, O_V], out[e, O_W] = to_body(rot, vx, vy, vz)
-    out[e, O_P], out[e, O_Q], out[e, O_R] = to_body(rot, omega[0], omega[1], omega[2])
-    trim, heel = attitude(rot)
-    out[e, O_TRIM] = trim
-    out[e, O_HEEL] = heel
-    out[e, O_HEAVE] = pz - surface_height(px, py, clock[e], swell) - cfg[C_REST]
-    speed = math.sqrt(vx * vx + vy * vy)
-    out[e, O_SPEED_ERROR] = task[K_TARGET, e] - speed
-    heading = math.atan2(r3, r0)
-    g = min(int(task[K_GATE, e]), last)
-    dx, dy = course[e, g, G_X] - px, course[e, g, G_Y] - py
-    err = math.atan2(dy, dx) - heading
-    out[e, O_GATE_BEARING_SIN] = math.sin(err)
-    out[e, O_GATE_BEARING_COS] = math.cos(err)
-    c, s = math.cos(heading), math.sin(heading)
-    out[e, O_GATE_X] = c * dx + s * dy
-    out[e, O_GATE_Y] = -s * dx + c * dy
-    gate_err = course[e, g, G_HEADING] - heading
-    out[e, O_GATE_HEADING_SIN] = math.sin(gate_err)
-    out[e, O_GATE_HEADING_COS] = math.cos(gate_err)
-    out[e, O_TARGET_SPEED] = task[K_TARGET, e]
-    out[e, O_PITCH_OSCILLATION] = 2.0 * math.sqrt(2.0 * task[K_PITCH_VAR, e])  # p-p
-
-
-@njit(**_JIT)
-def observe(ids, st, body, course, task, swell, clock, cfg, out):
-    """The observation rows of sub-envs ``ids`` (after a reset)."""
-    for i in range(ids.size):
-        _observe_one(ids[i], st, body, course, task, swell, clock, cfg, out)
+    for e in ids:
+        if skip[e]:
+            continue
+        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, env_inv_inertia(body, e, 0))
+        r0, r3 = rot[0], rot[3]
+        out[e, O_U], out[e, O_V], out[e, O_W] = to_body(rot, vx, vy, vz)
+        out[e, O_P], out[e, O_Q], out[e, O_R] = to_body(rot, omega[0], omega[1], omega[2])
+        trim, heel = attitude(rot)
+        out[e, O_TRIM] = trim
+        out[e, O_HEEL] = heel
+        out[e, O_HEAVE] = pz - surface_height(px, py, clock[e], swell) - cfg[C_REST]
+        speed = math.sqrt(vx * vx + vy * vy)
+        out[e, O_SPEED_ERROR] = task[K_TARGET, e] - speed
+        heading = math.atan2(r3, r0)
+        g = min(int(task[K_GATE, e]), last)
+        dx, dy = course[e, g, G_X] - px, course[e, g, G_Y] - py
+        err = math.atan2(dy, dx) - heading
+        out[e, O_GATE_BEARING_SIN] = math.sin(err)
+        out[e, O_GATE_BEARING_COS] = math.cos(err)
+        c, s = math.cos(heading), math.sin(heading)
+        out[e, O_GATE_X] = c * dx + s * dy
+        out[e, O_GATE_Y] = -s * dx + c * dy
+        gate_err = course[e, g, G_HEADING] - heading
+        out[e, O_GATE_HEADING_SIN] = math.sin(gate_err)
+        out[e, O_GATE_HEADING_COS] = math.cos(gate_err)
+        out[e, O_TARGET_SPEED] = task[K_TARGET, e]
+        out[e, O_PITCH_OSCILLATION] = 2.0 * math.sqrt(2.0 * task[K_PITCH_VAR, e])  # p-p
 
 
 @njit(**_JIT)
@@ -253,13 +252,14 @@ def start(st, course, task, ids):
 
 
 @njit(**_JIT)
-def _score_one(
-    e, st, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms, flags
+def score(
+    lo, hi, st, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms, flags
 ):
     """Gates, buoys, porpoising, capsize, bow stuffing and leaving the course, and the reward
-    terms, of sub-env e after a step; writes ``terms`` [NTERMS, E] and ``flags`` [NFLAGS, E]. A buoy
-    is touched where ``hits`` [E] says so (buoy bodies: the contact's impulse) or where the
-    hull passes within reach of a marker in ``buoys`` [E, n, 2] (n = 0 with buoy bodies).
+    terms, of sub-envs ``lo`` to ``hi - 1`` after a step; writes ``terms`` [NTERMS, E] and
+    ``flags`` [NFLAGS, E]. A buoy is touched where ``hits`` [E] says so (buoy bodies: the
+    contact's impulse) or where the hull passes within reach of a marker in ``buoys``
+    [E, n, 2] (n = 0 with buoy bodies).
 
     Porpoising is measured on the trim, high-passed twice (``HIGHPASS_S``): the running mean
     square of what passes, over ``porpoise_window_s``, is A^2 / 8 for a sustained sinusoid
@@ -270,123 +270,130 @@ def _score_one(
     k = 1.0 - math.exp(-cfg[C_STEP] / cfg[C_PORPOISE_WINDOW])
     hp = 1.0 - math.exp(-cfg[C_STEP] / HIGHPASS_S)
     capsize = math.radians(cfg[C_CAPSIZE])
-    for j in range(NTERMS):
-        terms[j, e] = 0.0
-    for j in range(NFLAGS):
-        flags[j, e] = False
-    if diverged[e]:
-        terms[T_CRASH, e] = -cfg[C_W_CRASH]
-        return
-    px, py, pz = st[OX, 0, e], st[OX + 1, 0, e], st[OX + 2, 0, e]
-    vx, vy = st[OV, 0, e], st[OV + 1, 0, e]
-    rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
-    trim, heel = attitude(rot)
-    speed = math.sqrt(vx * vx + vy * vy)
+    for e in range(lo, hi):
+        for j in range(NTERMS):
+            terms[j, e] = 0.0
+        for j in range(NFLAGS):
+            flags[j, e] = False
+        if diverged[e]:
+            terms[T_CRASH, e] = -cfg[C_W_CRASH]
+            continue
+        px, py, pz = st[OX, 0, e], st[OX + 1, 0, e], st[OX + 2, 0, e]
+        vx, vy = st[OV, 0, e], st[OV + 1, 0, e]
+        rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
+        trim, heel = attitude(rot)
+        speed = math.sqrt(vx * vx + vy * vy)
 
-    # porpoising: the trim's oscillation about its running mean
-    dev = trim - task[K_TRIM_MEAN, e]
-    task[K_TRIM_MEAN, e] += hp * dev
-    dev2 = dev - task[K_DEV_MEAN, e]
-    task[K_DEV_MEAN, e] += hp * dev2
-    if speed > cfg[C_PORPOISE_SPEED]:  # a planing instability: measured when planing
-        task[K_PITCH_VAR, e] += k * (dev2 * dev2 - task[K_PITCH_VAR, e])
-    else:
-        task[K_PITCH_VAR, e] = 0.0
-    amp = math.degrees(2.0 * math.sqrt(2.0 * task[K_PITCH_VAR, e]))
-    task[K_TIME, e] += cfg[C_STEP]
-    if task[K_PLANED, e] < 0.0 and speed > cfg[C_PORPOISE_SPEED]:
-        task[K_PLANED, e] = task[K_TIME, e]
-    if amp > cfg[C_PORPOISE]:
-        flags[F_PORPOISE, e] = True
-        task[K_PORPOISING, e] += 1.0
-        terms[T_PORPOISE, e] = -cfg[C_W_PORPOISE] * (amp / cfg[C_PORPOISE] - 1.0)
+        # porpoising: the trim's oscillation about its running mean
+        dev = trim - task[K_TRIM_MEAN, e]
+        task[K_TRIM_MEAN, e] += hp * dev
+        dev2 = dev - task[K_DEV_MEAN, e]
+        task[K_DEV_MEAN, e] += hp * dev2
+        if speed > cfg[C_PORPOISE_SPEED]:  # a planing instability: measured when planing
+            task[K_PITCH_VAR, e] += k * (dev2 * dev2 - task[K_PITCH_VAR, e])
+        else:
+            task[K_PITCH_VAR, e] = 0.0
+        amp = math.degrees(2.0 * math.sqrt(2.0 * task[K_PITCH_VAR, e]))
+        task[K_TIME, e] += cfg[C_STEP]
+        if task[K_PLANED, e] < 0.0 and speed > cfg[C_PORPOISE_SPEED]:
+            task[K_PLANED, e] = task[K_TIME, e]
+        if amp > cfg[C_PORPOISE]:
+            flags[F_PORPOISE, e] = True
+            task[K_PORPOISING, e] += 1.0
+            terms[T_PORPOISE, e] = -cfg[C_W_PORPOISE] * (amp / cfg[C_PORPOISE] - 1.0)
 
-    # speed and fuel
-    err = task[K_TARGET, e] - speed
-    terms[T_SPEED, e] = cfg[C_W_SPEED] * math.exp(-abs(err) / cfg[C_SPEED_SCALE])
-    terms[T_FUEL, e] = -cfg[C_W_FUEL] * max(0.0, actions[e, 0])
+        # speed and fuel
+        err = task[K_TARGET, e] - speed
+        terms[T_SPEED, e] = cfg[C_W_SPEED] * math.exp(-abs(err) / cfg[C_SPEED_SCALE])
+        terms[T_FUEL, e] = -cfg[C_W_FUEL] * max(0.0, actions[e, 0])
 
-    # gates: crossing the current gate's line, inside or outside its buoys
-    g = int(task[K_GATE, e])
-    if g <= last:
-        along, across = _gate_frame(course, e, g, px, py)
-        dist = math.hypot(course[e, g, G_X] - px, course[e, g, G_Y] - py)
-        terms[T_PROGRESS, e] = cfg[C_W_PROGRESS] * (task[K_DIST, e] - dist)
-        if task[K_SIDE, e] < 0.0 <= along:
-            if abs(across) <= cfg[C_GATE_HALF]:
-                flags[F_PASSED, e] = True
-                task[K_PASSED, e] += 1.0
-                terms[T_GATE, e] = cfg[C_W_GATE]
-            else:
-                flags[F_MISSED, e] = True
-                task[K_MISSED, e] += 1.0
-                terms[T_GATE, e] = -cfg[C_W_GATE]
-            g += 1
-            task[K_GATE, e] = g
-            if g > last:
-                flags[F_FINISHED, e] = True
-            else:
-                along, _ = _gate_frame(course, e, g, px, py)
-                dist = math.hypot(course[e, g, G_X] - px, course[e, g, G_Y] - py)
-        task[K_SIDE, e] = along
-        task[K_DIST, e] = dist
+        # gates: crossing the current gate's line, inside or outside its buoys
+        g = int(task[K_GATE, e])
+        if g <= last:
+            along, across = _gate_frame(course, e, g, px, py)
+            dist = math.hypot(course[e, g, G_X] - px, course[e, g, G_Y] - py)
+            terms[T_PROGRESS, e] = cfg[C_W_PROGRESS] * (task[K_DIST, e] - dist)
+            if task[K_SIDE, e] < 0.0 <= along:
+                if abs(across) <= cfg[C_GATE_HALF]:
+                    flags[F_PASSED, e] = True
+                    task[K_PASSED, e] += 1.0
+                    terms[T_GATE, e] = cfg[C_W_GATE]
+                else:
+                    flags[F_MISSED, e] = True
+                    task[K_MISSED, e] += 1.0
+                    terms[T_GATE, e] = -cfg[C_W_GATE]
+                g += 1
+                task[K_GATE, e] = g
+                if g > last:
+                    flags[F_FINISHED, e] = True
+                else:
+                    along, _ = _gate_frame(course, e, g, px, py)
+                    dist = math.hypot(course[e, g, G_X] - px, course[e, g, G_Y] - py)
+            task[K_SIDE, e] = along
+            task[K_DIST, e] = dist
 
-    # buoys: the hull (a circle of its half beam) against each marker, no contact physics
-    flags[F_BUOY, e] = hits[e]
-    reach = cfg[C_BUOY_R] + cfg[C_HALF_BEAM]
-    for b in range(buoys.shape[1]):
-        bx, by = buoys[e, b, 0], buoys[e, b, 1]
-        for f in (-0.5, 0.0, 1.0):  # stern, center, bow along the keel
-            qx = px + rot[0] * f * cfg[C_BOW_X]
-            qy = py + rot[3] * f * cfg[C_BOW_X]
-            if (qx - bx) ** 2 + (qy - by) ** 2 < reach * reach:
-                flags[F_BUOY, e] = True
-    if flags[F_BUOY, e]:
-        terms[T_BUOY, e] = -cfg[C_W_BUOY]
+        # buoys: the hull (a circle of its half beam) against each marker, no contact physics
+        flags[F_BUOY, e] = hits[e]
+        reach = cfg[C_BUOY_R] + cfg[C_HALF_BEAM]
+        for b in range(buoys.shape[1]):
+            bx, by = buoys[e, b, 0], buoys[e, b, 1]
+            for f in (-0.5, 0.0, 1.0):  # stern, center, bow along the keel
+                qx = px + rot[0] * f * cfg[C_BOW_X]
+                qy = py + rot[3] * f * cfg[C_BOW_X]
+                if (qx - bx) ** 2 + (qy - by) ** 2 < reach * reach:
+                    flags[F_BUOY, e] = True
+        if flags[F_BUOY, e]:
+            terms[T_BUOY, e] = -cfg[C_W_BUOY]
 
-    # capsize, bow stuffing (the stem under the surface while making way), off the course
-    flags[F_CAPSIZE, e] = abs(heel) > capsize or rot[8] < 0.0
-    bx = px + rot[0] * cfg[C_BOW_X] + rot[2] * cfg[C_BOW_Z]
-    by = py + rot[3] * cfg[C_BOW_X] + rot[5] * cfg[C_BOW_Z]
-    bz = pz + rot[6] * cfg[C_BOW_X] + rot[8] * cfg[C_BOW_Z]
-    flags[F_STUFF, e] = bz < surface_height(bx, by, clock[e], swell) and speed > 3.0
-    # off the course: farther than course_half_width_m from the leg to the current gate
-    g = min(g, last)
-    ax, ay = course[e, g - 1, G_X], course[e, g - 1, G_Y]
-    lx, ly = course[e, g, G_X] - ax, course[e, g, G_Y] - ay
-    t = min(1.0, max(0.0, ((px - ax) * lx + (py - ay) * ly) / (lx * lx + ly * ly)))
-    off = math.hypot(px - ax - t * lx, py - ay - t * ly)
-    flags[F_LEFT, e] = off > cfg[C_COURSE_HALF]
-    if flags[F_CAPSIZE, e] or flags[F_STUFF, e] or flags[F_LEFT, e]:
-        terms[T_CRASH, e] = -cfg[C_W_CRASH]
+        # capsize, bow stuffing (the stem under the surface while making way), off the course
+        flags[F_CAPSIZE, e] = abs(heel) > capsize or rot[8] < 0.0
+        bx = px + rot[0] * cfg[C_BOW_X] + rot[2] * cfg[C_BOW_Z]
+        by = py + rot[3] * cfg[C_BOW_X] + rot[5] * cfg[C_BOW_Z]
+        bz = pz + rot[6] * cfg[C_BOW_X] + rot[8] * cfg[C_BOW_Z]
+        flags[F_STUFF, e] = bz < surface_height(bx, by, clock[e], swell) and speed > 3.0
+        # off the course: farther than course_half_width_m from the leg to the current gate
+        g = min(g, last)
+        ax, ay = course[e, g - 1, G_X], course[e, g - 1, G_Y]
+        lx, ly = course[e, g, G_X] - ax, course[e, g, G_Y] - ay
+        t = min(1.0, max(0.0, ((px - ax) * lx + (py - ay) * ly) / (lx * lx + ly * ly)))
+        off = math.hypot(px - ax - t * lx, py - ay - t * ly)
+        flags[F_LEFT, e] = off > cfg[C_COURSE_HALF]
+        if flags[F_CAPSIZE, e] or flags[F_STUFF, e] or flags[F_LEFT, e]:
+            terms[T_CRASH, e] = -cfg[C_W_CRASH]
+
+
+# fmt: off
+@njit(**_JIT)
+def task_range(
+    lo, hi, st, body, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms,
+    flags, out
+):
+    """Score and observe sub-envs ``lo`` to ``hi - 1`` after a physics step."""
+    score(lo, hi, st, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms, flags)
+    observe(np.arange(lo, hi), diverged, st, body, course, task, swell, clock, cfg, out)
 
 
 @njit(**_JIT)
-def _task_one(e, st, body, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms,
-              flags, out):  # fmt: skip
-    _score_one(e, st, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms, flags)
-    if not diverged[e]:  # a diverged sub-env keeps its last finite observation
-        _observe_one(e, st, body, course, task, swell, clock, cfg, out)
-
-
-@njit(**_JIT)
-def task_serial(st, body, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms,
-                flags, out):  # fmt: skip
-    """Every sub-env's score (:func:`_score_one`) and observation after a physics step."""
-    for e in range(st.shape[2]):
-        _task_one(
-            e, st, body, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms,
-            flags, out,
-        )  # fmt: skip
+def task_serial(
+    st, body, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms, flags, out
+):
+    """Every sub-env's score and observation after a physics step."""
+    task_range(
+        0, st.shape[2], st, body, diverged, actions, course, buoys, hits, task, swell, clock,
+        cfg, terms, flags, out
+    )
 
 
 @njit(parallel=True, **_JIT)
-def task_parallel(st, body, diverged, actions, course, buoys, hits, task, swell, clock, cfg,
-                  terms, flags, out):  # fmt: skip
-    """:func:`task_serial` on every thread: each sub-env writes only its own slots (the
-    per-env function is called, not inlined: see paper_airplane/kernel.py)."""
-    for e in prange(st.shape[2]):
-        _task_one(
-            e, st, body, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms,
-            flags, out,
-        )  # fmt: skip
+def task_parallel(
+    st, body, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms, flags, out
+):
+    """:func:`task_serial` on every thread, ``TASK_BLOCK`` sub-envs a call: each writes only
+    its own slots, the same as serial, bit for bit (tests/scenes/test_contract.py)."""
+    for b in prange((st.shape[2] + TASK_BLOCK - 1) // TASK_BLOCK):
+        lo = b * TASK_BLOCK
+        task_range(
+            lo, min(st.shape[2], lo + TASK_BLOCK), st, body, diverged, actions, course, buoys,
+            hits, task, swell, clock, cfg, terms, flags, out
+        )
+# fmt: on

@@ -161,6 +161,7 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
             dtype=np.float64,
         )
         self._task = TK.task_parallel if self.sim.parallel else TK.task_serial
+        self._keep_none = np.zeros(E, dtype=bool)  # observe: no row kept
 
     # ---- episode start --------------------------------------------------------------------
 
@@ -198,7 +199,7 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
 
     def _observe(self, out, ids) -> None:
         st, flow, body = self.sim.kernel_arrays()
-        TK.observe(ids, st, body, flow, self.target, out)
+        TK.observe(ids, self._keep_none, st, body, flow, self.target, out)
 
     # ---- what viewers read -----------------------------------------------------------------
 

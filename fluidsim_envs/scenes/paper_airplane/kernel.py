@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ...physics.kernels import body_state
+from ...physics.kernels import body_state, quat_matrices
 from ...physics.rotation import env_inv_inertia, quat_to_matrix, to_body
 from ...physics.state import OL, OQ, OV, OX
 from ..layout import index
@@ -85,42 +85,57 @@ C_SUCCESS = CFG["success_radius_m"]
 
 TOUCH_M = 0.002  # the airframe this close to the floor is down (contact rests it within 1 mm)
 _JIT = dict(cache=True, error_model="numpy")
+# sub-envs per call of a parallel task kernel. Each kernel loops over sub-envs itself: a
+# function of one sub-env, even inlined, counted its array arguments' references per sub-env,
+# and cost 18 times the loop
+TASK_BLOCK = 64  # sub-envs per call of a parallel task kernel
 
 
 @njit(**_JIT)
-def _observe_one(e, st, body, flow, target, out):
-    """Sub-env e's observation row out[e, len(OBSERVATION)] (float32) from st[13, 1, E]."""
-    (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, env_inv_inertia(body, e, 0))
-    r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
-    # airspeed: R^T (v - wind)
-    out[e, O_U], out[e, O_V], out[e, O_W] = to_body(
-        rot, vx - flow[0, e], vy - flow[1, e], vz - flow[2, e]
-    )
-    out[e, O_P], out[e, O_Q], out[e, O_R] = to_body(rot, omega[0], omega[1], omega[2])
-    out[e, O_GX], out[e, O_GY], out[e, O_GZ] = -r6, -r7, -r8  # R^T (0, 0, -1)
-    out[e, O_HEIGHT] = pz
-    heading = math.atan2(r3, r0)
-    c, s = math.cos(heading), math.sin(heading)
-    dx, dy = target[e, 0] - px, target[e, 1] - py
-    out[e, O_TARGET_FORWARD] = c * dx + s * dy
-    out[e, O_TARGET_LEFT] = -s * dx + c * dy
-    out[e, O_GROUND_FORWARD] = c * vx + s * vy
-    out[e, O_GROUND_LEFT] = -s * vx + c * vy
-    out[e, O_CLIMB] = vz
+def observe(ids, skip, st, body, flow, target, out):
+    """Observation rows out[ids, len(OBSERVATION)] (float32) from the state st[13, 1, E],
+    except where ``skip`` [E] is set (a diverged state keeps its last finite observation)."""
+    for e in ids:
+        if skip[e]:
+            continue
+        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, env_inv_inertia(body, e, 0))
+        r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
+        # airspeed: R^T (v - wind)
+        out[e, O_U], out[e, O_V], out[e, O_W] = to_body(
+            rot, vx - flow[0, e], vy - flow[1, e], vz - flow[2, e]
+        )
+        out[e, O_P], out[e, O_Q], out[e, O_R] = to_body(rot, omega[0], omega[1], omega[2])
+        out[e, O_GX], out[e, O_GY], out[e, O_GZ] = -r6, -r7, -r8  # R^T (0, 0, -1)
+        out[e, O_HEIGHT] = pz
+        heading = math.atan2(r3, r0)
+        c, s = math.cos(heading), math.sin(heading)
+        dx, dy = target[e, 0] - px, target[e, 1] - py
+        out[e, O_TARGET_FORWARD] = c * dx + s * dy
+        out[e, O_TARGET_LEFT] = -s * dx + c * dy
+        out[e, O_GROUND_FORWARD] = c * vx + s * vy
+        out[e, O_GROUND_LEFT] = -s * vx + c * vy
+        out[e, O_CLIMB] = vz
 
 
 @njit(**_JIT)
-def observe(ids, st, body, flow, target, out):
-    """The observation rows of sub-envs ``ids`` (after a reset)."""
-    for i in range(ids.size):
-        _observe_one(ids[i], st, body, flow, target, out)
-
-
-@njit(**_JIT)
-def _score_one(
-    e, st, diverged, hull, target, launch, distance, actions, cfg, terms, flags, sink, v_prev, touch
+def score(
+    lo,
+    hi,
+    st,
+    diverged,
+    hull,
+    target,
+    launch,
+    distance,
+    actions,
+    cfg,
+    terms,
+    flags,
+    sink,
+    v_prev,
+    touch,
 ):
-    """Touchdown, landing, arena and reward terms of sub-env e after a step.
+    """Touchdown, landing, arena and reward terms of sub-envs ``lo`` to ``hi - 1`` after a step.
 
     ``distance`` [E] holds the horizontal distance to the target before the step and is
     updated (kept where the state diverged); ``terms`` [NTERMS, E], ``flags`` [NFLAGS, E] (bool) and
@@ -130,83 +145,93 @@ def _score_one(
     it. The floor has already taken the touchdown's velocity away (and may have turned
     the dart) by then, so sink, speed and attitude are judged from ``v_prev`` [E, 4], the
     velocity and the body z axis's height at the step before (updated here)."""
-    for k in range(NTERMS):
-        terms[k, e] = 0.0
-    for k in range(NFLAGS):
-        flags[k, e] = False
-    sink[e] = 0.0
-    effort = 0.0
-    for k in range(actions.shape[1]):
-        effort += actions[e, k] * actions[e, k]
-    terms[T_EFFORT, e] = -cfg[C_W_EFFORT] * effort / actions.shape[1]
-    if diverged[e]:
-        terms[T_CRASH, e] = -cfg[C_W_CRASH]
-        return
-    px, py, pz = st[OX, 0, e], st[OX + 1, 0, e], st[OX + 2, 0, e]
-    vx, vy, vz = st[OV, 0, e], st[OV + 1, 0, e], st[OV + 2, 0, e]
-    rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
-    lowest = np.inf
-    for h in range(hull.shape[0]):
-        z = rot[6] * hull[h, 0] + rot[7] * hull[h, 1] + rot[8] * hull[h, 2]
-        lowest = min(lowest, z)
-    d = math.hypot(target[e, 0] - px, target[e, 1] - py)
-    terms[T_PROGRESS, e] = cfg[C_W_PROGRESS] * (distance[e] - d)
-    distance[e] = d
-    ux, uy, uz, up = v_prev[e, 0], v_prev[e, 1], v_prev[e, 2], v_prev[e, 3]
-    v_prev[e, 0], v_prev[e, 1], v_prev[e, 2], v_prev[e, 3] = vx, vy, vz, rot[8]
-    if touch[e] > 0.0 or pz + lowest <= TOUCH_M:
-        flags[F_TOUCHDOWN, e] = True
-        vz = min(vz, uz)  # the sink before the floor stopped it
-        sink[e] = -vz
-        speed = max(math.sqrt(vx * vx + vy * vy + vz * vz), math.sqrt(ux * ux + uy * uy + uz * uz))
-        landed = up >= cfg[C_UPRIGHT] and -vz < cfg[C_CRASH_SINK]
-        landed = landed and speed < cfg[C_CRASH_SPEED]
-        if landed:
-            flags[F_LANDED, e] = True
-            flags[F_SUCCESS, e] = d <= cfg[C_SUCCESS]
-            terms[T_ACCURACY, e] = cfg[C_W_ACCURACY] * math.exp(-d / cfg[C_ACC_SCALE])
-            terms[T_SOFTNESS, e] = cfg[C_W_SOFTNESS] * math.exp(-vz * vz)  # (sink / 1 m/s)^2
-        else:
-            flags[F_CRASHED, e] = True
+    for e in range(lo, hi):
+        for k in range(NTERMS):
+            terms[k, e] = 0.0
+        for k in range(NFLAGS):
+            flags[k, e] = False
+        sink[e] = 0.0
+        effort = 0.0
+        for k in range(actions.shape[1]):
+            effort += actions[e, k] * actions[e, k]
+        terms[T_EFFORT, e] = -cfg[C_W_EFFORT] * effort / actions.shape[1]
+        if diverged[e]:
             terms[T_CRASH, e] = -cfg[C_W_CRASH]
-    elif math.hypot(px - launch[e, 0], py - launch[e, 1]) > cfg[C_ARENA] or pz > cfg[C_CEILING]:
-        flags[F_OUT, e] = True
-        terms[T_CRASH, e] = -cfg[C_W_CRASH]
+            continue
+        px, py, pz = st[OX, 0, e], st[OX + 1, 0, e], st[OX + 2, 0, e]
+        vx, vy, vz = st[OV, 0, e], st[OV + 1, 0, e], st[OV + 2, 0, e]
+        rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
+        lowest = np.inf
+        for h in range(hull.shape[0]):
+            z = rot[6] * hull[h, 0] + rot[7] * hull[h, 1] + rot[8] * hull[h, 2]
+            lowest = min(lowest, z)
+        d = math.hypot(target[e, 0] - px, target[e, 1] - py)
+        terms[T_PROGRESS, e] = cfg[C_W_PROGRESS] * (distance[e] - d)
+        distance[e] = d
+        ux, uy, uz, up = v_prev[e, 0], v_prev[e, 1], v_prev[e, 2], v_prev[e, 3]
+        v_prev[e, 0], v_prev[e, 1], v_prev[e, 2], v_prev[e, 3] = vx, vy, vz, rot[8]
+        if touch[e] > 0.0 or pz + lowest <= TOUCH_M:
+            flags[F_TOUCHDOWN, e] = True
+            vz = min(vz, uz)  # the sink before the floor stopped it
+            sink[e] = -vz
+            speed = max(
+                math.sqrt(vx * vx + vy * vy + vz * vz), math.sqrt(ux * ux + uy * uy + uz * uz)
+            )
+            landed = up >= cfg[C_UPRIGHT] and -vz < cfg[C_CRASH_SINK]
+            landed = landed and speed < cfg[C_CRASH_SPEED]
+            if landed:
+                flags[F_LANDED, e] = True
+                flags[F_SUCCESS, e] = d <= cfg[C_SUCCESS]
+                terms[T_ACCURACY, e] = cfg[C_W_ACCURACY] * math.exp(-d / cfg[C_ACC_SCALE])
+                terms[T_SOFTNESS, e] = cfg[C_W_SOFTNESS] * math.exp(-vz * vz)  # (sink / 1 m/s)^2
+            else:
+                flags[F_CRASHED, e] = True
+                terms[T_CRASH, e] = -cfg[C_W_CRASH]
+        elif math.hypot(px - launch[e, 0], py - launch[e, 1]) > cfg[C_ARENA] or pz > cfg[C_CEILING]:
+            flags[F_OUT, e] = True
+            terms[T_CRASH, e] = -cfg[C_W_CRASH]
+
+
+# fmt: off
+@njit(**_JIT)
+def task_range(
+    lo, hi, st, body, flow, diverged, hull, target, launch, distance, actions, cfg, terms,
+    flags, sink, v_prev, touch, out
+):
+    """Score and observe sub-envs ``lo`` to ``hi - 1`` after a physics step."""
+    score(
+        lo, hi, st, diverged, hull, target, launch, distance, actions, cfg, terms, flags, sink,
+        v_prev, touch
+    )
+    observe(np.arange(lo, hi), diverged, st, body, flow, target, out)
 
 
 @njit(**_JIT)
-def _task_one(e, st, body, flow, diverged, hull, target, launch, distance, actions, cfg, terms,
-              flags, sink, v_prev, touch, out):  # fmt: skip
-    _score_one(
-        e, st, diverged, hull, target, launch, distance, actions, cfg, terms, flags, sink, v_prev,
-        touch,
-    )  # fmt: skip
-    if not diverged[e]:  # a diverged sub-env keeps its last finite observation
-        _observe_one(e, st, body, flow, target, out)
-
-
-@njit(**_JIT)
-def task_serial(st, body, flow, diverged, hull, target, launch, distance, actions, cfg, terms,
-                flags, sink, v_prev, touch, out):  # fmt: skip
-    """Every sub-env's score (:func:`_score_one`) and observation after a physics step."""
-    for e in range(st.shape[2]):
-        _task_one(
-            e, st, body, flow, diverged, hull, target, launch, distance, actions, cfg, terms,
-            flags, sink, v_prev, touch, out,
-        )  # fmt: skip
+def task_serial(
+    st, body, flow, diverged, hull, target, launch, distance, actions, cfg, terms, flags, sink,
+    v_prev, touch, out
+):
+    """Every sub-env's score and observation after a physics step."""
+    task_range(
+        0, st.shape[2], st, body, flow, diverged, hull, target, launch, distance, actions, cfg,
+        terms, flags, sink, v_prev, touch, out
+    )
 
 
 @njit(parallel=True, **_JIT)
-def task_parallel(st, body, flow, diverged, hull, target, launch, distance, actions, cfg, terms,
-                  flags, sink, v_prev, touch, out):  # fmt: skip
-    """:func:`task_serial` on every thread: each sub-env writes only its own slots. The
-    per-env function is called, not inlined (numba 0.68 dropped writes inlined into a
-    prange: physics/kernels.py, ``step_parallel``)."""
-    for e in prange(st.shape[2]):
-        _task_one(
-            e, st, body, flow, diverged, hull, target, launch, distance, actions, cfg, terms,
-            flags, sink, v_prev, touch, out,
-        )  # fmt: skip
+def task_parallel(
+    st, body, flow, diverged, hull, target, launch, distance, actions, cfg, terms, flags, sink,
+    v_prev, touch, out
+):
+    """:func:`task_serial` on every thread, ``TASK_BLOCK`` sub-envs a call: each writes only
+    its own slots, the same as serial, bit for bit (tests/scenes/test_contract.py)."""
+    for b in prange((st.shape[2] + TASK_BLOCK - 1) // TASK_BLOCK):
+        lo = b * TASK_BLOCK
+        task_range(
+            lo, min(st.shape[2], lo + TASK_BLOCK), st, body, flow, diverged, hull, target,
+            launch, distance, actions, cfg, terms, flags, sink, v_prev, touch, out
+        )
+# fmt: on
 
 
 # the episode start's uniforms (``draws_per_episode``), in the order they are drawn; each
@@ -242,6 +267,7 @@ def start(ids, u, spans, st, flow, diverged, warm, v_prev, target, launch, dista
     wind, written into the state ``st``, the air velocity ``flow[0:3]`` and the task's
     arrays (what ``Simulator.reset`` and ``set_wind`` would write: a normalized quaternion,
     no rotation, the diverged flag cleared, the floor contact's warm start forgotten)."""
+    q = np.empty((1, 4))
     for i in range(ids.size):
         e, w = ids[i], u[i]
         height = _span(w, spans, U_HEIGHT)
@@ -261,8 +287,9 @@ def start(ids, u, spans, st, flow, diverged, warm, v_prev, target, launch, dista
         qx = cy * cp * sr - sy * sp * cr
         qy = cy * sp * cr + sy * cp * sr
         qz = sy * cp * cr - cy * sp * sr
-        rot = quat_to_matrix(qw, qx, qy, qz)
-        nx, ny, nz = speed * rot[0], speed * rot[3], speed * rot[6]  # along the nose
+        q[0, 0], q[0, 1], q[0, 2], q[0, 3] = qw, qx, qy, qz
+        rot = quat_matrices(q)[0]  # the physics' rotation (its contracted arithmetic)
+        nx, ny, nz = speed * rot[0, 0], speed * rot[1, 0], speed * rot[2, 0]  # the nose
         norm = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
         st[OX, 0, e], st[OX + 1, 0, e], st[OX + 2, 0, e] = 0.0, 0.0, height
         st[OQ, 0, e], st[OQ + 1, 0, e] = qw / norm, qx / norm
@@ -272,7 +299,7 @@ def start(ids, u, spans, st, flow, diverged, warm, v_prev, target, launch, dista
         diverged[e] = False
         if warm.shape[0]:
             warm[e] = 0.0
-        v_prev[e, 0], v_prev[e, 1], v_prev[e, 2], v_prev[e, 3] = nx, ny, nz, rot[8]
+        v_prev[e, 0], v_prev[e, 1], v_prev[e, 2], v_prev[e, 3] = nx, ny, nz, rot[2, 2]
         flow[0, e], flow[1, e], flow[2, e] = (
             math.cos(wind_dir) * wind_speed,
             math.sin(wind_dir) * wind_speed,

@@ -215,6 +215,7 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
         self._on_station = np.zeros(E, dtype=np.int64)
         self.draws_per_episode = 14 + 4 * ROUTE_SEGMENTS
         self._task = TK.task_parallel if self.sim.parallel else TK.task_serial
+        self._keep_none = np.zeros(E, dtype=bool)  # observe: no row kept
 
     def _cfg_value(self, name: str) -> float:
         derived = {
@@ -321,7 +322,10 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
 
     def _observe(self, out, ids) -> None:
         st, _, body = self.sim.kernel_arrays()
-        TK.observe(ids, st, body, self.lead, self.station, self._src, self._wprm, self._cfg, out)
+        TK.observe(
+            ids, self._keep_none, st, body, self.lead, self.station, self._src, self._wprm,
+            self._cfg, out,
+        )  # fmt: skip
 
     # ---- what viewers read -----------------------------------------------------------------
 

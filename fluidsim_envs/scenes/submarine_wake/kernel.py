@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit, prange
 
 from ...physics.kernels import body_state
@@ -99,50 +100,47 @@ C_HALF, C_RADIUS = CFG["vehicle_half_length_m"], CFG["vehicle_radius_m"]
 C_SENSOR = CFG["sensor_x_m"]
 
 _JIT = dict(cache=True, error_model="numpy")
+TASK_BLOCK = 64  # sub-envs per call of a parallel task kernel (paper_airplane/kernel.py)
 
 
 @njit(**_JIT)
-def _advance_lead_one(e, lead, route, dt, lag):
-    """Move sub-env e's lead along its route by dt: speed and turn rate follow the current
-    segment's targets with a first-order lag, the heading integrates the turn rate and the
-    position moves along the mean heading of the step (level cruise).
+def advance_lead(lo, hi, lead, route, dt, lag):
+    """Move the leads of sub-envs ``lo`` to ``hi - 1`` along their routes by dt: speed and
+    turn rate follow the current segment's targets with a first-order lag, the heading
+    integrates the turn rate and the position moves along the mean heading of the step
+    (level cruise).
 
     ``route[E, S, 3]`` holds each segment's (end time, speed, turn rate); after the last
     segment the route starts over."""
     k = 1.0 - math.exp(-dt / lag)
-    t = lead[L_TIME, e] % route[e, route.shape[1] - 1, 0]
-    s = 0
-    while s < route.shape[1] - 1 and route[e, s, 0] <= t:
-        s += 1
-    speed0, heading0 = lead[L_SPEED, e], lead[L_HEADING, e]
-    lead[L_SPEED, e] = speed0 + k * (route[e, s, 1] - speed0)
-    lead[L_TURN, e] += k * (route[e, s, 2] - lead[L_TURN, e])
-    lead[L_HEADING, e] = heading0 + dt * lead[L_TURN, e]
-    mid = 0.5 * (heading0 + lead[L_HEADING, e])
-    step = 0.5 * (speed0 + lead[L_SPEED, e]) * dt
-    lead[L_X, e] += step * math.cos(mid)
-    lead[L_Y, e] += step * math.sin(mid)
-    lead[L_TIME, e] += dt
-
-
-@njit(**_JIT)
-def _lead_source_one(e, lead, offset, src):
-    """Sub-env e's wake source rows src[18, e] (position, rotation, velocity, noise offset)
-    from its lead (see physics.wake.source_row)."""
-    c, s = math.cos(lead[L_HEADING, e]), math.sin(lead[L_HEADING, e])
-    src[0, e], src[1, e], src[2, e] = lead[L_X, e], lead[L_Y, e], lead[L_Z, e]
-    src[3, e], src[4, e], src[5, e] = c, -s, 0.0
-    src[6, e], src[7, e], src[8, e] = s, c, 0.0
-    src[9, e], src[10, e], src[11, e] = 0.0, 0.0, 1.0
-    src[12, e], src[13, e], src[14, e] = lead[L_SPEED, e] * c, lead[L_SPEED, e] * s, 0.0
-    src[15, e], src[16, e], src[17, e] = offset[e, 0], offset[e, 1], offset[e, 2]
+    for e in range(lo, hi):
+        t = lead[L_TIME, e] % route[e, route.shape[1] - 1, 0]
+        s = 0
+        while s < route.shape[1] - 1 and route[e, s, 0] <= t:
+            s += 1
+        speed0, heading0 = lead[L_SPEED, e], lead[L_HEADING, e]
+        lead[L_SPEED, e] = speed0 + k * (route[e, s, 1] - speed0)
+        lead[L_TURN, e] += k * (route[e, s, 2] - lead[L_TURN, e])
+        lead[L_HEADING, e] = heading0 + dt * lead[L_TURN, e]
+        mid = 0.5 * (heading0 + lead[L_HEADING, e])
+        step = 0.5 * (speed0 + lead[L_SPEED, e]) * dt
+        lead[L_X, e] += step * math.cos(mid)
+        lead[L_Y, e] += step * math.sin(mid)
+        lead[L_TIME, e] += dt
 
 
 @njit(**_JIT)
 def lead_source(ids, lead, offset, src):
-    """The wake source rows of sub-envs ``ids`` (after a reset)."""
-    for i in range(ids.size):
-        _lead_source_one(ids[i], lead, offset, src)
+    """The wake source rows src[18, ids] (position, rotation, velocity, noise offset) of the
+    leads of sub-envs ``ids`` (see physics.wake.source_row)."""
+    for e in ids:
+        c, s = math.cos(lead[L_HEADING, e]), math.sin(lead[L_HEADING, e])
+        src[0, e], src[1, e], src[2, e] = lead[L_X, e], lead[L_Y, e], lead[L_Z, e]
+        src[3, e], src[4, e], src[5, e] = c, -s, 0.0
+        src[6, e], src[7, e], src[8, e] = s, c, 0.0
+        src[9, e], src[10, e], src[11, e] = 0.0, 0.0, 1.0
+        src[12, e], src[13, e], src[14, e] = lead[L_SPEED, e] * c, lead[L_SPEED, e] * s, 0.0
+        src[15, e], src[16, e], src[17, e] = offset[e, 0], offset[e, 1], offset[e, 2]
 
 
 @njit(**_JIT)
@@ -164,113 +162,122 @@ def _station(lead, station, e):
 
 
 @njit(**_JIT)
-def _observe_one(e, st, body, lead, station, src, wprm, cfg, out):
-    """Sub-env e's observation row out[e, len(OBSERVATION)] (float32) from the vehicle's state
-    st[13, 1, E]."""
-    (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, env_inv_inertia(body, e, 0))
-    r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
-    out[e, O_U], out[e, O_V], out[e, O_W] = to_body(rot, vx, vy, vz)
-    out[e, O_P], out[e, O_Q], out[e, O_R] = to_body(rot, omega[0], omega[1], omega[2])
-    out[e, O_GX], out[e, O_GY], out[e, O_GZ] = -r6, -r7, -r8  # R^T (0, 0, -1)
-    out[e, O_DEPTH] = -pz
-    out[e, O_ALTITUDE] = pz + cfg[C_FLOOR]
-    sx, sy, sz, svx, svy, svz = _station(lead, station, e)
-    dx, dy, dz = sx - px, sy - py, sz - pz
-    out[e, O_STATION_X] = r0 * dx + r3 * dy + r6 * dz
-    out[e, O_STATION_Y] = r1 * dx + r4 * dy + r7 * dz
-    out[e, O_STATION_Z] = r2 * dx + r5 * dy + r8 * dz
-    # the flow sensor in the nose reads the water's velocity there
-    n = cfg[C_SENSOR]
-    fx, fy, fz = wake_at(px + r0 * n, py + r3 * n, pz + r6 * n, source_tuple(src[:, e]), wprm)
-    out[e, O_FLOW_X] = r0 * fx + r3 * fy + r6 * fz
-    out[e, O_FLOW_Y] = r1 * fx + r4 * fy + r7 * fz
-    out[e, O_FLOW_Z] = r2 * fx + r5 * fy + r8 * fz
-    dvx, dvy, dvz = svx - vx, svy - vy, svz - vz
-    out[e, O_STATION_VX] = r0 * dvx + r3 * dvy + r6 * dvz
-    out[e, O_STATION_VY] = r1 * dvx + r4 * dvy + r7 * dvz
-    out[e, O_STATION_VZ] = r2 * dvx + r5 * dvy + r8 * dvz
-    err = lead[L_HEADING, e] - math.atan2(r3, r0)
-    out[e, O_HEADING_SIN] = math.sin(err)
-    out[e, O_HEADING_COS] = math.cos(err)
+def observe(ids, skip, st, body, lead, station, src, wprm, cfg, out):
+    """Observation rows out[ids, len(OBSERVATION)] (float32) from the vehicle's state
+    st[13, 1, E], except where ``skip`` [E] is set (a diverged state keeps its last finite
+    observation)."""
+    for e in ids:
+        if skip[e]:
+            continue
+        (px, py, pz), (vx, vy, vz), rot, omega = body_state(st, 0, e, env_inv_inertia(body, e, 0))
+        r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
+        out[e, O_U], out[e, O_V], out[e, O_W] = to_body(rot, vx, vy, vz)
+        out[e, O_P], out[e, O_Q], out[e, O_R] = to_body(rot, omega[0], omega[1], omega[2])
+        out[e, O_GX], out[e, O_GY], out[e, O_GZ] = -r6, -r7, -r8  # R^T (0, 0, -1)
+        out[e, O_DEPTH] = -pz
+        out[e, O_ALTITUDE] = pz + cfg[C_FLOOR]
+        sx, sy, sz, svx, svy, svz = _station(lead, station, e)
+        dx, dy, dz = sx - px, sy - py, sz - pz
+        out[e, O_STATION_X] = r0 * dx + r3 * dy + r6 * dz
+        out[e, O_STATION_Y] = r1 * dx + r4 * dy + r7 * dz
+        out[e, O_STATION_Z] = r2 * dx + r5 * dy + r8 * dz
+        # the flow sensor in the nose reads the water's velocity there
+        n = cfg[C_SENSOR]
+        fx, fy, fz = wake_at(px + r0 * n, py + r3 * n, pz + r6 * n, source_tuple(src[:, e]), wprm)
+        out[e, O_FLOW_X] = r0 * fx + r3 * fy + r6 * fz
+        out[e, O_FLOW_Y] = r1 * fx + r4 * fy + r7 * fz
+        out[e, O_FLOW_Z] = r2 * fx + r5 * fy + r8 * fz
+        dvx, dvy, dvz = svx - vx, svy - vy, svz - vz
+        out[e, O_STATION_VX] = r0 * dvx + r3 * dvy + r6 * dvz
+        out[e, O_STATION_VY] = r1 * dvx + r4 * dvy + r7 * dvz
+        out[e, O_STATION_VZ] = r2 * dvx + r5 * dvy + r8 * dvz
+        err = lead[L_HEADING, e] - math.atan2(r3, r0)
+        out[e, O_HEADING_SIN] = math.sin(err)
+        out[e, O_HEADING_COS] = math.cos(err)
 
 
 @njit(**_JIT)
-def observe(ids, st, body, lead, station, src, wprm, cfg, out):
-    """The observation rows of sub-envs ``ids`` (after a reset)."""
-    for i in range(ids.size):
-        _observe_one(ids[i], st, body, lead, station, src, wprm, cfg, out)
-
-
-@njit(**_JIT)
-def _score_one(e, st, diverged, lead, station, actions, cfg, terms, flags, distance):
-    """Collisions, losing the lead and the reward terms of sub-env e after a step; writes
+def score(lo, hi, st, diverged, lead, station, actions, cfg, terms, flags, distance):
+    """Collisions, losing the lead and the reward terms of sub-envs ``lo`` to
+    ``hi - 1`` after a step; writes
     ``terms`` [NTERMS, E], ``flags`` [NFLAGS, E] (bool) and ``distance`` [E] (to the station point;
     kept where the state diverged)."""
     a = 0.5 * cfg[C_HULL_L] + cfg[C_RADIUS]
     b = cfg[C_HULL_R] + cfg[C_RADIUS]
     half = cfg[C_HALF]
-    for k in range(NTERMS):
-        terms[k, e] = 0.0
-    for k in range(NFLAGS):
-        flags[k, e] = False
-    effort = 0.0
-    for k in range(actions.shape[1]):
-        effort += actions[e, k] * actions[e, k]
-    terms[T_EFFORT, e] = -cfg[C_W_EFFORT] * effort / actions.shape[1]
-    if diverged[e]:
-        terms[T_CRASH, e] = -cfg[C_W_CRASH]
-        return
-    px, py, pz = st[OX, 0, e], st[OX + 1, 0, e], st[OX + 2, 0, e]
-    rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
-    c, s = math.cos(lead[L_HEADING, e]), math.sin(lead[L_HEADING, e])
-    for j in range(3):  # nose, center, tail against the lead's hull and the floor
-        f = half * (1 - j)
-        qx, qy, qz = px + rot[0] * f, py + rot[3] * f, pz + rot[6] * f
-        dx, dy, dz = qx - lead[L_X, e], qy - lead[L_Y, e], qz - lead[L_Z, e]
-        hx, hy = c * dx + s * dy, -s * dx + c * dy  # in the lead's frame
-        if (hx / a) ** 2 + (hy / b) ** 2 + (dz / b) ** 2 <= 1.0:
-            flags[F_HULL, e] = True
-        if qz - cfg[C_RADIUS] <= -cfg[C_FLOOR]:
-            flags[F_FLOOR, e] = True
-    sx, sy, sz, _, _, _ = _station(lead, station, e)
-    d = math.sqrt((sx - px) ** 2 + (sy - py) ** 2 + (sz - pz) ** 2)
-    distance[e] = d
-    flags[F_LOST, e] = d > cfg[C_LOST]
-    flags[F_ON_STATION, e] = d <= cfg[C_SUCCESS]
-    terms[T_STATION, e] = cfg[C_W_STATION] * math.exp(-d / cfg[C_STATION_SCALE])
-    if flags[F_HULL, e] or flags[F_FLOOR, e] or flags[F_LOST, e]:
-        terms[T_CRASH, e] = -cfg[C_W_CRASH]
+    for e in range(lo, hi):
+        for k in range(NTERMS):
+            terms[k, e] = 0.0
+        for k in range(NFLAGS):
+            flags[k, e] = False
+        effort = 0.0
+        for k in range(actions.shape[1]):
+            effort += actions[e, k] * actions[e, k]
+        terms[T_EFFORT, e] = -cfg[C_W_EFFORT] * effort / actions.shape[1]
+        if diverged[e]:
+            terms[T_CRASH, e] = -cfg[C_W_CRASH]
+            continue
+        px, py, pz = st[OX, 0, e], st[OX + 1, 0, e], st[OX + 2, 0, e]
+        rot = quat_to_matrix(st[OQ, 0, e], st[OQ + 1, 0, e], st[OQ + 2, 0, e], st[OQ + 3, 0, e])
+        c, s = math.cos(lead[L_HEADING, e]), math.sin(lead[L_HEADING, e])
+        for j in range(3):  # nose, center, tail against the lead's hull and the floor
+            f = half * (1 - j)
+            qx, qy, qz = px + rot[0] * f, py + rot[3] * f, pz + rot[6] * f
+            dx, dy, dz = qx - lead[L_X, e], qy - lead[L_Y, e], qz - lead[L_Z, e]
+            hx, hy = c * dx + s * dy, -s * dx + c * dy  # in the lead's frame
+            if (hx / a) ** 2 + (hy / b) ** 2 + (dz / b) ** 2 <= 1.0:
+                flags[F_HULL, e] = True
+            if qz - cfg[C_RADIUS] <= -cfg[C_FLOOR]:
+                flags[F_FLOOR, e] = True
+        sx, sy, sz, _, _, _ = _station(lead, station, e)
+        d = math.sqrt((sx - px) ** 2 + (sy - py) ** 2 + (sz - pz) ** 2)
+        distance[e] = d
+        flags[F_LOST, e] = d > cfg[C_LOST]
+        flags[F_ON_STATION, e] = d <= cfg[C_SUCCESS]
+        terms[T_STATION, e] = cfg[C_W_STATION] * math.exp(-d / cfg[C_STATION_SCALE])
+        if flags[F_HULL, e] or flags[F_FLOOR, e] or flags[F_LOST, e]:
+            terms[T_CRASH, e] = -cfg[C_W_CRASH]
+
+
+# fmt: off
+@njit(**_JIT)
+def task_range(
+    lo, hi, st, body, diverged, lead, route, dt, lag, offset, src, station, wprm, actions, cfg,
+    terms, flags, distance, out
+):
+    """After a physics step of ``dt``: the leads of sub-envs ``lo`` to ``hi - 1`` moved on
+    along their routes (and their wakes' sources with them), then their score and
+    observation."""
+    ids = np.arange(lo, hi)
+    advance_lead(lo, hi, lead, route, dt, lag)
+    lead_source(ids, lead, offset, src)
+    score(lo, hi, st, diverged, lead, station, actions, cfg, terms, flags, distance)
+    observe(ids, diverged, st, body, lead, station, src, wprm, cfg, out)
 
 
 @njit(**_JIT)
-def _task_one(e, st, body, diverged, lead, route, dt, lag, offset, src, station, wprm, actions,
-              cfg, terms, flags, distance, out):  # fmt: skip
-    _advance_lead_one(e, lead, route, dt, lag)
-    _lead_source_one(e, lead, offset, src)
-    _score_one(e, st, diverged, lead, station, actions, cfg, terms, flags, distance)
-    if not diverged[e]:  # a diverged sub-env keeps its last finite observation
-        _observe_one(e, st, body, lead, station, src, wprm, cfg, out)
-
-
-@njit(**_JIT)
-def task_serial(st, body, diverged, lead, route, dt, lag, offset, src, station, wprm, actions,
-                cfg, terms, flags, distance, out):  # fmt: skip
-    """After a physics step of ``dt``: every lead moved on along its route (and its wake's
-    source with it), then every sub-env's score (:func:`_score_one`) and observation."""
-    for e in range(st.shape[2]):
-        _task_one(
-            e, st, body, diverged, lead, route, dt, lag, offset, src, station, wprm, actions, cfg,
-            terms, flags, distance, out,
-        )  # fmt: skip
+def task_serial(
+    st, body, diverged, lead, route, dt, lag, offset, src, station, wprm, actions, cfg, terms,
+    flags, distance, out
+):
+    """:func:`task_range` of every sub-env."""
+    task_range(
+        0, st.shape[2], st, body, diverged, lead, route, dt, lag, offset, src, station, wprm,
+        actions, cfg, terms, flags, distance, out
+    )
 
 
 @njit(parallel=True, **_JIT)
-def task_parallel(st, body, diverged, lead, route, dt, lag, offset, src, station, wprm, actions,
-                  cfg, terms, flags, distance, out):  # fmt: skip
-    """:func:`task_serial` on every thread: each sub-env writes only its own slots (the
-    per-env function is called, not inlined: see paper_airplane/kernel.py)."""
-    for e in prange(st.shape[2]):
-        _task_one(
-            e, st, body, diverged, lead, route, dt, lag, offset, src, station, wprm, actions, cfg,
-            terms, flags, distance, out,
-        )  # fmt: skip
+def task_parallel(
+    st, body, diverged, lead, route, dt, lag, offset, src, station, wprm, actions, cfg, terms,
+    flags, distance, out
+):
+    """:func:`task_serial` on every thread, ``TASK_BLOCK`` sub-envs a call: each writes only
+    its own slots, the same as serial, bit for bit (tests/scenes/test_contract.py)."""
+    for b in prange((st.shape[2] + TASK_BLOCK - 1) // TASK_BLOCK):
+        lo = b * TASK_BLOCK
+        task_range(
+            lo, min(st.shape[2], lo + TASK_BLOCK), st, body, diverged, lead, route, dt, lag,
+            offset, src, station, wprm, actions, cfg, terms, flags, distance, out
+        )
+# fmt: on
