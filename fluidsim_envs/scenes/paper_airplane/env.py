@@ -220,7 +220,7 @@ class PaperAirplaneEnv(FluidEnv):
     target lies on the ground ahead, within gliding reach. Touching the ground ends the
     episode: a landing if right way up and slow enough, else a crash. The ground is solid:
     the dart's airframe (three thin collision boxes) lands on it and stops there (contact.py),
-    so the terminal state is the dart on the floor, never under it.
+    so the terminal state is the dart on the floor, never more than a few millimetres into it.
 
     ## Action Space
 
