@@ -77,6 +77,8 @@ BLOCKS = (
     Block("docs/study.md", "hairer-table", "docs/study_hairer.csv", "study_hairer:markdown"),
     Block("docs/study.md", "fixed-table", "docs/study_fixed.csv", "study_fixed:markdown"),
     Block("docs/benchmarks.md", "kernel-table", "docs/bench_kernel.csv", "bench_kernel:markdown"),
+    Block("docs/benchmarks.md", "env-table", "docs/bench_envs.csv", "bench_envs:markdown"),
+    Block("docs/study.md", "float32-table", "docs/study_float32.csv", "study_float32:markdown"),
     Block(
         "docs/benchmarks.md", "kernel-cost", "docs/bench_kernel.csv", "bench_kernel:cost_markdown"
     ),

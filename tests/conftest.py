@@ -5,6 +5,7 @@ import pkgutil
 
 import pytest
 from hypothesis import settings
+from numba.core import event as _numba_event
 
 # Property tests are derandomized: each draws the same examples on every run (seeded from a
 # hash of the test), so a failure in CI is a failure on every machine and a pass is not luck.
@@ -52,3 +53,53 @@ def _one_kernel_for_many_integrators(request, monkeypatch):
     bit."""
     if request.path.parent.name in _MANY_INTEGRATORS:
         monkeypatch.setenv("FLUIDSIM_SHARED_KERNEL", "1")
+
+
+# ---- where the suite's compile time goes ----------------------------------------------------
+
+
+class _CompileLog(_numba_event.Listener):
+    """With ``FLUIDSIM_COMPILE_LOG=DIR``, each worker appends one line per outermost compile of
+    the project's kernels to ``DIR/<worker>.tsv``: the test, the kernel, its argument types'
+    hash and the seconds (how the suite's cold time was cut: which kernels compile, how often,
+    and on which worker)."""
+
+    def __init__(self, folder: str) -> None:
+        import os
+        import time
+
+        self.time, self.depth, self.t0, self.test = time, 0, 0.0, ""
+        worker = os.environ.get("PYTEST_XDIST_WORKER", "main")
+        os.makedirs(folder, exist_ok=True)
+        self.out = open(os.path.join(folder, f"{worker}.tsv"), "a")  # noqa: SIM115
+        _numba_event.register("numba:compile", self)
+
+    def on_start(self, ev) -> None:
+        if self.depth == 0:
+            self.t0 = self.time.perf_counter()
+        self.depth += 1
+
+    def on_end(self, ev) -> None:
+        self.depth -= 1
+        d = ev.data["dispatcher"]
+        mod = getattr(d.py_func, "__module__", "")
+        if self.depth == 0 and mod.startswith("fluidsim_envs"):
+            took = self.time.perf_counter() - self.t0
+            sig = hash(str(ev.data.get("args")))
+            self.out.write(f"{self.test}\t{mod}.{d.py_func.__name__}\t{sig}\t{took:.1f}\n")
+            self.out.flush()
+
+
+def pytest_configure(config):
+    import os
+
+    folder = os.environ.get("FLUIDSIM_COMPILE_LOG")
+    if folder:
+        config._compile_log = _CompileLog(folder)
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_setup(item):
+    log = getattr(item.config, "_compile_log", None)
+    if log is not None:
+        log.test = item.nodeid
