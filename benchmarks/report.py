@@ -22,6 +22,8 @@ markers (``benchmarks.study_fixed.markdown``), its cost table from docs/study_co
 between the ``cost-table`` markers (``benchmarks.study_accuracy.cost_markdown``), and
 Hairer's table from docs/study_hairer.csv
 between the ``hairer-table`` markers (``benchmarks.study_hairer.markdown``), and
+docs/physics.md's cheaper-wake tables from docs/study_wake.csv and study_wake_env.csv between
+the ``wake-table`` markers (``benchmarks.study_wake.markdown``), and
 docs/seed_map.md's verdicts on the seed article's claims from the studies' CSVs between the
 ``seed-claims`` markers (``benchmarks.seed_claims``); none is edited by hand.
 """
@@ -33,7 +35,7 @@ import re
 import sys
 from pathlib import Path
 
-from . import seed_claims, study_accuracy, study_fixed, study_hairer
+from . import seed_claims, study_accuracy, study_fixed, study_hairer, study_wake
 from .common import DOCS, ROOT, read_csv, write_csv
 
 CSV = DOCS / "envs.csv"
@@ -68,6 +70,11 @@ HAIRER_BEGIN = (
     "<!-- hairer-table: written by `python -m benchmarks.report` from docs/study_hairer.csv -->"
 )
 HAIRER_END = "<!-- /hairer-table -->"
+PHYSICS = DOCS / "physics.md"
+WAKE_BEGIN = (
+    "<!-- wake-table: written by `python -m benchmarks.report` from docs/study_wake*.csv -->"
+)
+WAKE_END = "<!-- /wake-table -->"
 COST_BEGIN = (
     "<!-- cost-table: written by `python -m benchmarks.report` from docs/study_cost.csv -->"
 )
@@ -233,6 +240,8 @@ def params_markdown() -> str:
                 allowed = ", ".join(sorted(INTEGRATORS))
             elif f.name == "dtype":
                 allowed = "float32, float64"
+            elif f.name in getattr(cls, "CHOICES", {}):
+                allowed = ", ".join(cls.CHOICES[f.name])
             elif isinstance(f.default, bool):
                 allowed = "True, False"
             else:
@@ -381,6 +390,9 @@ def main(argv: list[str] | None = None) -> int:
             RELIABILITY,
         ),
         STUDY: study_page(),
+        PHYSICS: with_block(
+            PHYSICS.read_text(), WAKE_BEGIN, WAKE_END, study_wake.markdown(), PHYSICS
+        ),
         SEED_MAP: with_block(
             SEED_MAP.read_text(), CLAIMS_BEGIN, CLAIMS_END, seed_claims.markdown(), SEED_MAP
         ),
