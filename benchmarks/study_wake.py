@@ -25,7 +25,10 @@ error is the length of the velocity difference over that speed (the field is lin
 3. ``env`` (docs/study_wake_env.csv): SubmarineWake-v0's env-steps per second through
    ``gym.make_vec(..., vectorization_mode="vector_entry_point")`` with the exact wake, the
    table model (``wake_model="table"``) and no wake (``wake=False``) at 1024 and 4096 envs,
-   and per second of CPU time (numba's threads together).
+   on one of numba's threads and on all of them (on a machine shared with other work, the
+   parallel kernel's threads wait for each other and the one-thread figures are the steadier
+   ones), and per second of CPU time (numba's threads together). The markdown table also
+   gives the share of a step's time that the wake adds, table over exact.
 
 Costs are the best of several repeats, the subjects taken in turn each repeat
 (:func:`benchmarks.common.interleaved_best`), so that a change of load hits them alike; the
@@ -39,6 +42,7 @@ from __future__ import annotations
 import time
 
 import gymnasium as gym
+import numba
 import numpy as np
 
 from benchmarks.common import (
@@ -71,7 +75,9 @@ HEADER = (
     "section", "model", "dipoles", "table_step_m", "parts", "ns_per_eval", "cost_vs_exact",
     "rms_err_station", "max_err_station", "rms_err_start", "max_err_start",
 )  # fmt: skip
-ENV_HEADER = ("num_envs", "wake", "env_steps_per_s", "env_steps_per_cpu_s", "speed_vs_exact")
+ENV_HEADER = (
+    "num_envs", "threads", "wake", "env_steps_per_s", "env_steps_per_cpu_s", "speed_vs_exact",
+)  # fmt: skip
 
 
 def scene_wake(**changes) -> WakeField:
@@ -182,16 +188,21 @@ def _best_pair(a, b):
     return max(a[0], b[0]), max(a[1], b[1])
 
 
-def measure_env(sizes, seconds: float, repeats: int) -> list[tuple]:
+def measure_env(sizes, seconds: float, repeats: int, counts) -> list[tuple]:
+    """Rows of docs/study_wake_env.csv, on each count of numba's threads in ``counts``."""
     rows = []
+    threads = numba.config.NUMBA_NUM_THREADS
     for n in sizes:
         calls = env_calls(n, seconds)
-        best = interleaved_best(calls, repeats, best=_best_pair)
-        for kind, (wall, cpu) in best.items():
-            ratio = wall / best["exact"][0]
-            rows.append((n, kind, fmt(wall), fmt(cpu), fmt(ratio)))
-            print(f"env {n:5d} {kind:6s} {wall:12,.0f} env-steps/s  {cpu:12,.0f} per CPU-s  "
-                  f"x{ratio:.2f}", flush=True)  # fmt: skip
+        for t in dict.fromkeys(counts):
+            numba.set_num_threads(t)
+            best = interleaved_best(calls, repeats, best=_best_pair)
+            for kind, (wall, cpu) in best.items():
+                ratio = wall / best["exact"][0]
+                rows.append((n, t, kind, fmt(wall), fmt(cpu), fmt(ratio)))
+                print(f"env {n:5d} {t} thread(s) {kind:6s} {wall:12,.0f} env-steps/s  "
+                      f"{cpu:12,.0f} per CPU-s  x{ratio:.2f}", flush=True)  # fmt: skip
+        numba.set_num_threads(threads)
         for venv in calls.venvs:
             venv.close()
     return rows
@@ -243,12 +254,14 @@ def chart(rows: list[dict], env_rows: list[dict], path) -> None:
         ns = float(r["ns_per_eval"])
         if r["model"] == "exact":
             a0.axvline(ns, color="k", ls="--" if r["dipoles"] == str(DIPOLES) else ":", lw=1)
-            a0.text(ns, 2e-6, f" exact, {r['dipoles']} dipoles", rotation=90, fontsize=8)
+            a0.text(ns, 0.5, f" exact, {r['dipoles']} dipoles", rotation=90, fontsize=8,
+                    transform=a0.get_xaxis_transform())  # fmt: skip
             continue
         label = f"table {r['dipoles']} dip, step {float(r['table_step_m']):g} m"
         (line,) = a0.loglog([ns], [float(r["rms_err_station"])], "o", label=f"{label}: RMS")
         a0.loglog([ns], [float(r["max_err_station"])], "^", color=line.get_color())
     a0.set_xscale("linear")
+    a0.set_xlim(0.0, 1.1 * max(float(r["ns_per_eval"]) for r in field_rows))
     a0.set_xlabel("ns per evaluation (CPU)")
     a0.set_ylabel("error / hull speed at the station (o RMS, ^ largest)")
     a0.set_title("cost against error (exact field = 0)")
@@ -268,14 +281,14 @@ def chart(rows: list[dict], env_rows: list[dict], path) -> None:
     a1.legend()
     a1.grid(True, axis="y", alpha=0.3)
 
-    sizes = list(dict.fromkeys(r["num_envs"] for r in env_rows))
+    cases = list(dict.fromkeys((r["num_envs"], r["threads"]) for r in env_rows))
     kinds = list(dict.fromkeys(r["wake"] for r in env_rows))
-    x = np.arange(len(sizes))
+    x = np.arange(len(cases))
     for k, kind in enumerate(kinds):
-        rate = [float(r["env_steps_per_s"]) for n in sizes for r in env_rows
-                if r["num_envs"] == n and r["wake"] == kind]  # fmt: skip
+        rate = [float(r["env_steps_per_s"]) for c in cases for r in env_rows
+                if (r["num_envs"], r["threads"]) == c and r["wake"] == kind]  # fmt: skip
         a2.bar(x + (k - 1) * 0.27, rate, 0.27, label=f"wake: {kind}")
-    a2.set_xticks(x, [f"{n} envs" for n in sizes])
+    a2.set_xticks(x, [f"{n} envs\n{t} thread(s)" for n, t in cases])
     a2.set_ylabel("env-steps per second (wall)")
     a2.set_title("SubmarineWake-v0")
     a2.legend()
@@ -323,13 +336,16 @@ def markdown(path=None, env_path=None) -> str:
         lines.append(f"| {name} | {parts[name, 'exact']:.0f} | {parts[name, 'table']:.0f} |")
     lines += [
         "",
-        "| envs | exact wake (env-steps/s) | table wake | no wake | table / exact |",
-        "|---:|---:|---:|---:|---:|",
+        "| envs | threads | exact wake (env-steps/s) | table wake | no wake | table / exact | "
+        "wake's cost, table / exact |",
+        "|---:|---:|---:|---:|---:|---:|---:|",
     ]
-    env = {(r["num_envs"], r["wake"]): float(r["env_steps_per_s"]) for r in env_rows}
-    for n in dict.fromkeys(r["num_envs"] for r in env_rows):
-        e, t, o = env[n, "exact"], env[n, "table"], env[n, "none"]
-        lines.append(f"| {n} | {e:,.0f} | {t:,.0f} | {o:,.0f} | {t / e:.2f} |")
+    env = {(r["num_envs"], r["threads"], r["wake"]): float(r["env_steps_per_s"])
+           for r in env_rows}  # fmt: skip
+    for n, th in dict.fromkeys((r["num_envs"], r["threads"]) for r in env_rows):
+        e, t, o = env[n, th, "exact"], env[n, th, "table"], env[n, th, "none"]
+        share = (1 / t - 1 / o) / (1 / e - 1 / o)  # the time the wake adds to a step
+        lines.append(f"| {n} | {th} | {e:,.0f} | {t:,.0f} | {o:,.0f} | {t / e:.2f} | {share:.2f} |")
     lines += [
         "",
         "Errors: |table - exact| over the hull's speed at the UUV's wake-feeling samples on "
@@ -345,12 +361,13 @@ def main() -> None:
     args = parser.parse_args()
     machine = describe()
     out = out_dir(args.out, args.quick)
+    threads = numba.config.NUMBA_NUM_THREADS
     if args.quick:
-        n, repeats, sizes, seconds, env_repeats = 2000, 3, (256,), 0.2, 2
+        n, repeats, sizes, seconds, env_repeats, counts = 1000, 2, (256,), 0.1, 1, (1,)
     else:
-        n, repeats, sizes, seconds, env_repeats = 20000, 7, (1024, 4096), 1.5, 5
+        n, repeats, sizes, seconds, env_repeats, counts = 20000, 7, (1024, 4096), 1.5, 5, None
     rows = measure_field(n, repeats)
-    env_rows = measure_env(sizes, seconds, env_repeats)
+    env_rows = measure_env(sizes, seconds, env_repeats, counts or (1, threads))
     end = [load_average("end")]
     path = write_csv(out / "study_wake.csv", HEADER, rows, machine + end)
     env_path = write_csv(out / "study_wake_env.csv", ENV_HEADER, env_rows, machine + end)

@@ -183,9 +183,9 @@ def test_the_table_wake_flies_the_exact_wakes_episodes():
             obs, *_ = venv.step(a)
         runs[tuple(kw.values())] = venv.sim.pos[:, 0].copy(), obs
     (exact, obs), (table, t_obs), (none, _) = runs.values()
-    assert np.abs(table - exact).max() < 0.01  # m; measured 1.5e-3
+    assert np.abs(table - exact).max() < 0.01  # m; measured 1e-3
     assert np.abs(none - exact).max() > 1.0  # measured 3.2
-    np.testing.assert_allclose(t_obs, obs, atol=5e-3)  # measured 9e-4
+    np.testing.assert_allclose(t_obs, obs, atol=5e-3)  # measured 2.2e-4
 
 
 def test_hitting_the_hull_and_the_floor_end_the_episode():
