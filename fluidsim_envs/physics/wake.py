@@ -445,13 +445,17 @@ def _dipole(dx, dy, dz, mx, my, mz, core):
 
 
 @njit(**_INLINE)
-def _lamb_oseen(dy, dz, gamma, core):
+def _lamb_oseen(dy, dz, gamma, core, table, wprm):
     """Velocity (vy, vz) at cross-plane offset (dy, dz) of a Lamb-Oseen vortex of
-    circulation gamma about +x: v_theta = gamma / (2 pi r) (1 - exp(-r^2 / core^2))."""
+    circulation gamma about +x: v_theta = gamma / (2 pi r) (1 - exp(-r^2 / core^2)); with
+    ``table`` (the table model) its profile is read from the table (:func:`_profile_table`)."""
     r2 = dy * dy + dz * dz
-    s = r2 / (core * core)
-    # (1 - exp(-s)) / r^2 written to stay finite on the axis
-    g = -math.expm1(-s) / r2 if s > 1e-6 else (1.0 - 0.5 * s) / (core * core)
+    if table:
+        g = _profile_table(r2, core, wprm)
+    else:
+        s = r2 / (core * core)
+        # (1 - exp(-s)) / r^2 written to stay finite on the axis
+        g = -math.expm1(-s) / r2 if s > 1e-6 else (1.0 - 0.5 * s) / (core * core)
     k = gamma / (2.0 * math.pi) * g
     return -k * dz, k * dy
 
@@ -621,12 +625,11 @@ def _displacement_table(x, y, z, hux, huy, huz, wprm):
 
 
 @njit(**_INLINE)
-def _lamb_oseen_table(dy, dz, gamma, core, wprm):
-    """:func:`_lamb_oseen` with its profile ``G(s) = (1 - exp(-s)) / s``, ``s = r^2 / core^2``,
-    read linearly from the table (``1 / s`` past its end), so that
-    ``v_theta = gamma / (2 pi) G(s) r / core^2``."""
+def _profile_table(r2, core, wprm):
+    """:func:`_lamb_oseen`'s ``(1 - exp(-s)) / r^2`` at ``s = r^2 / core^2`` from the table of
+    ``G(s) = (1 - exp(-s)) / s`` (read linearly; ``1 / s`` past its end), over ``core^2``."""
     inv_c2 = 1.0 / (core * core)
-    s = (dy * dy + dz * dz) * inv_c2
+    s = r2 * inv_c2
     t = s * wprm[W_T_G_INV_H]
     if t < wprm[W_T_G_N] - 1.0:
         k = int(t)
@@ -634,17 +637,7 @@ def _lamb_oseen_table(dy, dz, gamma, core, wprm):
         g = g0 + (t - k) * (wprm[int(wprm[W_T_G]) + k + 1] - g0)
     else:
         g = 1.0 / s
-    k = gamma / (2.0 * math.pi) * g * inv_c2
-    return -k * dz, k * dy
-
-
-@njit(**_INLINE)
-def _vortex(dy, dz, gamma, core, table, wprm):
-    """Velocity (vy, vz) of a screw vortex at cross-plane offset (dy, dz): its profile from
-    :func:`_lamb_oseen`, or read from the table (:func:`_lamb_oseen_table`)."""
-    if table:
-        return _lamb_oseen_table(dy, dz, gamma, core, wprm)
-    return _lamb_oseen(dy, dz, gamma, core)
+    return g * inv_c2
 
 
 @njit(**_JIT)
@@ -655,7 +648,7 @@ def wake_at(px, py, pz, src, wprm):
     ``wprm`` the parameter array of :meth:`WakeField.params`. Zero when ``wprm[W_ON] == 0``.
     The table model (``wprm[W_MODEL] == 1``) reads the displacement from
     :func:`_displacement_table` where it can and the vortices' profile from
-    :func:`_lamb_oseen_table`; everything else is the one code of both models.
+    :func:`_profile_table`; everything else is the one code of both models.
     """
     if wprm[W_ON] == 0.0:
         return 0.0, 0.0, 0.0
@@ -680,34 +673,43 @@ def wake_at(px, py, pz, src, wprm):
             vx, vy, vz = _dipole_sum(x, y, z, hux, huy, huz, wprm)
 
     xi = wprm[W_SCREW_X] - x  # distance aft of the screws
-    xs = -wprm[W_A] - x  # distance aft of the stern
-    amp = wprm[W_NOISE] * speed
-    vortex = wprm[W_VORTICES] != 0.0 and xi > 0.0 and wprm[W_GAMMA] != 0.0
-    noise = amp != 0.0 and xs > 0.0
-    if not (vortex or noise):
-        return r0 * vx + r1 * vy + r2 * vz, r3 * vx + r4 * vy + r5 * vz, r6 * vx + r7 * vy + r8 * vz
-    fade = math.exp(-max(xi, 0.0) / wprm[W_DECAY])  # the vortices' decay, for both parts
-    zc = _pair_z(fade, wprm)
-    if vortex:
+    if wprm[W_VORTICES] != 0.0 and xi > 0.0 and wprm[W_GAMMA] != 0.0:
+        fade = math.exp(-xi / wprm[W_DECAY])
         gamma, core = _vortex_strength(xi, speed, fade, wprm)
         if wprm[W_SCREWS] == 1.0:
-            ay, az = _vortex(y, z, gamma, core, table, wprm)
+            ay, az = _lamb_oseen(y, z, gamma, core, table, wprm)
             vy += ay
             vz += az
         else:
+            zc = _pair_z(fade, wprm)
             yc = wprm[W_SCREW_Y]
-            ay, az = _vortex(y - yc, z - zc, gamma, core, table, wprm)  # port: gamma about +x
-            by, bz = _vortex(y + yc, z - zc, -gamma, core, table, wprm)  # starboard: -gamma
+            ay, az = _lamb_oseen(y - yc, z - zc, gamma, core, table, wprm)  # port: gamma about +x
+            by, bz = _lamb_oseen(y + yc, z - zc, -gamma, core, table, wprm)  # starboard: -gamma
             vy += ay + by
             vz += az + bz
 
-    if noise:
+    xs = -wprm[W_A] - x  # distance aft of the stern
+    amp = wprm[W_NOISE] * speed
+    if amp != 0.0 and xs > 0.0:
+        # the pair's drift again (shared with the vortices, the fused multiply-adds would
+        # round the exact model's numbers differently than they always have)
+        zc = _pair_z(math.exp(-max(xi, 0.0) / wprm[W_DECAY]), wprm)
         env = _envelope(y, z, xs, zc, amp, wprm)
         if env > 1e-9 * amp:
             s = wprm[W_NOISE_INV_SCALE]
             # world-frame turbulence, frozen in the water
-            n1, n2, n3 = value_noise3(px * s + ox, py * s + oy, pz * s + oz)
-            wx, wy, wz = env * n1, env * n2, env * n3
+            qx, qy, qz = px * s + ox, py * s + oy, pz * s + oz
+            if table:  # the same numbers, at once
+                n1, n2, n3 = value_noise3(qx, qy, qz)
+                return (
+                    r0 * vx + r1 * vy + r2 * vz + env * n1,
+                    r3 * vx + r4 * vy + r5 * vz + env * n2,
+                    r6 * vx + r7 * vy + r8 * vz + env * n3,
+                )
+            # three calls: the exact model's sums round as they always have
+            wx = env * value_noise(qx, qy, qz, 1)
+            wy = env * value_noise(qx, qy, qz, 2)
+            wz = env * value_noise(qx, qy, qz, 3)
             return (
                 r0 * vx + r1 * vy + r2 * vz + wx,
                 r3 * vx + r4 * vy + r5 * vz + wy,
