@@ -305,10 +305,10 @@ def markdown(path=None, env_path=None) -> str:
         return "(no docs/study_wake.csv yet: run python -m benchmarks.study_wake)"
     notes, rows = read_csv(path)
     env_notes, env_rows = read_csv(env_path)
-    load = "; ".join(n for n in notes + env_notes if n.startswith("load average"))
+    load = "; ".join(dict.fromkeys(n for n in notes + env_notes if n.startswith("load average")))
 
-    def g(v: str, digits: int = 2) -> str:
-        return f"{float(v):.{digits}g}"
+    def g(v: str) -> str:
+        return f"{float(v):.1e}"
 
     lines = [
         "| model | dipoles | table step (m) | ns / evaluation | of exact | RMS error | "
@@ -350,8 +350,12 @@ def markdown(path=None, env_path=None) -> str:
         "",
         "Errors: |table - exact| over the hull's speed at the UUV's wake-feeling samples on "
         "station (the start box: grown by the start error). Costs: best of interleaved "
-        f"repeats, CPU time per evaluation; env-steps: wall clock. {load}. From "
-        "docs/study_wake.csv and docs/study_wake_env.csv (`python -m benchmarks.study_wake`).",
+        "repeats, CPU time per evaluation; env-steps: wall clock, best of interleaved repeats; "
+        "the wake's cost: the time it adds to an env-step (1 / rate - 1 / rate without it), "
+        "table over exact. On a machine shared with other work the two-thread rows are the "
+        "less steady (the parallel kernel's threads wait for each other). "
+        f"{load}. From docs/study_wake.csv and docs/study_wake_env.csv "
+        "(`python -m benchmarks.study_wake`).",
     ]
     return "\n".join(lines)
 

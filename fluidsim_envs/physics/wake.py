@@ -122,15 +122,16 @@ class WakeField:
         model: ``"exact"`` (the default) evaluates every closed form at every point.
             ``"table"`` is the seed's spatial field taken literally, the same flow for less:
             the displacement flow (of ``dipoles`` dipoles) is read from a table in the hull's
-            frame, four functions of (x, rho) interpolated bilinearly (past the table's edge:
-            the hull's single far-field dipole), so that its cost does not grow with
-            ``dipoles``; the vortices' radial profile ``(1 - exp(-s)) / s`` is read from a
-            table in ``s = r^2 / core^2``; the turbulence is the same value noise, its three
-            channels computed together (:func:`value_noise3`, bit for bit the same, as the
-            exact model's). Where SubmarineWake's UUV flies it is within 3e-5 of the hull's
-            speed (RMS; at most 3.2e-4) of the exact field, at 0.57 of its cost at 8 dipoles
-            and 0.36 at 24 (docs/study_wake.csv); what is left is mostly the turbulence's 24
-            hashed lattice corners.
+            frame, four functions of (x, rho) interpolated bilinearly (next to the hull and
+            past the table's edge: the dipole sum; far away: the single far-field dipole),
+            so that its cost does not grow with ``dipoles``; the vortices' radial profile
+            ``(1 - exp(-s)) / s`` is read from a table in ``s = r^2 / core^2``; the
+            turbulence is the same value noise, its three channels computed together
+            (:func:`value_noise3`: bit for bit the numbers of three :func:`value_noise`
+            calls, which the exact model keeps). Where SubmarineWake's UUV flies it is within
+            3e-5 of the hull's speed (RMS; at most 3.2e-4) of the exact field, at 0.59 of
+            its cost at 8 dipoles and 0.39 at 24 (docs/study_wake.csv); what is left is
+            mostly the turbulence's 24 hashed lattice corners.
         table_step_m: the displacement table's step along x and across (default: a sixth
             of the radius: a twelfth cuts the RMS error by 3 and costs SubmarineWake 5% more,
             the table four times larger); its error falls as the step squared.

@@ -76,8 +76,8 @@ class SubmarineWakeParams:
     # hull at three times the cost (tests/physics/test_wake.py)
     wake_dipoles: int = 8
     # how the wake is evaluated: "exact" (every closed form at every point; v0's default)
-    # or "table" (WakeField(model="table"): the same flow to 1e-5 of the lead's speed (RMS)
-    # where the UUV flies, the time the wake adds to a step about 0.6 of the exact's;
+    # or "table" (WakeField(model="table"): the same flow to 3e-5 of the lead's speed (RMS)
+    # where the UUV flies; the time the wake adds to a step 0.66-0.8 of the exact's;
     # docs/physics.md, "A cheaper wake")
     wake_model: str = "exact"
     # ending and scoring
