@@ -446,17 +446,13 @@ def _dipole(dx, dy, dz, mx, my, mz, core):
 
 
 @njit(**_INLINE)
-def _lamb_oseen(dy, dz, gamma, core, table, wprm):
+def _lamb_oseen(dy, dz, gamma, core):
     """Velocity (vy, vz) at cross-plane offset (dy, dz) of a Lamb-Oseen vortex of
-    circulation gamma about +x: v_theta = gamma / (2 pi r) (1 - exp(-r^2 / core^2)); with
-    ``table`` (the table model) its profile is read from the table (:func:`_profile_table`)."""
+    circulation gamma about +x: v_theta = gamma / (2 pi r) (1 - exp(-r^2 / core^2))."""
     r2 = dy * dy + dz * dz
-    if table:
-        g = _profile_table(r2, core, wprm)
-    else:
-        s = r2 / (core * core)
-        # (1 - exp(-s)) / r^2 written to stay finite on the axis
-        g = -math.expm1(-s) / r2 if s > 1e-6 else (1.0 - 0.5 * s) / (core * core)
+    s = r2 / (core * core)
+    # (1 - exp(-s)) / r^2 written to stay finite on the axis
+    g = -math.expm1(-s) / r2 if s > 1e-6 else (1.0 - 0.5 * s) / (core * core)
     k = gamma / (2.0 * math.pi) * g
     return -k * dz, k * dy
 
@@ -641,19 +637,82 @@ def _profile_table(r2, core, wprm):
     return g * inv_c2
 
 
+@njit(**_INLINE)
+def _lamb_oseen_table(dy, dz, gamma, core, wprm):
+    """:func:`_lamb_oseen` with its profile read from the table (:func:`_profile_table`)."""
+    k = gamma / (2.0 * math.pi) * _profile_table(dy * dy + dz * dz, core, wprm)
+    return -k * dz, k * dy
+
+
+@njit(**_INLINE)
+def _wake_table_at(px, py, pz, src, wprm):
+    """:func:`wake_at` of the table model (``WakeField(model="table")``): the displacement
+    from :func:`_displacement_table` where it reads (the dipole sum elsewhere), the vortices'
+    profile from :func:`_profile_table`, the turbulence from :func:`value_noise3`; the rest
+    is the exact model's closed forms (the shared helpers)."""
+    (sx, sy, sz, r0, r1, r2, r3, r4, r5, r6, r7, r8, ux, uy, uz, ox, oy, oz) = src
+    dx, dy, dz = px - sx, py - sy, pz - sz
+    x = r0 * dx + r3 * dy + r6 * dz
+    y = r1 * dx + r4 * dy + r7 * dz
+    z = r2 * dx + r5 * dy + r8 * dz
+    speed = math.sqrt(ux * ux + uy * uy + uz * uz)
+    vx = vy = vz = 0.0
+    if wprm[W_DISPLACEMENT] != 0.0:
+        hux = r0 * ux + r3 * uy + r6 * uz
+        huy = r1 * ux + r4 * uy + r7 * uz
+        huz = r2 * ux + r5 * uy + r8 * uz
+        read, vx, vy, vz = _displacement_table(x, y, z, hux, huy, huz, wprm)
+        if not read:
+            vx, vy, vz = _dipole_sum(x, y, z, hux, huy, huz, wprm)
+
+    xi = wprm[W_SCREW_X] - x  # distance aft of the screws
+    xs = -wprm[W_A] - x  # distance aft of the stern
+    amp = wprm[W_NOISE] * speed
+    vortex = wprm[W_VORTICES] != 0.0 and xi > 0.0 and wprm[W_GAMMA] != 0.0
+    noise = amp != 0.0 and xs > 0.0
+    if vortex or noise:
+        fade = math.exp(-max(xi, 0.0) / wprm[W_DECAY])  # one exp for both
+        zc = _pair_z(fade, wprm)
+        if vortex:
+            gamma, core = _vortex_strength(xi, speed, fade, wprm)
+            if wprm[W_SCREWS] == 1.0:
+                ay, az = _lamb_oseen_table(y, z, gamma, core, wprm)
+                vy += ay
+                vz += az
+            else:
+                yc = wprm[W_SCREW_Y]
+                ay, az = _lamb_oseen_table(y - yc, z - zc, gamma, core, wprm)
+                by, bz = _lamb_oseen_table(y + yc, z - zc, -gamma, core, wprm)
+                vy += ay + by
+                vz += az + bz
+        if noise:
+            env = _envelope(y, z, xs, zc, amp, wprm)
+            if env > 1e-9 * amp:
+                s = wprm[W_NOISE_INV_SCALE]
+                n1, n2, n3 = value_noise3(px * s + ox, py * s + oy, pz * s + oz)
+                return (
+                    r0 * vx + r1 * vy + r2 * vz + env * n1,
+                    r3 * vx + r4 * vy + r5 * vz + env * n2,
+                    r6 * vx + r7 * vy + r8 * vz + env * n3,
+                )
+    return r0 * vx + r1 * vy + r2 * vz, r3 * vx + r4 * vy + r5 * vz, r6 * vx + r7 * vy + r8 * vz
+
+
 @njit(**_JIT)
 def wake_at(px, py, pz, src, wprm):
     """Fluid velocity (world frame) of the wake at world point (px, py, pz).
 
     ``src`` is the submarine's source row as a tuple of NSRC scalars (see :func:`source_row`),
-    ``wprm`` the parameter array of :meth:`WakeField.params`. Zero when ``wprm[W_ON] == 0``.
-    The table model (``wprm[W_MODEL] == 1``) reads the displacement from
-    :func:`_displacement_table` where it can and the vortices' profile from
-    :func:`_profile_table`; everything else is the one code of both models.
+    ``wprm`` the parameter array of :meth:`WakeField.params`. Zero when ``wprm[W_ON] == 0``;
+    the table model's (``wprm[W_MODEL] != 0``) is :func:`_wake_table_at`. This function's
+    own code is the exact model's, as it always was: its sums round the same (helpers or
+    branches shared with the table model made the fused multiply-adds round some 1e-15
+    differently in the step kernel).
     """
     if wprm[W_ON] == 0.0:
         return 0.0, 0.0, 0.0
-    table = wprm[W_MODEL] != 0.0
+    if wprm[W_MODEL] != 0.0:
+        return _wake_table_at(px, py, pz, src, wprm)
     (sx, sy, sz, r0, r1, r2, r3, r4, r5, r6, r7, r8, ux, uy, uz, ox, oy, oz) = src
     # the point and the velocity in the hull frame (R^T)
     dx, dy, dz = px - sx, py - sy, pz - sz
@@ -667,47 +726,44 @@ def wake_at(px, py, pz, src, wprm):
     vx = vy = vz = 0.0
 
     if wprm[W_DISPLACEMENT] != 0.0:
-        read = False
-        if table:
-            read, vx, vy, vz = _displacement_table(x, y, z, hux, huy, huz, wprm)
-        if not read:
-            vx, vy, vz = _dipole_sum(x, y, z, hux, huy, huz, wprm)
+        mx, my, mz = wprm[W_C_AX] * hux, wprm[W_C_LAT] * huy, wprm[W_C_LAT] * huz
+        for k in range(int(wprm[W_NDIP])):
+            xk, share, core = wprm[W_DIP + 3 * k], wprm[W_DIP + 3 * k + 1], wprm[W_DIP + 3 * k + 2]
+            ax, ay, az = _dipole(x - xk, y, z, share * mx, share * my, share * mz, core)
+            vx += ax
+            vy += ay
+            vz += az
 
     xi = wprm[W_SCREW_X] - x  # distance aft of the screws
     if wprm[W_VORTICES] != 0.0 and xi > 0.0 and wprm[W_GAMMA] != 0.0:
-        fade = math.exp(-xi / wprm[W_DECAY])
-        gamma, core = _vortex_strength(xi, speed, fade, wprm)
+        decay = wprm[W_DECAY]
+        fade = math.exp(-xi / decay)
+        gamma = wprm[W_GAMMA] * speed * _smoothstep(xi / wprm[W_B]) * fade
+        core = wprm[W_CORE] + wprm[W_CORE_GROWTH] * xi
         if wprm[W_SCREWS] == 1.0:
-            ay, az = _lamb_oseen(y, z, gamma, core, table, wprm)
+            ay, az = _lamb_oseen(y, z, gamma, core)
             vy += ay
             vz += az
         else:
-            zc = _pair_z(fade, wprm)
+            # mutual drift: integral over the wake of (Gamma(xi) / (2 pi d)) / speed
+            zc = wprm[W_DRIFT] * decay * (1.0 - fade)
             yc = wprm[W_SCREW_Y]
-            ay, az = _lamb_oseen(y - yc, z - zc, gamma, core, table, wprm)  # port: gamma about +x
-            by, bz = _lamb_oseen(y + yc, z - zc, -gamma, core, table, wprm)  # starboard: -gamma
+            ay, az = _lamb_oseen(y - yc, z - zc, gamma, core)  # port: gamma about +x
+            by, bz = _lamb_oseen(y + yc, z - zc, -gamma, core)  # starboard: -gamma
             vy += ay + by
             vz += az + bz
 
     xs = -wprm[W_A] - x  # distance aft of the stern
     amp = wprm[W_NOISE] * speed
     if amp != 0.0 and xs > 0.0:
-        # the pair's drift again (shared with the vortices, the fused multiply-adds would
-        # round the exact model's numbers differently than they always have)
-        zc = _pair_z(math.exp(-max(xi, 0.0) / wprm[W_DECAY]), wprm)
-        env = _envelope(y, z, xs, zc, amp, wprm)
+        width = wprm[W_B] + wprm[W_WAKE_GROWTH] * xs
+        zc = wprm[W_DRIFT] * wprm[W_DECAY] * (1.0 - math.exp(-max(xi, 0.0) / wprm[W_DECAY]))
+        rho2 = (y * y + (z - zc) * (z - zc)) / (width * width)
+        env = amp * _smoothstep(0.5 * xs / wprm[W_B]) * math.exp(-xs / wprm[W_NOISE_DECAY] - rho2)
         if env > 1e-9 * amp:
             s = wprm[W_NOISE_INV_SCALE]
-            # world-frame turbulence, frozen in the water
             qx, qy, qz = px * s + ox, py * s + oy, pz * s + oz
-            if table:  # the same numbers, at once
-                n1, n2, n3 = value_noise3(qx, qy, qz)
-                return (
-                    r0 * vx + r1 * vy + r2 * vz + env * n1,
-                    r3 * vx + r4 * vy + r5 * vz + env * n2,
-                    r6 * vx + r7 * vy + r8 * vz + env * n3,
-                )
-            # three calls: the exact model's sums round as they always have
+            # world-frame turbulence, frozen in the water
             wx = env * value_noise(qx, qy, qz, 1)
             wy = env * value_noise(qx, qy, qz, 2)
             wz = env * value_noise(qx, qy, qz, 3)
