@@ -129,8 +129,8 @@ class WakeField:
             turbulence is the same value noise, its three channels computed together
             (:func:`value_noise3`: bit for bit the numbers of three :func:`value_noise`
             calls, which the exact model keeps). Where SubmarineWake's UUV flies it is within
-            3e-5 of the hull's speed (RMS; at most 3.2e-4) of the exact field, at 0.59 of
-            its cost at 8 dipoles and 0.39 at 24 (docs/study_wake.csv); what is left is
+            3e-5 of the hull's speed (RMS; at most 3.2e-4) of the exact field, at 0.51 of
+            its cost at 8 dipoles and 0.34 at 24 (docs/study_wake.csv); what is left is
             mostly the turbulence's 24 hashed lattice corners.
         table_step_m: the displacement table's step along x and across (default: a sixth
             of the radius: a twelfth cuts the RMS error by 3 and costs SubmarineWake 5% more,

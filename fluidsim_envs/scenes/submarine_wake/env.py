@@ -77,7 +77,7 @@ class SubmarineWakeParams:
     wake_dipoles: int = 8
     # how the wake is evaluated: "exact" (every closed form at every point; v0's default)
     # or "table" (WakeField(model="table"): the same flow to 3e-5 of the lead's speed (RMS)
-    # where the UUV flies; the time the wake adds to a step 0.66-0.8 of the exact's;
+    # where the UUV flies; the time the wake adds to a step 0.6-0.75 of the exact's;
     # docs/physics.md, "A cheaper wake")
     wake_model: str = "exact"
     # ending and scoring
