@@ -79,6 +79,7 @@ BLOCKS = (
     Block("docs/benchmarks.md", "kernel-table", "docs/bench_kernel.csv", "bench_kernel:markdown"),
     Block("docs/benchmarks.md", "env-table", "docs/bench_envs.csv", "bench_envs:markdown"),
     Block("docs/study.md", "float32-table", "docs/study_float32.csv", "study_float32:markdown"),
+    Block("docs/physics.md", "wake-table", "docs/study_wake*.csv", "study_wake:markdown"),
     Block(
         "docs/benchmarks.md", "kernel-cost", "docs/bench_kernel.csv", "bench_kernel:cost_markdown"
     ),
@@ -341,6 +342,8 @@ def params_markdown() -> str:
                 allowed = ", ".join(sorted(INTEGRATORS))
             elif f.name == "dtype":
                 allowed = "float32, float64"
+            elif f.name in getattr(cls, "CHOICES", {}):
+                allowed = ", ".join(cls.CHOICES[f.name])
             elif isinstance(f.default, bool):
                 allowed = "True, False"
             else:

@@ -44,6 +44,7 @@ _INLINE = dict(cache=True, error_model="numpy", inline="always", fastmath={"cont
 _JIT = dict(cache=True, error_model="numpy", fastmath={"contract"})
 
 MAX_DIPOLES = 32
+MAX_TABLE = 1_000_000  # nodes of the table model's displacement table (4 floats each)
 
 # wprm[] slots (a float array in the simulation dtype; the kernels read it)
 (
@@ -67,9 +68,27 @@ MAX_DIPOLES = 32
     W_WAKE_GROWTH,
     W_DISPLACEMENT,
     W_VORTICES,
-) = range(20)
+    W_MODEL,
+) = range(21)
 W_DIP = 24  # then MAX_DIPOLES triples: axial position, volume share, core radius
-NWPRM = W_DIP + 3 * MAX_DIPOLES
+NWPRM = W_DIP + 3 * MAX_DIPOLES  # the exact field's length; the table model's header follows
+MODELS = ("exact", "table")  # wprm[W_MODEL] holds the index
+# the table model's header (after the dipoles), then its tables
+(
+    W_T_X0,  # body x of the displacement table's first column
+    W_T_INV_H,  # 1 / its step (the same along x and across, rho)
+    W_T_NX,  # its nodes along x
+    W_T_NR,  # its nodes across (rho from 0)
+    W_T_EXACT,  # slot of its [NX, NR] cell flags (1: the dipole sum in the cell from there)
+    W_T_G,  # slot of the vortex profile table (after the flags)
+    W_T_G_INV_H,  # 1 / that table's step in s = r^2 / core^2
+    W_T_G_N,  # its nodes (s from 0)
+    W_T_FAR2,  # beyond the table and this squared distance: the single far-field dipole
+) = range(NWPRM, NWPRM + 9)
+FAR = 6.0  # that distance, in half hull lengths: the single dipole is within 3.3% there
+W_TABLE = NWPRM + 12  # the displacement table: [NX, NR, 4] (F1..F4 of _displacement_table)
+G_STEP = 1.0 / 64.0  # the vortex profile table's step in s
+G_MAX = 32.0  # beyond it the profile is 1 / s (exp(-32) ~ 1e-14)
 
 
 @dataclass(frozen=True)
@@ -100,6 +119,28 @@ class WakeField:
             as good from two radii out (0.5%) at a third of the cost
             (tests/physics/test_wake.py).
         displacement, vortices: switch those parts on or off (turbulence: ``noise=0``).
+        model: ``"exact"`` (the default) evaluates every closed form at every point.
+            ``"table"`` is the seed's spatial field taken literally, the same flow for less:
+            the displacement flow (of ``dipoles`` dipoles) is read from a table in the hull's
+            frame, four functions of (x, rho) interpolated bilinearly (next to the hull and
+            past the table's edge: the dipole sum; far away: the single far-field dipole),
+            so that its cost does not grow with ``dipoles``; the vortices' radial profile
+            ``(1 - exp(-s)) / s`` is read from a table in ``s = r^2 / core^2``; the
+            turbulence is the same value noise, its three channels computed together
+            (:func:`value_noise3`: bit for bit the numbers of three :func:`value_noise`
+            calls, which the exact model keeps). Where SubmarineWake's UUV flies it is within
+            3e-5 of the hull's speed (RMS; at most 3.2e-4) of the exact field, at 0.51 of
+            its cost at 8 dipoles and 0.34 at 24 (docs/study_wake.csv); what is left is
+            mostly the turbulence's 24 hashed lattice corners.
+        table_step_m: the displacement table's step along x and across (default: a sixth
+            of the radius: a twelfth cuts the RMS error by 3 and costs SubmarineWake 5% more,
+            the table four times larger); its error falls as the step squared.
+        table_margin_m: the table reaches this far beyond the hull, along and across
+            (default: half the hull's length).
+        table_tolerance: a table cell where bilinear reading could be off by more than this
+            fraction of the speed (its center and edges checked against the dipole sum when
+            the table is made) gives the dipole sum instead: next to the hull, where the
+            dipoles' cores meet, the table model costs what the exact one does.
 
     Examples:
         >>> import numpy as np
@@ -129,6 +170,10 @@ class WakeField:
     dipoles: int = 24
     displacement: bool = True
     vortices: bool = True
+    model: str = "exact"
+    table_step_m: float | None = None
+    table_margin_m: float | None = None
+    table_tolerance: float = 1e-3
 
     def __post_init__(self) -> None:
         CK.plain_fields(self)  # NumPy scalars as Python numbers: one kernel type each
@@ -157,6 +202,16 @@ class WakeField:
         CK.number("WakeField", "dipoles", self.dipoles, ge=1, le=MAX_DIPOLES, integer=True)
         for key in ("displacement", "vortices"):
             CK.flag("WakeField", key, getattr(self, key))
+        CK.choice("WakeField", "model", self.model, MODELS)
+        number("table_step_m", gt=0.0)
+        number("table_margin_m", ge=0.0)
+        CK.number("WakeField", "table_tolerance", self.table_tolerance, gt=0.0)
+        if self.model == "table" and self._table_shape()[0] * self._table_shape()[1] > MAX_TABLE:
+            nx, nr = self._table_shape()
+            raise ValueError(
+                f"WakeField: table_step_m ({self.table_step_m!r}) gives a table of {nx} x {nr} "
+                f"nodes, more than {MAX_TABLE}: take a longer step or a smaller table_margin_m"
+            )
 
     # ---- derived quantities ----------------------------------------------------------------
 
@@ -183,7 +238,8 @@ class WakeField:
         return alpha0 / (2.0 - alpha0), beta0 / (2.0 - beta0)
 
     def params(self, dtype=np.float64) -> np.ndarray:
-        """The parameter array the kernels read (slots ``W_*`` of this module)."""
+        """The parameter array the kernels read (slots ``W_*`` of this module): NWPRM floats
+        for the exact field; the table model appends its header and tables."""
         a, b = 0.5 * self.length_m, self.radius_m
         k1, k2 = self.added_mass_coefficients()
         w = np.zeros(NWPRM)
@@ -220,7 +276,65 @@ class WakeField:
         w[W_WAKE_GROWTH] = self.wake_growth
         w[W_DISPLACEMENT] = 1.0 if self.displacement else 0.0
         w[W_VORTICES] = 1.0 if self.vortices else 0.0
+        w[W_MODEL] = MODELS.index(self.model)
+        if self.model == "table":
+            w = self._tables(w)
         return w.astype(dtype)
+
+    def table_step(self) -> float:
+        """The table model's step (m): ``table_step_m``, by default a sixth of the radius."""
+        return self.radius_m / 6.0 if self.table_step_m is None else self.table_step_m
+
+    def _table_shape(self) -> tuple[int, int]:
+        """Nodes of the displacement table along x and across (rho)."""
+        h = self.table_step()
+        margin = 0.5 * self.length_m if self.table_margin_m is None else self.table_margin_m
+        nx = 2 * math.ceil((0.5 * self.length_m + margin) / h) + 1  # symmetric about x = 0
+        nr = math.ceil((self.radius_m + margin) / h) + 1
+        return nx, nr
+
+    def _tables(self, w: np.ndarray) -> np.ndarray:
+        """The table model's header and tables appended to the exact field's slots ``w``."""
+        h = self.table_step()
+        nx, nr = self._table_shape()
+        x = (np.arange(nx) - (nx - 1) // 2) * h
+        rho = np.arange(nr) * h
+        K = int(w[W_NDIP])
+        dip = w[W_DIP : W_DIP + 3 * K].reshape(K, 3)
+        f = _f_table(x, rho, dip)
+        # the cells that bilinear reading does not resolve to the tolerance (next to the hull,
+        # where the dipoles' cores meet): at each cell's center and edge midpoints, the error
+        # in velocity per unit speed that the F's errors can give (_displacement_table's sums)
+        xm, rm = x[:-1] + 0.5 * h, rho[:-1] + 0.5 * h
+        c_ax, c_lat = w[W_C_AX], w[W_C_LAT]
+
+        def error(exact, approx, r):
+            d = np.abs(exact - approx)
+            return (c_ax * d[..., 0] + (c_ax + c_lat) * r * d[..., 1] + c_lat * r * r * d[..., 2]
+                    + c_lat * d[..., 3])  # fmt: skip
+
+        corners = 0.25 * (f[:-1, :-1] + f[1:, :-1] + f[:-1, 1:] + f[1:, 1:])
+        center = error(_f_table(xm, rm, dip), corners, rm[None])
+        along = error(_f_table(xm, rho, dip), 0.5 * (f[:-1] + f[1:]), rho[None])
+        across = error(_f_table(x, rm, dip), 0.5 * (f[:, :-1] + f[:, 1:]), rm[None])
+        worst = np.maximum.reduce(
+            [center, along[:, :-1], along[:, 1:], across[:-1], across[1:]]
+        )  # [nx - 1, nr - 1]
+        exact = np.zeros((nx, nr))  # per cell, at its first corner: 1 = the dipole sum there
+        exact[:-1, :-1] = worst > self.table_tolerance
+        s = np.arange(int(round(G_MAX / G_STEP)) + 1) * G_STEP
+        g = np.ones_like(s)
+        g[1:] = -np.expm1(-s[1:]) / s[1:]  # (1 - exp(-s)) / s, 1 at s = 0
+        head = np.zeros(W_TABLE - NWPRM)
+        head[W_T_X0 - NWPRM] = x[0]
+        head[W_T_INV_H - NWPRM] = 1.0 / h
+        head[W_T_NX - NWPRM], head[W_T_NR - NWPRM] = nx, nr
+        head[W_T_EXACT - NWPRM] = W_TABLE + f.size
+        head[W_T_G - NWPRM] = W_TABLE + f.size + exact.size
+        head[W_T_G_INV_H - NWPRM] = 1.0 / G_STEP
+        head[W_T_G_N - NWPRM] = s.size
+        head[W_T_FAR2 - NWPRM] = (FAR * 0.5 * self.length_m) ** 2
+        return np.concatenate([w, head, f.ravel(), exact.ravel(), g])
 
     def replace(self, **changes) -> WakeField:
         """A copy with some parameters changed (validated again)."""
@@ -272,6 +386,23 @@ def source_row(sub_pos, sub_quat, sub_lin_vel, noise_offset=(0.0, 0.0, 0.0)) -> 
         2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y),
     )  # fmt: skip
     return np.concatenate([p, rot, v, o])
+
+
+def _f_table(x: np.ndarray, rho: np.ndarray, dip: np.ndarray) -> np.ndarray:
+    """F1..F4 of :func:`_displacement_table` [len(x), len(rho), 4] at body x and rho, for
+    the dipoles ``dip`` [K, 3] (axial position, share, core radius): :func:`_dipole`'s sum,
+    per unit moment, split by direction."""
+    f = np.zeros((x.size, rho.size, 4))
+    for xk, share, core in dip:
+        dx = (x - xk)[:, None]
+        r2 = np.maximum(dx * dx + rho[None] ** 2, core * core)  # the core's continuation
+        inv_r3 = 1.0 / (r2 * np.sqrt(r2))
+        inv_r5 = inv_r3 / r2
+        f[..., 0] += share * (3.0 * dx * dx * inv_r5 - inv_r3)
+        f[..., 1] += share * 3.0 * dx * inv_r5
+        f[..., 2] += share * 3.0 * inv_r5
+        f[..., 3] += share * inv_r3
+    return f
 
 
 NSRC = 18  # source row: pos 3, rotation 9, velocity 3, noise offset 3
@@ -326,17 +457,24 @@ def _lamb_oseen(dy, dz, gamma, core):
     return -k * dz, k * dy
 
 
+_HX, _HY, _HZ, _HC = 73856093, 19349663, 83492791, 2654435761  # the lattice hash's primes
+
+
 @njit(**_INLINE)
-def _hash(ix, iy, iz, channel):
-    """A value in [-1, 1] for an integer lattice point (an integer mix; no tables)."""
-    h = (ix * 73856093) ^ (iy * 19349663) ^ (iz * 83492791) ^ (channel * 2654435761)
-    h &= 0xFFFFFFFF
+def _mix(h):
+    """Mix 32 bits (a hashed lattice point) into a value in [-1, 1]."""
     h ^= h >> 16
     h = (h * 0x7FEB352D) & 0xFFFFFFFF
     h ^= h >> 15
     h = (h * 0x846CA68B) & 0xFFFFFFFF
     h ^= h >> 16
     return h * (2.0 / 4294967295.0) - 1.0
+
+
+@njit(**_INLINE)
+def _hash(ix, iy, iz, channel):
+    """A value in [-1, 1] for an integer lattice point (an integer mix; no tables)."""
+    return _mix(((ix * _HX) ^ (iy * _HY) ^ (iz * _HZ) ^ (channel * _HC)) & 0xFFFFFFFF)
 
 
 @njit(**_INLINE)
@@ -361,15 +499,220 @@ def value_noise(x, y, z, channel):
     return acc
 
 
+@njit(**_INLINE)
+def _corner(a1, a2, a3, wt, hx, hy, hz):
+    """Add one lattice corner, of weight ``wt`` and hashed coordinates (hx, hy, hz), to the
+    three channels' sums (channels 1, 2, 3 of :func:`_hash`)."""
+    h = hx ^ hy ^ hz
+    return (
+        a1 + wt * _mix((h ^ _HC) & 0xFFFFFFFF),
+        a2 + wt * _mix((h ^ (2 * _HC)) & 0xFFFFFFFF),
+        a3 + wt * _mix((h ^ (3 * _HC)) & 0xFFFFFFFF),
+    )
+
+
+@njit(**_INLINE)
+def value_noise3(x, y, z):
+    """:func:`value_noise` of channels 1, 2 and 3 at once, the same numbers bit for bit
+    (tests/physics/test_wake.py): the lattice cell, the corner weights and the coordinates'
+    part of the hash once, not thrice, the corners written out. A third of the time of three
+    calls (benchmarks/study_wake.py)."""
+    fx, fy, fz = math.floor(x), math.floor(y), math.floor(z)
+    ix, iy, iz = np.int64(fx), np.int64(fy), np.int64(fz)
+    u, v, w = _fade(x - fx), _fade(y - fy), _fade(z - fz)
+    x0, x1 = ix * _HX, (ix + 1) * _HX
+    y0, y1 = iy * _HY, (iy + 1) * _HY
+    z0, z1 = iz * _HZ, (iz + 1) * _HZ
+    u0, v0, w0 = 1.0 - u, 1.0 - v, 1.0 - w
+    a = _corner(0.0, 0.0, 0.0, u0 * v0 * w0, x0, y0, z0)
+    a = _corner(a[0], a[1], a[2], u * v0 * w0, x1, y0, z0)
+    a = _corner(a[0], a[1], a[2], u0 * v * w0, x0, y1, z0)
+    a = _corner(a[0], a[1], a[2], u * v * w0, x1, y1, z0)
+    a = _corner(a[0], a[1], a[2], u0 * v0 * w, x0, y0, z1)
+    a = _corner(a[0], a[1], a[2], u * v0 * w, x1, y0, z1)
+    a = _corner(a[0], a[1], a[2], u0 * v * w, x0, y1, z1)
+    return _corner(a[0], a[1], a[2], u * v * w, x1, y1, z1)
+
+
+@njit(**_INLINE)
+def _vortex_strength(xi, speed, fade, wprm):
+    """Circulation and core radius of the screw vortices ``xi`` aft of the screws, where the
+    decay factor is ``fade = exp(-xi / decay)``."""
+    gamma = wprm[W_GAMMA] * speed * _smoothstep(xi / wprm[W_B]) * fade
+    return gamma, wprm[W_CORE] + wprm[W_CORE_GROWTH] * xi
+
+
+@njit(**_INLINE)
+def _pair_z(fade, wprm):
+    """How far the vortex pair has drifted along body z where the decay factor is ``fade``:
+    the integral over the wake of (Gamma(xi) / (2 pi d)) / speed."""
+    return wprm[W_DRIFT] * wprm[W_DECAY] * (1.0 - fade)
+
+
+@njit(**_INLINE)
+def _envelope(y, z, xs, zc, amp, wprm):
+    """The turbulence's amplitude ``xs`` aft of the stern at (y, z) in the hull's frame, the
+    wake's center drifted to ``zc``."""
+    width = wprm[W_B] + wprm[W_WAKE_GROWTH] * xs
+    rho2 = (y * y + (z - zc) * (z - zc)) / (width * width)
+    return amp * _smoothstep(0.5 * xs / wprm[W_B]) * math.exp(-xs / wprm[W_NOISE_DECAY] - rho2)
+
+
+@njit(**_INLINE)
+def _dipole_sum(x, y, z, hux, huy, huz, wprm):
+    """The displacement flow (hull frame) at hull-frame (x, y, z) of the hull moving at
+    (hux, huy, huz): the axial dipoles' sum."""
+    vx = vy = vz = 0.0
+    mx, my, mz = wprm[W_C_AX] * hux, wprm[W_C_LAT] * huy, wprm[W_C_LAT] * huz
+    for k in range(int(wprm[W_NDIP])):
+        xk, share, core = wprm[W_DIP + 3 * k], wprm[W_DIP + 3 * k + 1], wprm[W_DIP + 3 * k + 2]
+        ax, ay, az = _dipole(x - xk, y, z, share * mx, share * my, share * mz, core)
+        vx += ax
+        vy += ay
+        vz += az
+    return vx, vy, vz
+
+
+@njit(**_INLINE)
+def _displacement_table(x, y, z, hux, huy, huz, wprm):
+    """The dipole sum of :func:`wake_at` (the displacement flow, hull frame) from the table:
+    (True, vx, vy, vz), or (False, 0, 0, 0) where the dipole sum itself is wanted.
+
+    For dipoles on the axis, a moment ``m`` and the offset ``(x - x_k, y, z)``, the sum is
+    ``v_x = m_x F1 + p F2``, ``v_perp = (m_x F2 + p F3) (y, z) - m_perp F4`` with
+    ``p = m_y y + m_z z`` and four functions of (x, rho) alone: ``F1 = sum s (3 dx^2 / r^5 -
+    1 / r^3)``, ``F2 = sum 3 s dx / r^5``, ``F3 = sum 3 s / r^5``, ``F4 = sum s / r^3``
+    (``r`` at least the core radius, as :func:`_dipole`); the table holds them on a square
+    grid, read bilinearly. In the cells it does not resolve (``WakeField.table_tolerance``)
+    and past its edge: the dipole sum itself; beyond ``FAR`` half lengths from the center, one
+    dipole of the whole moment there. The sum differs from that by its octupole part: the
+    shares' second moment (a^2 / 5) times the field's second derivative, on the axis
+    6/5 (a / r)^2 of it (Batchelor 6.4 for the far field)."""
+    mx, my, mz = wprm[W_C_AX] * hux, wprm[W_C_LAT] * huy, wprm[W_C_LAT] * huz
+    rho = math.sqrt(y * y + z * z)
+    inv_h = wprm[W_T_INV_H]
+    fx = (x - wprm[W_T_X0]) * inv_h
+    fr = rho * inv_h
+    nr = int(wprm[W_T_NR])
+    if fx >= 0.0 and fx < wprm[W_T_NX] - 1.0 and fr < nr - 1.0:
+        i, j = int(fx), int(fr)
+        if wprm[int(wprm[W_T_EXACT]) + i * nr + j] != 0.0:  # a cell the table does not resolve
+            return False, 0.0, 0.0, 0.0
+        tx, tr = fx - i, fr - j
+        a = W_TABLE + 4 * (i * nr + j)  # corners a (i, j), a + 4 (i, j + 1), then row i + 1
+        b = a + 4 * nr
+        w00, w01 = (1.0 - tx) * (1.0 - tr), (1.0 - tx) * tr
+        w10, w11 = tx * (1.0 - tr), tx * tr
+        f1 = w00 * wprm[a] + w01 * wprm[a + 4] + w10 * wprm[b] + w11 * wprm[b + 4]
+        f2 = w00 * wprm[a + 1] + w01 * wprm[a + 5] + w10 * wprm[b + 1] + w11 * wprm[b + 5]
+        f3 = w00 * wprm[a + 2] + w01 * wprm[a + 6] + w10 * wprm[b + 2] + w11 * wprm[b + 6]
+        f4 = w00 * wprm[a + 3] + w01 * wprm[a + 7] + w10 * wprm[b + 3] + w11 * wprm[b + 7]
+    else:
+        r2 = x * x + rho * rho
+        if r2 < wprm[W_T_FAR2]:
+            return False, 0.0, 0.0, 0.0
+        # far: one dipole at the center (the shares sum to one)
+        f4 = 1.0 / (r2 * math.sqrt(r2))
+        f3 = 3.0 * f4 / r2
+        f2 = f3 * x
+        f1 = f2 * x - f4
+    p = my * y + mz * z
+    q = mx * f2 + p * f3
+    return True, mx * f1 + p * f2, q * y - my * f4, q * z - mz * f4
+
+
+@njit(**_INLINE)
+def _profile_table(r2, core, wprm):
+    """:func:`_lamb_oseen`'s ``(1 - exp(-s)) / r^2`` at ``s = r^2 / core^2`` from the table of
+    ``G(s) = (1 - exp(-s)) / s`` (read linearly; ``1 / s`` past its end), over ``core^2``."""
+    inv_c2 = 1.0 / (core * core)
+    s = r2 * inv_c2
+    t = s * wprm[W_T_G_INV_H]
+    if t < wprm[W_T_G_N] - 1.0:
+        k = int(t)
+        g0 = wprm[int(wprm[W_T_G]) + k]
+        g = g0 + (t - k) * (wprm[int(wprm[W_T_G]) + k + 1] - g0)
+    else:
+        g = 1.0 / s
+    return g * inv_c2
+
+
+@njit(**_INLINE)
+def _lamb_oseen_table(dy, dz, gamma, core, wprm):
+    """:func:`_lamb_oseen` with its profile read from the table (:func:`_profile_table`)."""
+    k = gamma / (2.0 * math.pi) * _profile_table(dy * dy + dz * dz, core, wprm)
+    return -k * dz, k * dy
+
+
+@njit(**_INLINE)
+def _wake_table_at(px, py, pz, src, wprm):
+    """:func:`wake_at` of the table model (``WakeField(model="table")``): the displacement
+    from :func:`_displacement_table` where it reads (the dipole sum elsewhere), the vortices'
+    profile from :func:`_profile_table`, the turbulence from :func:`value_noise3`; the rest
+    is the exact model's closed forms (the shared helpers)."""
+    (sx, sy, sz, r0, r1, r2, r3, r4, r5, r6, r7, r8, ux, uy, uz, ox, oy, oz) = src
+    dx, dy, dz = px - sx, py - sy, pz - sz
+    x = r0 * dx + r3 * dy + r6 * dz
+    y = r1 * dx + r4 * dy + r7 * dz
+    z = r2 * dx + r5 * dy + r8 * dz
+    speed = math.sqrt(ux * ux + uy * uy + uz * uz)
+    vx = vy = vz = 0.0
+    if wprm[W_DISPLACEMENT] != 0.0:
+        hux = r0 * ux + r3 * uy + r6 * uz
+        huy = r1 * ux + r4 * uy + r7 * uz
+        huz = r2 * ux + r5 * uy + r8 * uz
+        read, vx, vy, vz = _displacement_table(x, y, z, hux, huy, huz, wprm)
+        if not read:
+            vx, vy, vz = _dipole_sum(x, y, z, hux, huy, huz, wprm)
+
+    xi = wprm[W_SCREW_X] - x  # distance aft of the screws
+    xs = -wprm[W_A] - x  # distance aft of the stern
+    amp = wprm[W_NOISE] * speed
+    vortex = wprm[W_VORTICES] != 0.0 and xi > 0.0 and wprm[W_GAMMA] != 0.0
+    noise = amp != 0.0 and xs > 0.0
+    if vortex or noise:
+        fade = math.exp(-max(xi, 0.0) / wprm[W_DECAY])  # one exp for both
+        zc = _pair_z(fade, wprm)
+        if vortex:
+            gamma, core = _vortex_strength(xi, speed, fade, wprm)
+            if wprm[W_SCREWS] == 1.0:
+                ay, az = _lamb_oseen_table(y, z, gamma, core, wprm)
+                vy += ay
+                vz += az
+            else:
+                yc = wprm[W_SCREW_Y]
+                ay, az = _lamb_oseen_table(y - yc, z - zc, gamma, core, wprm)
+                by, bz = _lamb_oseen_table(y + yc, z - zc, -gamma, core, wprm)
+                vy += ay + by
+                vz += az + bz
+        if noise:
+            env = _envelope(y, z, xs, zc, amp, wprm)
+            if env > 1e-9 * amp:
+                s = wprm[W_NOISE_INV_SCALE]
+                n1, n2, n3 = value_noise3(px * s + ox, py * s + oy, pz * s + oz)
+                return (
+                    r0 * vx + r1 * vy + r2 * vz + env * n1,
+                    r3 * vx + r4 * vy + r5 * vz + env * n2,
+                    r6 * vx + r7 * vy + r8 * vz + env * n3,
+                )
+    return r0 * vx + r1 * vy + r2 * vz, r3 * vx + r4 * vy + r5 * vz, r6 * vx + r7 * vy + r8 * vz
+
+
 @njit(**_JIT)
 def wake_at(px, py, pz, src, wprm):
     """Fluid velocity (world frame) of the wake at world point (px, py, pz).
 
     ``src`` is the submarine's source row as a tuple of NSRC scalars (see :func:`source_row`),
-    ``wprm`` the parameter array of :meth:`WakeField.params`. Zero when ``wprm[W_ON] == 0``.
+    ``wprm`` the parameter array of :meth:`WakeField.params`. Zero when ``wprm[W_ON] == 0``;
+    the table model's (``wprm[W_MODEL] != 0``) is :func:`_wake_table_at`. This function's
+    own code is the exact model's, as it always was: its sums round the same (helpers or
+    branches shared with the table model made the fused multiply-adds round some 1e-15
+    differently in the step kernel).
     """
     if wprm[W_ON] == 0.0:
         return 0.0, 0.0, 0.0
+    if wprm[W_MODEL] != 0.0:
+        return _wake_table_at(px, py, pz, src, wprm)
     (sx, sy, sz, r0, r1, r2, r3, r4, r5, r6, r7, r8, ux, uy, uz, ox, oy, oz) = src
     # the point and the velocity in the hull frame (R^T)
     dx, dy, dz = px - sx, py - sy, pz - sz

@@ -24,6 +24,7 @@ from scipy.optimize import brentq, minimize_scalar
 from scipy.spatial.transform import Rotation
 
 from fluidsim_envs.physics.wake import (
+    FAR,
     MAX_DIPOLES,
     W_B,
     W_CORE,
@@ -37,7 +38,10 @@ from fluidsim_envs.physics.wake import (
     W_SCREW_X,
     W_SCREW_Y,
     WakeField,
+    source_row,
     value_noise,
+    value_noise3,
+    wake_velocity_batch,
 )
 
 ID = (1.0, 0.0, 0.0, 0.0)
@@ -600,6 +604,9 @@ FIELDS = [
     WakeField(dipoles=MAX_DIPOLES, circulation=2.0),
     WakeField(length_m=4.0, radius_m=2.0, dipoles=1),  # a sphere
     WakeField(length_m=150.0, radius_m=2.0, dipoles=20, screws=1, core_growth=0.0),
+    WakeField(model="table"),
+    WakeField(model="table", screws=1, dipoles=MAX_DIPOLES, table_step_m=1.0, table_margin_m=5.0),
+    WakeField(length_m=4.0, radius_m=2.0, dipoles=1, model="table"),  # a sphere
 ]
 BOUND = 3.0  # |u| <= 3 |U|; sampled maximum about 1.5 |U| over these fields
 
@@ -797,6 +804,12 @@ def test_whole_field_is_continuous_in_the_wake():
         (dict(wake_growth=-1.0), "wake_growth"),
         (dict(displacement=1), "displacement"),
         (dict(vortices="yes"), "vortices"),
+        (dict(model="fast"), "model"),
+        (dict(model=1), "model"),
+        (dict(table_step_m=0.0), "table_step_m"),
+        (dict(table_step_m=math.nan), "table_step_m"),
+        (dict(table_margin_m=-1.0), "table_margin_m"),
+        (dict(model="table", table_step_m=0.001), "table_step_m"),  # a table too big
     ],
 )
 def test_bad_parameters_raise_naming_the_parameter(kw, name):
@@ -832,3 +845,131 @@ def test_velocity_rejects_bad_input(args, name):
     call = dict(points=np.zeros((3, 3)), sub_pos=(0, 0, 0), sub_quat=ID, sub_lin_vel=(1, 0, 0))
     with pytest.raises(ValueError, match=name):
         WakeField().velocity(**{**call, **args})
+
+
+# ---- the table model -----------------------------------------------------------------------------
+# WakeField(model="table") against the exact field of the same parameters. Tolerances are the
+# errors measured by benchmarks/study_wake.py (docs/study_wake.csv) and here, with room: where
+# SubmarineWake's UUV flies (below), RMS 2.5e-5 to 2.9e-5 and at most 2.5e-4 of the hull's
+# speed, for 8 and 24 dipoles, at the default step (a sixth of the radius); bilinear
+# interpolation's error falls as the step squared (its leading term is h^2 / 8 times the
+# second derivative).
+
+
+def station_points(n, seed=0):
+    """Points where SubmarineWake's UUV flies: its station box (x -32..-24 m, |y| 1..4 m,
+    z -2..2 m in the lead's frame) grown by its half length (1.25 m) and the start error
+    (4 m), to either side."""
+    rng = np.random.default_rng(seed)
+    pts = rng.uniform([-37.25, -4.25, -7.25], [-18.75, 9.25, 7.25], (n, 3))
+    pts[: n // 2, 1] *= -1.0
+    return pts
+
+
+SCENE_WAKE = dict(noise=0.15, dipoles=8)  # SubmarineWake-v0's lead
+
+
+@pytest.mark.parametrize("dipoles", [8, 24])
+def test_table_model_matches_the_exact_field_where_the_uuv_flies(dipoles):
+    rng = np.random.default_rng(31)
+    exact = WakeField(**{**SCENE_WAKE, "dipoles": dipoles})
+    table = exact.replace(model="table")
+    pts = station_points(4000)
+    for quat, u in ((ID, (2.0, 0.0, 0.0)), (random_quat(rng), (1.5, -0.4, 0.3))):
+        ref = body_velocity(exact, pts, u, (30.0, -4.0, -25.0), quat, (3.1, 7.7, 0.4))
+        got = body_velocity(table, pts, u, (30.0, -4.0, -25.0), quat, (3.1, 7.7, 0.4))
+        err = np.linalg.norm(got - ref, axis=1) / np.linalg.norm(u)
+        assert np.sqrt(np.mean(err**2)) < 1e-4  # measured 2.5e-5 to 2.9e-5
+        assert err.max() < 1e-3  # measured 2.5e-4; the cells' tolerance is 1e-3
+        assert np.sqrt(np.mean(np.sum(ref**2, axis=1))) > 0.05 * np.linalg.norm(u)  # a flow
+
+
+def test_table_error_falls_as_the_step_squared():
+    """Every cell read bilinearly (no tolerance): the displacement's error at steps h and
+    h / 2 where the UUV flies (aft of the dipoles' cores) falls by about 4."""
+    exact = WakeField(**DISPLACEMENT_ONLY)
+    pts = station_points(4000)
+    pts = pts[pts[:, 0] < -23.0]
+    ref = body_velocity(exact, pts, (1.0, 0.5, -0.5))
+
+    def rms(h):
+        table = exact.replace(model="table", table_step_m=h, table_tolerance=1e9)
+        got = body_velocity(table, pts, (1.0, 0.5, -0.5))
+        return np.sqrt(np.mean(np.sum((got - ref) ** 2, axis=1)))
+
+    coarse, fine = rms(1.0), rms(0.5)
+    assert 3.0 < coarse / fine < 5.0  # measured 4.1 (and 3.8 from 0.5 to 0.25 m)
+
+
+def test_table_cells_it_does_not_resolve_give_the_dipole_sum():
+    """Next to the hull (where the dipoles' cores meet) the table defers to the dipole sum:
+    the exact field's numbers there; everywhere in the table the error stays within the
+    tolerance (its bound is checked at each cell's center and edge midpoints)."""
+    exact = WakeField(**DISPLACEMENT_ONLY)
+    rng = np.random.default_rng(34)
+    a, b = 0.5 * exact.length_m, exact.radius_m
+    _, _, near = hull_points(a, b, 500, 0.05 * b, rng)
+    u = (1.0, -0.3, 0.2)
+    for tol in (1e-3, 1e-4):
+        table = exact.replace(model="table", table_tolerance=tol)
+        np.testing.assert_allclose(body_velocity(table, near, u), body_velocity(exact, near, u),
+                                   rtol=1e-12, atol=1e-15)  # fmt: skip
+        pts = rng.uniform([-2 * a, -2 * b, -2 * b], [2 * a, 2 * b, 2 * b], (4000, 3))
+        err = np.linalg.norm(body_velocity(table, pts, u) - body_velocity(exact, pts, u), axis=1)
+        assert err.max() < tol * np.linalg.norm(u)
+
+
+def test_table_model_far_away_is_the_far_field_dipole():
+    """Past the table the flow is the dipole sum, and beyond FAR half lengths the single
+    dipole of the whole hull's moment (Batchelor 6.4): the sum differs from it by its
+    octupole part, on the axis 6/5 (a / r)^2 of it (the shares' second moment a^2 / 5)."""
+    exact = WakeField(**DISPLACEMENT_ONLY)
+    table = exact.replace(model="table", table_margin_m=10.0)  # x to +-30 m, rho to 13 m
+    a = 0.5 * exact.length_m
+    for r in (1.6 * a, 3 * a, 0.99 * FAR * a, 1.01 * FAR * a, 30 * a):
+        pts = r * np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0.6, 0, -0.8], [0, -0.6, 0.8]])
+        for u in ((1.0, 0, 0), (0, 1.0, 0), (0.3, -0.2, 0.9)):
+            ref, got = body_velocity(exact, pts, u), body_velocity(table, pts, u)
+            scale = np.linalg.norm(ref, axis=1).max()
+            tol = 1.5 * (a / r) ** 2 * scale if r > FAR * a else 1e-12 * scale
+            assert np.abs(got - ref).max() < tol
+
+
+def test_table_vortex_profile_matches_lamb_oseen():
+    """The vortices alone (their profile (1 - exp(-s)) / s read from a table of step 1/64 in s)
+    across the cores and beyond the table's end (s = 32)."""
+    exact = WakeField(**VORTICES_ONLY)
+    table = exact.replace(model="table")
+    yc = exact.params()[W_SCREW_Y]
+    y = np.linspace(-4 * yc, 4 * yc, 801)
+    for x in (-20.5, -23.0, -40.0, -100.0):
+        pts = np.stack([np.full_like(y, x), y, np.full_like(y, -0.3)], axis=1)
+        ref, got = body_velocity(exact, pts, (3.0, 0, 0)), body_velocity(table, pts, (3.0, 0, 0))
+        peak = np.abs(ref).max()
+        assert np.abs(got - ref).max() < 2e-5 * peak  # measured 5e-6
+
+
+def test_value_noise3_is_value_noise_bit_for_bit():
+    rng = np.random.default_rng(33)
+    pts = np.concatenate([rng.uniform(-1e4, 1e4, (300, 3)), rng.uniform(-2, 2, (300, 3))])
+    pts[:20] = np.round(pts[:20])  # on lattice points
+    for p in pts:
+        got = value_noise3(*p)
+        for ch in (1, 2, 3):
+            assert got[ch - 1] == value_noise(*p, ch)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_table_model_runs_in_both_precisions(dtype):
+    """The kernels read the parameter array in the simulation's dtype: a float32 table is as
+    good as its precision allows."""
+    exact = WakeField(**SCENE_WAKE)
+    pts = station_points(500)
+    src = source_row((0, 0, 0), ID, (2.0, 0, 0), (1.0, 2.0, 3.0))
+    ref = np.empty_like(pts)
+    wake_velocity_batch(pts, src, exact.params(), ref)
+    got = np.empty_like(pts, dtype=dtype)
+    table = exact.replace(model="table").params(dtype)
+    wake_velocity_batch(pts.astype(dtype), src.astype(dtype), table, got)
+    err = np.linalg.norm(got - ref, axis=1) / 2.0
+    assert np.all(np.isfinite(got)) and err.max() < 1e-3  # measured 1.5e-4 in both

@@ -13,6 +13,7 @@ from ...physics import Craft, Simulator, WakeField, World
 from ...physics import checks as CK
 from ...physics.forces import thrust_control
 from ...physics.kernels import INTEGRATORS
+from ...physics.wake import MODELS as WAKE_MODELS
 from ...physics.wake import NSRC as WAKE_SOURCE_ROWS
 from ..base import FluidEnv, FluidVectorEnv, check_choice
 from ..limits import (
@@ -74,6 +75,11 @@ class SubmarineWakeParams:
     # exact flow from two hull radii out, where the station lies; 24 resolve it down to the
     # hull at three times the cost (tests/physics/test_wake.py)
     wake_dipoles: int = 8
+    # how the wake is evaluated: "exact" (every closed form at every point; v0's default)
+    # or "table" (WakeField(model="table"): the same flow to 3e-5 of the lead's speed (RMS)
+    # where the UUV flies; the time the wake adds to a step 0.6-0.75 of the exact's;
+    # docs/physics.md, "A cheaper wake")
+    wake_model: str = "exact"
     # ending and scoring
     lost_distance_m: float = 30.0  # this far from the station point, the lead is lost
     success_radius_m: float = 3.0
@@ -83,6 +89,7 @@ class SubmarineWakeParams:
     w_effort: float = 0.05  # per step, times the mean squared action
     w_crash: float = 100.0  # hitting the hull or the floor, losing the lead, diverging
 
+    CHOICES: ClassVar[dict] = {"wake_model": WAKE_MODELS}  # the allowed strings
     RANGES: ClassVar[dict] = {
         "dt": Bound(1e-5, 0.5),  # and the integrator's limit (limits.DT_LIMIT_S)
         "substeps": SUBSTEPS,
@@ -119,6 +126,8 @@ class SubmarineWakeParams:
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
         check_step(own, self.dt, self.integrator, own)
         check_choice(own, "dtype", self.dtype, ("float32", "float64"))
+        for key, choices in self.CHOICES.items():
+            check_choice(own, key, getattr(self, key), choices)
         CK.flag(own, "wake", self.wake)  # True or False: 1 is no switch
         if self.floor_depth_m <= self.lead_depth_m[1] + LEAD_RADIUS_M:
             raise ValueError(
@@ -135,6 +144,7 @@ class SubmarineWakeParams:
             circulation=float(self.circulation),
             noise=float(self.noise),
             dipoles=int(self.wake_dipoles),
+            model=self.wake_model,
         )
 
 
@@ -426,7 +436,8 @@ class SubmarineWakeEnv(FluidEnv):
     vectorization_mode="vector_entry_point", **kwargs)`` accept ``render_mode``
     (``"rgb_array"``) and every field of :class:`SubmarineWakeParams` (physics ``dt``,
     ``substeps``, ``integrator``, ``dtype``; the lead's route; the station; the wake:
-    ``wake`` on or off, ``screws``, ``circulation``, ``noise``; limits and reward weights);
+    ``wake`` on or off, ``screws``, ``circulation``, ``noise``, ``wake_dipoles``,
+    ``wake_model``: ``"exact"`` or the cheaper ``"table"``; limits and reward weights);
     an unknown key is an error listing the valid ones.
 
     ## Version History

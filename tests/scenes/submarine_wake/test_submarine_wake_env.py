@@ -70,6 +70,8 @@ def test_bad_inputs_name_the_bad_value():
         SubmarineWakeEnv(floor_depth_m=30.0)
     with pytest.raises(ValueError, match="wake must be True or False"):
         SubmarineWakeEnv(wake="yes")
+    with pytest.raises(ValueError, match=r"wake_model must be one of \['exact', 'table'\]"):
+        SubmarineWakeEnv(wake_model="fast")
     env = SubmarineWakeEnv()
     env.reset(seed=0)
     with pytest.raises(ValueError, match=r"actions contain nan at \(0, 2\)"):
@@ -111,10 +113,11 @@ def test_lead_follows_its_route():
     assert chord == pytest.approx(2 * radius * math.sin(turned / 2), rel=1e-4)
 
 
-def test_observation_station_and_flow_sensor_are_consistent():
+@pytest.mark.parametrize("wake_model", ["exact", "table"])
+def test_observation_station_and_flow_sensor_are_consistent(wake_model):
     """The station columns rotate back to station point - position in the world, and the
     flow sensor reads WakeField.velocity at the nose (one implementation of the field)."""
-    venv = SubmarineWakeVectorEnv(num_envs=3)
+    venv = SubmarineWakeVectorEnv(num_envs=3, wake_model=wake_model)
     obs, _ = venv.reset(seed=21)
     for a in actions_for(4, 30, 3):
         obs, *_ = venv.step(a)
@@ -164,6 +167,25 @@ def test_the_wake_pushes_and_rolls_the_vehicle():
     assert np.all(runs[False][0] < 1e-9)
     assert np.all(runs[True][0] > 0.01)
     assert np.all(np.linalg.norm(runs[True][1] - runs[False][1], axis=1) > 0.05)
+
+
+def test_the_table_wake_flies_the_exact_wakes_episodes():
+    """wake_model="table" (WakeField(model="table")) against the exact wake: the same seeds
+    and actions give the same episodes to within what its field error (1e-5 of the lead's
+    speed, RMS) moves the vehicle in 10 s (a few millimeters); without the wake they part
+    by meters."""
+    runs = {}
+    acts = actions_for(5, 100, 4)
+    for kw in (dict(), dict(wake_model="table"), dict(wake=False)):
+        venv = SubmarineWakeVectorEnv(num_envs=4, **kw)
+        venv.reset(seed=[1, 2, 3, 4])
+        for a in acts:
+            obs, *_ = venv.step(a)
+        runs[tuple(kw.values())] = venv.sim.pos[:, 0].copy(), obs
+    (exact, obs), (table, t_obs), (none, _) = runs.values()
+    assert np.abs(table - exact).max() < 0.01  # m; measured 1e-3
+    assert np.abs(none - exact).max() > 1.0  # measured 3.2
+    np.testing.assert_allclose(t_obs, obs, atol=5e-3)  # measured 2.2e-4
 
 
 def test_hitting_the_hull_and_the_floor_end_the_episode():
