@@ -397,6 +397,7 @@ def train(
         say(line)
     created = _first_missing(run_dir)
     run_dir.mkdir(parents=True, exist_ok=True)
+    set_torch_threads(cfg.torch_threads)
     try:
         venv, eval_env, model = _build(cfg, run_dir, restart, env_seed, time_offset)
     except BaseException:
@@ -429,6 +430,16 @@ def train(
     return _finish(
         model, cfg, run_dir, meta, _timing(venv, eval_env, time.perf_counter() - start), say
     )
+
+
+def set_torch_threads(threads: int | None) -> int:
+    """torch's intra-op threads set to ``threads`` (None: left as they are, torch's default
+    of one per core unless something set them); returns the count in force."""
+    import torch
+
+    if threads is not None:
+        torch.set_num_threads(threads)
+    return torch.get_num_threads()
 
 
 def _first_missing(path: Path) -> Path | None:
@@ -542,6 +553,7 @@ def _meta(
             }
         )
     meta["device"] = device
+    meta["torch_threads"] = set_torch_threads(None)  # the count in force (null resolved)
     meta["total_timesteps"] = cfg.total_timesteps
     return meta
 
