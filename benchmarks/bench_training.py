@@ -64,35 +64,27 @@ COLUMNS = (
 GRID = {
     "before": (),
     "threads 1": ("torch_threads=1",),
-    "batch 4096": ("algorithm.batch_size=4096",),
-    "batch 8192": ("algorithm.batch_size=8192",),
-    "epochs 5": ("algorithm.n_epochs=5",),
-    "256 envs x 64": ("n_envs=256", "algorithm.n_steps=64"),
-    "256x64, threads 1": ("n_envs=256", "algorithm.n_steps=64", "torch_threads=1"),
-    "256x64, batch 4096, threads 1": (
-        "n_envs=256",
-        "algorithm.n_steps=64",
-        "algorithm.batch_size=4096",
-        "torch_threads=1",
-    ),
-    "256x64, batch 8192, threads 1": (
-        "n_envs=256",
-        "algorithm.n_steps=64",
-        "algorithm.batch_size=8192",
-        "torch_threads=1",
-    ),
-    "256x64, batch 4096, threads 2": (
-        "n_envs=256",
-        "algorithm.n_steps=64",
-        "algorithm.batch_size=4096",
-        "torch_threads=2",
-    ),
-    "512x32, batch 4096, threads 1": (
-        "n_envs=512",
-        "algorithm.n_steps=32",
-        "algorithm.batch_size=4096",
-        "torch_threads=1",
-    ),
+    **{
+        f"threads 1, {label}": ("torch_threads=1", *sets)
+        for label, sets in {
+            "batch 4096": ("algorithm.batch_size=4096",),
+            "batch 8192": ("algorithm.batch_size=8192",),
+            "epochs 5": ("algorithm.n_epochs=5",),
+            "256 envs x 64": ("n_envs=256", "algorithm.n_steps=64"),
+            "512 envs x 32": ("n_envs=512", "algorithm.n_steps=32"),
+            "256 x 64, batch 4096": (
+                "n_envs=256",
+                "algorithm.n_steps=64",
+                "algorithm.batch_size=4096",
+            ),
+            "256 x 64, batch 8192": (
+                "n_envs=256",
+                "algorithm.n_steps=64",
+                "algorithm.batch_size=8192",
+            ),
+        }.items()
+    },
+    "256 x 64, threads 2": ("n_envs=256", "algorithm.n_steps=64", "torch_threads=2"),
 }
 CSV = DOCS / "bench_training.csv"
 TORCH_DEFAULT_THREADS = 0  # torch's thread count before any measurement set it (main)

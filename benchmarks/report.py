@@ -23,7 +23,11 @@ between the ``cost-table`` markers (``benchmarks.study_accuracy.cost_markdown``)
 Hairer's table from docs/study_hairer.csv
 between the ``hairer-table`` markers (``benchmarks.study_hairer.markdown``), and
 docs/seed_map.md's verdicts on the seed article's claims from the studies' CSVs between the
-``seed-claims`` markers (``benchmarks.seed_claims``); none is edited by hand.
+``seed-claims`` markers (``benchmarks.seed_claims``), and docs/training.md's split of PPO's
+wall time from docs/bench_training.csv between the ``training-split`` markers
+(``benchmarks.bench_training.markdown``) and the wall-clock retune's scores from
+docs/training_wallclock.csv between the ``training-wallclock`` markers
+(``benchmarks.train_wallclock.markdown``); none is edited by hand.
 """
 
 from __future__ import annotations
@@ -33,7 +37,14 @@ import re
 import sys
 from pathlib import Path
 
-from . import seed_claims, study_accuracy, study_fixed, study_hairer
+from . import (
+    bench_training,
+    seed_claims,
+    study_accuracy,
+    study_fixed,
+    study_hairer,
+    train_wallclock,
+)
 from .common import DOCS, ROOT, read_csv, write_csv
 
 CSV = DOCS / "envs.csv"
@@ -45,6 +56,15 @@ RESULTS_BEGIN = (
     "<!-- ppo-results: written by `python -m benchmarks.report` from docs/eval_*_ppo.csv -->"
 )
 RESULTS_END = "<!-- /ppo-results -->"
+SPLIT_BEGIN = (
+    "<!-- training-split: written by `python -m benchmarks.report` from docs/bench_training.csv -->"
+)
+SPLIT_END = "<!-- /training-split -->"
+WALLCLOCK_BEGIN = (
+    "<!-- training-wallclock: written by `python -m benchmarks.report` from "
+    "docs/training_wallclock.csv -->"
+)
+WALLCLOCK_END = "<!-- /training-wallclock -->"
 ENVIRONMENTS = DOCS / "environments.md"
 PARAMS_BEGIN = (
     "<!-- params-table: written by `python -m benchmarks.report` from each scene's RANGES -->"
@@ -328,6 +348,20 @@ def dart_markdown() -> str:
     return "\n".join(lines)
 
 
+def training_page() -> str:
+    """docs/training.md with its generated tables: the PPO results, where PPO's wall time
+    goes (``benchmarks.bench_training.markdown``) and the wall-clock retune's old-against-new
+    scores (``benchmarks.train_wallclock.markdown``)."""
+    text = TRAINING.read_text()
+    for begin, end, block in (
+        (RESULTS_BEGIN, RESULTS_END, results_markdown()),
+        (SPLIT_BEGIN, SPLIT_END, bench_training.markdown()),
+        (WALLCLOCK_BEGIN, WALLCLOCK_END, train_wallclock.markdown()),
+    ):
+        text = with_block(text, begin, end, block, TRAINING)
+    return text
+
+
 def study_page() -> str:
     """docs/study.md with its generated tables: the cost per body-step, Hairer's table, fixed
     point."""
@@ -361,9 +395,7 @@ def main(argv: list[str] | None = None) -> int:
     table = rows()
     pages = {
         README: with_block(README.read_text(), BEGIN, END, markdown(table), README),
-        TRAINING: with_block(
-            TRAINING.read_text(), RESULTS_BEGIN, RESULTS_END, results_markdown(), TRAINING
-        ),
+        TRAINING: training_page(),
         ENVIRONMENTS: with_block(
             with_block(
                 ENVIRONMENTS.read_text(), PARAMS_BEGIN, PARAMS_END, params_markdown(), ENVIRONMENTS

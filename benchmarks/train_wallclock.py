@@ -3,9 +3,9 @@ trained to the same ``total_timesteps`` from the same seeds, each final model ev
 the project's evaluator on the same 256 seeded episodes.
 
 For each seed, config and variant (``before``: the shipped config with
-:data:`benchmarks.bench_training.BEFORE` set, the settings it had before the retune;
-``after``: the shipped config as it is), in that order, so that both variants of a config run
-one after the other under much the same load:
+:data:`benchmarks.bench_training.BEFORE` set, the settings it had before the retune, but torch
+on one thread (see :data:`VARIANTS`); ``after``: the shipped config as it is), in that order,
+so that both variants of a config run one after the other under much the same load:
 
 1. ``fluidsim-train CONFIG --set seed=S [BEFORE] --run-dir RUNS/CONFIG-VARIANT-sS`` (the real
    CLI, in a subprocess), with the load average before and after written to the run folder's
@@ -41,7 +41,11 @@ from benchmarks.common import DOCS, ROOT, read_csv, write_csv
 
 CSV = DOCS / "training_wallclock.csv"
 RUNS = ROOT / "runs" / "wallclock"
-VARIANTS = {"before": BEFORE, "after": ()}
+#: ``before`` trains with the old learning settings but torch on one thread: torch's thread
+#: count changes no hyperparameter (only the order of float sums), and with its default of
+#: two threads on a loaded 2-core machine the old config ran 8-60 times slower
+#: (docs/bench_training_grid.csv), hours per run. Its real wall clock is bench_training's.
+VARIANTS = {"before": (*BEFORE, "torch_threads=1"), "after": ()}
 COLUMNS = (
     "config", "variant", "seed", "n_envs", "n_steps", "batch_size", "n_epochs", "torch_threads",
     "env_steps", "wall_s", "env_steps_per_s", "load_start", "load_end", "episodes",
@@ -209,7 +213,7 @@ def main(argv: list[str] | None = None) -> int:
                     rows.append(row(out, config, variant, seed))
                 else:
                     print(f"missing: {out} (not trained or not evaluated)")
-    notes = [f"before: {' '.join(BEFORE)}; after: the shipped config"]
+    notes = [f"before: {' '.join(VARIANTS['before'])}; after: the shipped config"]
     write_csv(args.out, COLUMNS, ([r[c] for c in COLUMNS] for r in rows), notes)
     print(markdown(args.out))
     print(f"written: {args.out}")

@@ -36,6 +36,7 @@ TINY = [
     "eval.freq=1024",
     "eval.n_episodes=2",
     "checkpoint.freq=1024",
+    "torch_threads=1",
 ]
 
 
@@ -125,6 +126,7 @@ def test_train_writes_a_self_describing_run_folder(run):
     # SB3's columns, then the run's timesteps at each episode's end (what a resume trims by)
     assert monitor[1] == "r,l,t,success,timesteps" and len(monitor) > 10
     assert meta["device"] == "cpu"  # where the model was (auto resolved)
+    assert meta["torch_threads"] == 1 and cfg["torch_threads"] == 1  # set before the model
     best = yaml.safe_load((run / "best" / "best.yaml").read_text())
     assert best["mean_return"] == pytest.approx(max(float(r["mean_return"]) for r in rows))
     assert (run / "learning_curve.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
