@@ -329,7 +329,11 @@ def main(argv: list[str] | None = None) -> int:
         out = GRID_CSV
     if args.quick and out in (CSV, GRID_CSV):
         out = DOCS.parent / "build" / out.name
+    from fluidsim_envs.rl.train import git_revision
+
+    git = git_revision()
     notes = [
+        f"git {git['revision']}" + (" (dirty)" if git["dirty"] else ""),
         f"each row: the fastest of {repeats} rounds of {steps:,} env steps (whole rollouts), "
         "subjects in turn; seconds per phase (see benchmarks/bench_training.py)",
         f"before: {' '.join(BEFORE)}",
