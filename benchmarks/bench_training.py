@@ -248,10 +248,51 @@ def markdown(path: Path = CSV) -> str:
             f"{r['batch_size']} | {r['n_epochs']} | {r['torch_threads']} | "
             f"{float(r['env_steps_per_s']):,.0f} | {shares} |"
         )
-    command = next((c[len("command: ") :] for c in comments if c.startswith("command: ")), "")
-    machine = next((c for c in comments if c.startswith("cpu: ")), "")
-    lines += ["", f"`{command}`; {machine[len('cpu: ') :]}."]
+    rate = {(r["config"], r["variant"]): float(r["env_steps_per_s"]) for r in rows}
+    gains = [
+        f"{c} {rate[(c, 'after')] / rate[(c, 'before')]:.1f}x"
+        for c in dict.fromkeys(r["config"] for r in rows)
+        if (c, "before") in rate and (c, "after") in rate
+    ]
+    lines += ["", f"After over before, env-steps/s: {', '.join(gains)}.", *_provenance(comments)]
     return "\n".join(lines)
+
+
+def _provenance(comments: list[str]) -> list[str]:
+    """The command, machine, load and revision lines of a CSV, as a Markdown paragraph."""
+    command = next((c[len("command: ") :] for c in comments if c.startswith("command: ")), "")
+    machine = next((c[len("cpu: ") :] for c in comments if c.startswith("cpu: ")), "")
+    load = [c.split(": ", 1)[1].split(", ")[0] for c in comments if c.startswith("load average")]
+    git = next((c for c in comments if c.startswith("git ")), "")
+    return [
+        "",
+        f"`{command}`; {machine}, load average (1 min) {' then '.join(load)}; {git[:14]}"
+        + (" (dirty)" if "dirty" in git else "")
+        + ".",
+    ]
+
+
+def grid_markdown(path: Path = GRID_CSV) -> str:
+    """docs/bench_training_grid.csv as a table: each setting tried, its rate against the
+    grid's ``before`` row, and the seconds of each phase."""
+    if not path.is_file():
+        return (
+            "(no docs/bench_training_grid.csv yet: run python -m benchmarks.bench_training --grid)"
+        )
+    comments, rows = read_csv(path)
+    base = {r["config"]: float(r["env_steps_per_s"]) for r in rows if r["variant"] == "before"}
+    lines = [
+        "| config | setting (on top of before) | env-steps/s | against before | "
+        + " | ".join(f"{p} (s)" for p in PHASES[:4])
+        + " |",
+        "|---|---|---:|---:|" + "---:|" * 4,
+    ]
+    for r in rows:
+        rate = float(r["env_steps_per_s"])
+        ratio = f"{rate / base[r['config']]:.2f}x" if r["config"] in base else ""
+        secs = " | ".join(f"{float(r[f'{p}_s']):.1f}" for p in PHASES[:4])
+        lines.append(f"| {r['config']} | {r['variant']} | {rate:,.0f} | {ratio} | {secs} |")
+    return "\n".join([*lines, *_provenance(comments)])
 
 
 def plot(path: Path = CSV, png: Path | None = None) -> Path:

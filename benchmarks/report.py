@@ -25,7 +25,9 @@ between the ``hairer-table`` markers (``benchmarks.study_hairer.markdown``), and
 docs/seed_map.md's verdicts on the seed article's claims from the studies' CSVs between the
 ``seed-claims`` markers (``benchmarks.seed_claims``), and docs/training.md's split of PPO's
 wall time from docs/bench_training.csv between the ``training-split`` markers
-(``benchmarks.bench_training.markdown``) and the wall-clock retune's scores from
+(``benchmarks.bench_training.markdown``), the grid of settings tried from
+docs/bench_training_grid.csv between the ``training-grid`` markers
+(``benchmarks.bench_training.grid_markdown``) and the wall-clock retune's scores from
 docs/training_wallclock.csv between the ``training-wallclock`` markers
 (``benchmarks.train_wallclock.markdown``); none is edited by hand.
 """
@@ -60,6 +62,11 @@ SPLIT_BEGIN = (
     "<!-- training-split: written by `python -m benchmarks.report` from docs/bench_training.csv -->"
 )
 SPLIT_END = "<!-- /training-split -->"
+GRID_BEGIN = (
+    "<!-- training-grid: written by `python -m benchmarks.report` from "
+    "docs/bench_training_grid.csv -->"
+)
+GRID_END = "<!-- /training-grid -->"
 WALLCLOCK_BEGIN = (
     "<!-- training-wallclock: written by `python -m benchmarks.report` from "
     "docs/training_wallclock.csv -->"
@@ -356,6 +363,7 @@ def training_page() -> str:
     for begin, end, block in (
         (RESULTS_BEGIN, RESULTS_END, results_markdown()),
         (SPLIT_BEGIN, SPLIT_END, bench_training.markdown()),
+        (GRID_BEGIN, GRID_END, bench_training.grid_markdown()),
         (WALLCLOCK_BEGIN, WALLCLOCK_END, train_wallclock.markdown()),
     ):
         text = with_block(text, begin, end, block, TRAINING)
