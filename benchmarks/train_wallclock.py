@@ -18,6 +18,7 @@ so that both variants of a config run one after the other under much the same lo
    rate and mean return with their 95% bootstrap intervals over the episodes.
 
     python -m benchmarks.train_wallclock --seeds 0 1        # trains what is missing (hours)
+    python -m benchmarks.train_wallclock --total-timesteps boat_on_step_ppo=2000000  # shorter
     python -m benchmarks.train_wallclock --csv-only         # the CSV from the run folders
 
 The table in docs/training.md comes from the CSV (``python -m benchmarks.report``:
@@ -54,13 +55,15 @@ COLUMNS = (
 )  # fmt: skip
 
 
-def run_dir(runs: Path, config: str, variant: str, seed: int) -> Path:
-    return runs / f"{config}-{variant}-s{seed}"
+def run_dir(runs: Path, config: str, variant: str, seed: int, steps: int | None = None) -> Path:
+    """The run folder; ``steps``: a budget other than the config's ``total_timesteps``."""
+    return runs / (f"{config}-{variant}-s{seed}" + (f"-t{steps}" if steps else ""))
 
 
-def train(runs: Path, config: str, variant: str, seed: int) -> Path:
-    """The run of ``config`` / ``variant`` / ``seed``, trained unless it has finished."""
-    out = run_dir(runs, config, variant, seed)
+def train(runs: Path, config: str, variant: str, seed: int, steps: int | None = None) -> Path:
+    """The run of ``config`` / ``variant`` / ``seed`` (for ``steps`` env steps, else the
+    config's ``total_timesteps``), trained unless it has finished."""
+    out = run_dir(runs, config, variant, seed, steps)
     if (out / "model.zip").is_file():
         return out
     if out.exists():  # a run killed before its end: start it afresh, not resumed
@@ -74,6 +77,7 @@ def train(runs: Path, config: str, variant: str, seed: int) -> Path:
         "--set",
         f"seed={seed}",
         *VARIANTS[variant],
+        *([f"total_timesteps={steps}"] if steps else []),
         "--run-dir",
         str(out),
         "--no-progress-bar",
@@ -198,17 +202,33 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--configs", nargs="+", default=list(CONFIGS), choices=CONFIGS)
     parser.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS))
     parser.add_argument("--episodes", type=int, default=256)
+    parser.add_argument(
+        "--total-timesteps",
+        nargs="+",
+        default=[],
+        metavar="CONFIG=N",
+        help="train CONFIG for N env steps, not its total_timesteps (both variants alike)",
+    )
     parser.add_argument("--runs", type=Path, default=RUNS, help="where the run folders go")
     parser.add_argument("--out", type=Path, default=CSV)
     parser.add_argument("--csv-only", action="store_true", help="train nothing, evaluate nothing")
     args = parser.parse_args(argv)
+    budgets = {}
+    for item in args.total_timesteps:
+        config, _, n = item.partition("=")
+        if config not in CONFIGS or not n.isdigit() or int(n) < 1:
+            parser.error(
+                f"--total-timesteps expects CONFIG=N with CONFIG in {CONFIGS}, got {item!r}"
+            )
+        budgets[config] = int(n)
     rows = []
     for seed in args.seeds:
         for config in args.configs:
             for variant in args.variants:
-                out = run_dir(args.runs, config, variant, seed)
+                steps = budgets.get(config)
+                out = run_dir(args.runs, config, variant, seed, steps)
                 if not args.csv_only:
-                    evaluate(train(args.runs, config, variant, seed), args.episodes)
+                    evaluate(train(args.runs, config, variant, seed, steps), args.episodes)
                 if (out / "evaluation.csv").is_file() and (out / "wallclock.yaml").is_file():
                     rows.append(row(out, config, variant, seed))
                 else:
