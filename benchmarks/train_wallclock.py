@@ -181,11 +181,13 @@ def markdown(path: Path = CSV) -> str:
             f"| {float(r['env_steps_per_s']):,.0f} | {r['load_start']}, {r['load_end']} "
             f"| {_ci(r, 'success_rate', True)} | {_ci(r, 'return_mean', False)} |"
         )
-    lines.append("")
-    for config in dict.fromkeys(r["config"] for r in rows):
-        v = verdict([r for r in rows if r["config"] == config])
-        if v:
-            lines.append(f"- {config}, after against before: {v}")
+    verdicts = [
+        f"- {config}, after against before: {v}"
+        for config in dict.fromkeys(r["config"] for r in rows)
+        if (v := verdict([r for r in rows if r["config"] == config]))
+    ]
+    if verdicts:
+        lines += ["", *verdicts]
     command = next((c[len("command: ") :] for c in comments if c.startswith("command: ")), "")
     episodes = rows[0]["episodes"] if rows else "?"
     lines += [
@@ -234,6 +236,7 @@ def main(argv: list[str] | None = None) -> int:
                 else:
                     print(f"missing: {out} (not trained or not evaluated)")
     notes = [f"before: {' '.join(VARIANTS['before'])}; after: the shipped config"]
+    notes += [f"{c}: {n:,} env steps, not its total_timesteps" for c, n in budgets.items()]
     write_csv(args.out, COLUMNS, ([r[c] for c in COLUMNS] for r in rows), notes)
     print(markdown(args.out))
     print(f"written: {args.out}")
