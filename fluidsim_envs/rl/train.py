@@ -380,7 +380,20 @@ def train(
 
     Nothing is written before the config and the folder are checked, and a new folder whose
     envs or model cannot be built is removed again: a start that failed leaves nothing that
-    blocks the next."""
+    blocks the next. torch runs on ``cfg.torch_threads`` threads for the run and on as many
+    as before it afterwards (the count is process-wide: an evaluation in the same process
+    then computes as it would have)."""
+    before = set_torch_threads(None)
+    set_torch_threads(cfg.torch_threads)
+    try:
+        return _train(cfg, run_dir, command, resume, progress_bar, say)
+    finally:
+        set_torch_threads(before)
+
+
+def _train(
+    cfg: TrainConfig, run_dir: Path, command: list[str], resume: bool, progress_bar: bool, say
+) -> Path:
     cfg = resolved(cfg)  # every env parameter written down: the run replays whatever changes
     files.check_writable_folder(run_dir, "--resume" if resume else "--run-dir")
     restart, time_offset = _restart(run_dir, cfg) if resume else (None, 0.0)
@@ -397,7 +410,6 @@ def train(
         say(line)
     created = _first_missing(run_dir)
     run_dir.mkdir(parents=True, exist_ok=True)
-    set_torch_threads(cfg.torch_threads)
     try:
         venv, eval_env, model = _build(cfg, run_dir, restart, env_seed, time_offset)
     except BaseException:

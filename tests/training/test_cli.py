@@ -160,7 +160,11 @@ def test_trained_success_reaches_tensorboard(run):
 def test_train_warns_when_evaluation_or_checkpoints_never_happen(tmp_path, capsys):
     args = ["paper_airplane_ppo", "--set", *TINY, "eval.freq=4096", "checkpoint.freq=0"]
     args += ["--run-dir", str(tmp_path / "r"), "--no-progress-bar"]
-    assert train_cli.main(args) == 0
+    import torch
+
+    threads = torch.get_num_threads()  # one per core unless set
+    assert train_cli.main(args) == 0  # on TINY's torch_threads=1 ...
+    assert torch.get_num_threads() == threads  # ... for the run only: the process's again
     out = capsys.readouterr().out
     assert "warning: no evaluation will run: eval.freq is 4,096 env steps" in out
     assert "checkpoint" not in out.split("warning")[-1].split("\n")[0]  # freq 0: asked for none
