@@ -254,7 +254,14 @@ def markdown(path: Path = CSV) -> str:
         for c in dict.fromkeys(r["config"] for r in rows)
         if (c, "before") in rate and (c, "after") in rate
     ]
-    lines += ["", f"After over before, env-steps/s: {', '.join(gains)}.", *_provenance(comments)]
+    lines += ["", f"- After over before, env-steps/s: {', '.join(gains)}."]
+    for r in rows:
+        if r["variant"] == "after":
+            wall = float(r["wall_s"])
+            top = sorted(PHASES, key=lambda p: -float(r[f"{p}_s"]))[:3]
+            shares = ", ".join(f"{p} {100 * float(r[f'{p}_s']) / wall:.0f}%" for p in top)
+            lines.append(f"- After, {r['config']} spends the most in: {shares}.")
+    lines += _provenance(comments)
     return "\n".join(lines)
 
 
@@ -264,12 +271,8 @@ def _provenance(comments: list[str]) -> list[str]:
     machine = next((c[len("cpu: ") :] for c in comments if c.startswith("cpu: ")), "")
     load = [c.split(": ", 1)[1].split(", ")[0] for c in comments if c.startswith("load average")]
     git = next((c for c in comments if c.startswith("git ")), "")
-    return [
-        "",
-        f"`{command}`; {machine}, load average (1 min) {' then '.join(load)}; {git[:14]}"
-        + (" (dirty)" if "dirty" in git else "")
-        + ".",
-    ]
+    revision = f"; {git[:14]}" + (" (dirty)" if "dirty" in git else "") if git else ""
+    return ["", f"`{command}`; {machine}, load average (1 min) {' then '.join(load)}{revision}."]
 
 
 def grid_markdown(path: Path = GRID_CSV) -> str:
