@@ -272,7 +272,16 @@ def _provenance(comments: list[str]) -> list[str]:
     load = [c.split(": ", 1)[1].split(", ")[0] for c in comments if c.startswith("load average")]
     git = next((c for c in comments if c.startswith("git ")), "")
     revision = f"; {git[:14]}" + (" (dirty)" if "dirty" in git else "") if git else ""
-    return ["", f"`{command}`; {machine}, load average (1 min) {' then '.join(load)}{revision}."]
+    merged = [
+        f" The rows of {c[len('rows of ') : -len(' from:')]} come from `{nxt.strip()[9:]}`."
+        for c, nxt in zip(comments, comments[1:], strict=False)
+        if c.startswith("rows of ") and nxt.strip().startswith("command: ")
+    ]
+    return [
+        "",
+        f"`{command}`; {machine}, load average (1 min) {' then '.join(load)}{revision}."
+        + "".join(merged),
+    ]
 
 
 def grid_markdown(path: Path = GRID_CSV) -> str:
@@ -343,6 +352,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--grid", action="store_true", help=f"the grid into {GRID_CSV.name}")
     parser.add_argument("--variants", nargs="+", choices=list(GRID), help="--grid: only these")
     parser.add_argument("--md-only", action="store_true", help="table and chart from the CSV")
+    parser.add_argument(
+        "--merge",
+        action="store_true",
+        help="keep the CSV's rows of the configs not measured now (and their # lines)",
+    )
     args = parser.parse_args(argv)
     if args.md_only:
         print(markdown(args.out))
@@ -382,8 +396,15 @@ def main(argv: list[str] | None = None) -> int:
         "subjects in turn; seconds per phase (see benchmarks/bench_training.py)",
         f"before: {' '.join(BEFORE)}",
     ]
-    write_csv(out, COLUMNS, ([r[c] for c in COLUMNS] for r in rows),
-              [*machine, load_average(), *notes])  # fmt: skip
+    comments = [*machine, load_average(), *notes]
+    if args.merge and out.is_file():  # the rows of the other configs, and where they came from
+        kept_comments, kept = read_csv(out)
+        rows = [r for r in kept if r["config"] not in configs] + rows
+        order = {c: i for i, c in enumerate(CONFIGS)}
+        rows.sort(key=lambda r: order[r["config"]])
+        comments += [f"rows of {', '.join(sorted({r['config'] for r in kept} - set(configs)))}"
+                     " from:", *(f"  {c}" for c in kept_comments)]  # fmt: skip
+    write_csv(out, COLUMNS, ([r[c] for c in COLUMNS] for r in rows), comments)
     print(f"written: {out}")
     if not args.grid:
         print(markdown(out))
