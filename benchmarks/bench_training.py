@@ -319,7 +319,7 @@ def plot(path: Path = CSV, png: Path | None = None) -> Path:
     png = png or path.with_suffix(".png")
     fig, ax = plt.subplots(figsize=(8, 4.2), dpi=100)
     colors = dict(zip(PHASES, plt.get_cmap("tab10").colors, strict=False))
-    labels = []
+    labels, top = [], 0.0
     for i, r in enumerate(rows):
         per_m = 1e6 / float(r["env_steps"])
         bottom = 0.0
@@ -327,13 +327,15 @@ def plot(path: Path = CSV, png: Path | None = None) -> Path:
             h = float(r[f"{p}_s"]) * per_m
             ax.bar(i, h, bottom=bottom, color=colors[p], label=p if i == 0 else None)
             bottom += h
+        top = max(top, bottom)
         ax.text(i, bottom, f"{float(r['env_steps_per_s']) / 1e3:.1f}k/s", ha="center",
                 va="bottom", fontsize=8)  # fmt: skip
         labels.append(f"{r['config'].removesuffix('_ppo')}\n{r['variant']}")
     ax.set_xticks(range(len(rows)), labels, fontsize=7)
     ax.set_ylabel("seconds per million env steps")
-    ax.set_title("PPO's wall time by phase (2 cores)")
-    ax.legend(fontsize=7, ncol=4, loc="upper right")
+    ax.set_title("PPO's wall time by phase, before and after, measured in turn (2 shared cores)")
+    ax.set_ylim(0, 1.3 * top)
+    ax.legend(fontsize=7, ncol=len(PHASES), loc="upper center")
     ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()
     fig.savefig(png)
