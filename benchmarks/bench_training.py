@@ -14,7 +14,9 @@ folder, with timers around SB3's methods (not a sampling profiler):
                   the rollout buffer's adds, value bootstraps of truncated episodes, GAE, the
                   callbacks' per-step calls
 ``update``        ``PPO.train``: the epochs of minibatch gradient steps
-``eval``          the periodic evaluations (``Evaluations._on_step``, eval env and saves)
+``eval``          the periodic evaluations (``Evaluations._on_step``, eval env and saves);
+                  when the budget is shorter than ``eval.freq``, one evaluation timed after
+                  training, times the budget over ``eval.freq`` (added to the wall time)
 ``checkpoint``    the periodic checkpoints (``Checkpoints._on_step``)
 ``other``         the rest of ``learn``: its set-up, the logger's dumps
 ================  ============================================================================
@@ -137,18 +139,18 @@ def timers(train_env):
             setattr(cls, name, original)
 
 
-def warm_up(cfg) -> None:
-    """The env's kernels for the training and eval batch sizes compiled (or loaded from
-    numba's cache) before anything is timed: a kernel is serial or parallel by batch size."""
+def warm_up(*venvs) -> None:
+    """Each SB3 env's native vector env reset and stepped once before anything is timed: an
+    env instance compiles (or loads) its step kernel on its first step, seconds that belong
+    to no phase. ``learn`` (and each evaluation) resets with its own seed afterwards."""
     import numpy as np
 
-    from fluidsim_envs.wrappers.sb3 import make_sb3_vec_env
-
-    for n in {cfg.n_envs, cfg.eval.n_episodes}:
-        venv = make_sb3_vec_env(cfg.env_id, n, seed=0, **cfg.env_kwargs)
-        venv.reset()
-        venv.step(np.zeros((n, *venv.action_space.shape), dtype=np.float32))
-        venv.close()
+    for venv in venvs:
+        if venv is None:
+            continue
+        native = venv.unwrapped.venv
+        native.reset(seed=0)
+        native.step(np.zeros(native.action_space.shape, dtype=np.float32))
 
 
 def measure(config: str, overrides: tuple[str, ...], steps: int) -> dict:
@@ -161,16 +163,27 @@ def measure(config: str, overrides: tuple[str, ...], steps: int) -> dict:
     # null: torch's default, as a fresh process has it (an earlier measurement set others)
     threads = T.set_torch_threads(cfg.torch_threads or TORCH_DEFAULT_THREADS)
     planned = T.planned_timesteps(cfg, steps)
-    warm_up(cfg)
     with tempfile.TemporaryDirectory(prefix="bench_training_") as tmp:
         run_dir = Path(tmp)
         venv, eval_env, model = T._build(cfg, run_dir, None, cfg.seed, 0.0)
+        warm_up(venv, eval_env)
         callbacks = T._callbacks(cfg, run_dir, venv, eval_env, lambda line: None, resumed=False)
         load_start = os.getloadavg()[0]
         with timers(venv) as s:
             t0 = time.perf_counter()
             model.learn(total_timesteps=planned, callback=callbacks, progress_bar=False)
             wall = time.perf_counter() - t0
+        from fluidsim_envs.rl.callbacks import Evaluations
+
+        evaluations = next((c for c in callbacks if isinstance(c, Evaluations)), None)
+        if evaluations is not None and not len(evaluations.log.timesteps):
+            # a budget shorter than eval.freq: one evaluation timed now, counted as the share
+            # of one that these steps bring in a real run (one per eval.freq steps)
+            t0 = time.perf_counter()
+            evaluations._episodes()
+            s["eval"] = (time.perf_counter() - t0) * model.num_timesteps / evaluations.period
+            s["rollout"] += s["eval"]
+            wall += s["eval"]
         load_end = os.getloadavg()[0]
         venv.close()
         if eval_env is not None:
