@@ -45,7 +45,7 @@ RUNS = ROOT / "runs" / "wallclock"
 #: ``before``: the old learning settings with torch on one thread: torch's thread count
 #: changes no hyperparameter (only the order of float sums), and with its default of two
 #: threads on a loaded 2-core machine the old config ran many times slower
-#: (docs/bench_training_grid.csv), hours per run; its real wall clock is bench_training's.
+#: (docs/bench_training.csv), hours per run; its real wall clock is bench_training's.
 #: ``256x64``: the rollout shape tried, the same 16384 transitions per rollout from 256 envs
 #: x 64 steps (what paper_airplane_ppo ships; the other configs kept 64 x 256)
 VARIANTS = {
