@@ -80,6 +80,19 @@ BLOCKS = (
     Block("docs/benchmarks.md", "env-table", "docs/bench_envs.csv", "bench_envs:markdown"),
     Block("docs/study.md", "float32-table", "docs/study_float32.csv", "study_float32:markdown"),
     Block("docs/physics.md", "wake-table", "docs/study_wake*.csv", "study_wake:markdown"),
+    Block("docs/training.md", "training-split", "docs/bench_training.csv", "bench_training:markdown"),
+    Block(
+        "docs/training.md",
+        "training-grid",
+        "docs/bench_training_grid.csv",
+        "bench_training:grid_markdown",
+    ),
+    Block(
+        "docs/training.md",
+        "training-wallclock",
+        "docs/training_wallclock.csv",
+        "train_wallclock:markdown",
+    ),
     Block(
         "docs/benchmarks.md", "kernel-cost", "docs/bench_kernel.csv", "bench_kernel:cost_markdown"
     ),

@@ -285,6 +285,10 @@ class TrainConfig:
     total_timesteps: int = 1_000_000
     seed: int = 0  # the model's seed; env i gets SeedSequence(seed).spawn(n_envs)[i]
     device: str = "cpu"  # auto, cpu, cuda, cuda:N or mps; checked against what torch sees
+    # torch's intra-op threads for the policy's forward passes and updates (torch.set_num_threads
+    # before the model is built); null: torch's default, one per core. The env's numba kernels
+    # want the same cores (benchmarks/bench_training.py --grid measures both)
+    torch_threads: int | None = None
     policy: PolicyConfig = PolicyConfig()
     normalize: NormalizeConfig = NormalizeConfig()
     eval: EvalConfig = EvalConfig()
@@ -294,6 +298,7 @@ class TrainConfig:
         "n_envs": AT_LEAST_1,
         "total_timesteps": AT_LEAST_1,
         "seed": SEED,
+        "torch_threads": AT_LEAST_1,
     }
 
     @property

@@ -380,7 +380,20 @@ def train(
 
     Nothing is written before the config and the folder are checked, and a new folder whose
     envs or model cannot be built is removed again: a start that failed leaves nothing that
-    blocks the next."""
+    blocks the next. torch runs on ``cfg.torch_threads`` threads for the run and on as many
+    as before it afterwards (the count is process-wide: an evaluation in the same process
+    then computes as it would have)."""
+    before = set_torch_threads(None)
+    set_torch_threads(cfg.torch_threads)
+    try:
+        return _train(cfg, run_dir, command, resume, progress_bar, say)
+    finally:
+        set_torch_threads(before)
+
+
+def _train(
+    cfg: TrainConfig, run_dir: Path, command: list[str], resume: bool, progress_bar: bool, say
+) -> Path:
     cfg = resolved(cfg)  # every env parameter written down: the run replays whatever changes
     files.check_writable_folder(run_dir, "--resume" if resume else "--run-dir")
     restart, time_offset = _restart(run_dir, cfg) if resume else (None, 0.0)
@@ -429,6 +442,16 @@ def train(
     return _finish(
         model, cfg, run_dir, meta, _timing(venv, eval_env, time.perf_counter() - start), say
     )
+
+
+def set_torch_threads(threads: int | None) -> int:
+    """torch's intra-op threads set to ``threads`` (None: left as they are, torch's default
+    of one per core unless something set them); returns the count in force."""
+    import torch
+
+    if threads is not None:
+        torch.set_num_threads(threads)
+    return torch.get_num_threads()
 
 
 def _first_missing(path: Path) -> Path | None:
@@ -542,6 +565,7 @@ def _meta(
             }
         )
     meta["device"] = device
+    meta["torch_threads"] = set_torch_threads(None)  # the count in force (null resolved)
     meta["total_timesteps"] = cfg.total_timesteps
     return meta
 

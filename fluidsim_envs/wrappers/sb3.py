@@ -67,6 +67,37 @@ def _env_info(info: dict[str, Any], i: int) -> dict[str, Any]:
     return out
 
 
+def _column(value: Any, n: int) -> list[Any]:
+    """Every sub-env's entry of a batched info value, ``[_row(value, i) for i in range(n)]``,
+    a whole column at a time: a 1-D array of numbers becomes Python numbers in one
+    ``tolist()`` (the same values ``.item()`` gives), where a call per sub-env and key cost
+    several times the env's own step."""
+    if isinstance(value, dict):
+        columns = {k: _column(v, n) for k, v in value.items() if not k.startswith("_")}
+        return [{k: c[i] for k, c in columns.items()} for i in range(n)]
+    if isinstance(value, np.ndarray) and value.ndim == 1 and value.dtype.kind in "biuf":
+        return value.tolist()
+    return [_row(value, i) for i in range(n)]
+
+
+def _env_infos(info: dict[str, Any], n: int) -> list[dict[str, Any]]:
+    """``[_env_info(info, i) for i in range(n)]``, a key at a time (:func:`_column`)."""
+    out: list[dict[str, Any]] = [{} for _ in range(n)]
+    for key, value in info.items():
+        if key.startswith("_") or key in _AUTORESET_KEYS:
+            continue
+        mask = info.get(f"_{key}")
+        column = _column(value, n)
+        if mask is None:
+            for env_info, v in zip(out, column, strict=True):
+                env_info[key] = v
+        else:
+            for env_info, v, m in zip(out, column, np.asarray(mask).tolist(), strict=True):
+                if m:
+                    env_info[key] = v
+    return out
+
+
 class SB3VecEnv(VecEnv):
     """Present a Gymnasium vector env with same-step autoreset (any :class:`FluidVectorEnv`,
     or a ``VectorWrapper`` around one) as an SB3 ``VecEnv``.
@@ -164,21 +195,20 @@ class SB3VecEnv(VecEnv):
         terminated = np.asarray(terminated, dtype=bool)
         truncated = np.asarray(truncated, dtype=bool)
         dones = terminated | truncated
-        infos: list[dict[str, Any]] = []
-        for i in range(self.num_envs):
-            if dones[i]:
-                env_info = _env_info(info["final_info"], i)
-                terminal_obs = np.array(info["final_obs"][i], copy=True)
-                self.reset_infos[i] = {}  # the autoreset's info: our envs report none
-            else:
-                env_info = _env_info(info, i)
-            # SB3's reading of Gymnasium's flags (DummyVecEnv.step_wait)
-            env_info["TimeLimit.truncated"] = bool(truncated[i] and not terminated[i])
-            if dones[i]:
-                env_info["terminal_observation"] = terminal_obs
-                if self.success_key is not None:
-                    env_info["is_success"] = env_info[self.success_key]
-            infos.append(env_info)
+        ended = np.flatnonzero(dones).tolist()
+        # the running envs' infos column by column; an ended env's is its final info
+        infos = _env_infos(info, self.num_envs)
+        for i in ended:
+            infos[i] = _env_info(info["final_info"], i)
+        # SB3's reading of Gymnasium's flags (DummyVecEnv.step_wait)
+        time_limit = (truncated & ~terminated).tolist()
+        for env_info, flag in zip(infos, time_limit, strict=True):
+            env_info["TimeLimit.truncated"] = flag
+        for i in ended:
+            infos[i]["terminal_observation"] = np.array(info["final_obs"][i], copy=True)
+            self.reset_infos[i] = {}  # the autoreset's info: our envs report none
+            if self.success_key is not None:
+                infos[i]["is_success"] = infos[i][self.success_key]
         # DummyVecEnv keeps rewards in a float32 buffer
         return np.array(obs, copy=True), np.asarray(rewards, dtype=np.float32), dones, infos
 

@@ -36,6 +36,7 @@ TINY = [
     "eval.freq=1024",
     "eval.n_episodes=2",
     "checkpoint.freq=1024",
+    "torch_threads=1",
 ]
 
 
@@ -125,6 +126,7 @@ def test_train_writes_a_self_describing_run_folder(run):
     # SB3's columns, then the run's timesteps at each episode's end (what a resume trims by)
     assert monitor[1] == "r,l,t,success,timesteps" and len(monitor) > 10
     assert meta["device"] == "cpu"  # where the model was (auto resolved)
+    assert meta["torch_threads"] == 1 and cfg["torch_threads"] == 1  # set before the model
     best = yaml.safe_load((run / "best" / "best.yaml").read_text())
     assert best["mean_return"] == pytest.approx(max(float(r["mean_return"]) for r in rows))
     assert (run / "learning_curve.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -158,7 +160,11 @@ def test_trained_success_reaches_tensorboard(run):
 def test_train_warns_when_evaluation_or_checkpoints_never_happen(tmp_path, capsys):
     args = ["paper_airplane_ppo", "--set", *TINY, "eval.freq=4096", "checkpoint.freq=0"]
     args += ["--run-dir", str(tmp_path / "r"), "--no-progress-bar"]
-    assert train_cli.main(args) == 0
+    import torch
+
+    threads = torch.get_num_threads()  # one per core unless set
+    assert train_cli.main(args) == 0  # on TINY's torch_threads=1 ...
+    assert torch.get_num_threads() == threads  # ... for the run only: the process's again
     out = capsys.readouterr().out
     assert "warning: no evaluation will run: eval.freq is 4,096 env steps" in out
     assert "checkpoint" not in out.split("warning")[-1].split("\n")[0]  # freq 0: asked for none

@@ -68,6 +68,9 @@ def test_overrides_reach_nested_keys_and_read_values_as_yaml():
         (["algorithm.buffer_size=10"], r"unknown key 'algorithm.buffer_size'"),  # a SAC key
         (["n_envs=eight"], r"n_envs must be an integer, got 'eight'"),
         (["n_envs=2.5"], r"n_envs must be an integer, got 2.5"),
+        (["torch_threads=0"], r"torch_threads must be an integer >= 1, got 0"),
+        (["torch_threads=two"], r"torch_threads must be an integer or null, got 'two'"),
+        (["torch_threads=1.5"], r"torch_threads must be an integer or null, got 1.5"),
         (["normalize.enabled=yes please"], r"normalize.enabled must be true or false"),
         (
             ["policy.net_arch=[64, many]"],
