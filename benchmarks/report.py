@@ -80,7 +80,9 @@ BLOCKS = (
     Block("docs/benchmarks.md", "env-table", "docs/bench_envs.csv", "bench_envs:markdown"),
     Block("docs/study.md", "float32-table", "docs/study_float32.csv", "study_float32:markdown"),
     Block("docs/physics.md", "wake-table", "docs/study_wake*.csv", "study_wake:markdown"),
-    Block("docs/training.md", "training-split", "docs/bench_training.csv", "bench_training:markdown"),
+    Block(
+        "docs/training.md", "training-split", "docs/bench_training.csv", "bench_training:markdown"
+    ),
     Block(
         "docs/training.md",
         "training-grid",
