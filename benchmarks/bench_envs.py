@@ -390,7 +390,7 @@ def plot(path, png) -> None:
     ax.set(xscale="log", yscale="log", xlabel="num_envs (sub-envs of one vector env)",
            ylabel="env-steps per second", title="Vector env throughput, 2 cores")  # fmt: skip
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
+    ax.legend(fontsize=7, ncol=2, loc="lower right")
     fig.tight_layout()
     fig.savefig(png, dpi=110)
     plt.close(fig)
