@@ -179,6 +179,27 @@ def test_same_seed_same_trajectory_for_any_num_envs(scene, num_envs, idx, steps)
     np.testing.assert_array_equal(obs[:k], ref_obs[:k])
 
 
+def test_episode_starts_do_not_depend_on_how_far_ahead_they_are_drawn(scene, monkeypatch):
+    """Each episode start takes its uniforms from its sub-env's pool, drawn ahead from the
+    sub-env's generator (scenes/base.py): a pool of one episode's draws, refilled at every
+    start, gives the same trajectories, resets included, bit for bit."""
+    from fluidsim_envs.scenes import base
+
+    def run():
+        env = scene.vector_cls(num_envs=3, max_episode_steps=6)
+        out = [env.reset(seed=[4, 5, 6])[0]]
+        for a in actions_for(scene, 3, 20, 3):
+            obs, r, *_ = env.step(a)
+            out += [obs, r[:, None]]
+        return env, np.concatenate(out, axis=None)
+
+    pooled_env, pooled = run()
+    monkeypatch.setattr(base, "POOL_DRAWS", 1)
+    single_env, single = run()
+    assert single_env._pool_episodes == 1 and pooled_env._pool_episodes > 1
+    np.testing.assert_array_equal(pooled, single)
+
+
 # ---- the episode boundary -----------------------------------------------------------------
 
 
