@@ -25,7 +25,8 @@ Every episode start draws ``draws_per_episode`` uniforms in [0, 1) from its sub-
 generator. They are drawn ahead, several episodes' worth at a time, into the sub-env's pool
 (``_pool``; a snapshot keeps it with the generator): a generator's ``random(a)`` then
 ``random(b)`` is its ``random(a + b)``, so each episode gets exactly the numbers it would
-have drawn at its start, and an autoreset costs no Python call per sub-env.
+have drawn at its start, and a sub-env's generator is called once every few episodes
+instead of at each start.
 """
 
 from __future__ import annotations
