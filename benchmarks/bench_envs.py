@@ -300,6 +300,11 @@ def _get(t: dict, env: str, dtype: str, kind: str, n: int) -> float:
     return max(hits) if hits else math.nan
 
 
+def _steps(t: dict, env: str, dtype: str, kind: str, n: int) -> int:
+    """The call length of a (single) row: the env's substeps for its physics rows."""
+    return next(s for (e, d, k, m, s) in t if (e, d, k, m) == (env, dtype, kind, n))
+
+
 def markdown(path=None) -> str:
     """docs/benchmarks.md's env tables from ``docs/bench_envs.csv``: per env, dtype and
     num_envs, env-steps/s of the vector env, over its physics alone, over the craft's best
@@ -311,9 +316,9 @@ def markdown(path=None) -> str:
     envs = list(dict.fromkeys(e for (e, d, k, _, _) in t if d in DTYPES and k == "physics"))
     sizes = sorted({m for (_, _, k, m, _) in t if k == "vector" and m > 0})
     lines = [
-        "| env | dtype | num_envs | env-steps/s | vector / physics | physics / best bare "
-        "| vs CartPole |",
-        "|---|---|---:|---:|---:|---:|---:|",
+        "| env | dtype | num_envs | env-steps/s | vector / physics | physics / bare "
+        "| physics / best bare | vs CartPole |",
+        "|---|---|---:|---:|---:|---:|---:|---:|",
     ]
     for env in envs:
         for dtype in DTYPES:
@@ -324,16 +329,19 @@ def markdown(path=None) -> str:
                 cart = _get(t, PEER, "float32", "vector", n)
                 if math.isnan(vec):
                     continue
+                same = t.get((env, dtype, "bare", n, _steps(t, env, dtype, "physics", n)))
                 lines.append(
                     f"| {env} | {dtype} | {n} | {vec:,.0f} | {phys / vec:.2f} | "
-                    f"{best / phys:.2f} | {vec / cart:.3f} |"
+                    f"{(same or math.nan) / phys:.2f} | {best / phys:.2f} | {vec / cart:.3f} |"
                 )
     lines += [
         "",
         "vector / physics: how many times longer a vector step takes than its physics alone "
-        "(1.00: the task, the autoreset and the API cost nothing); physics / best bare: how "
-        "many times longer the env's physics takes than its craft alone in an empty world at "
-        "its best size and call length.",
+        "(1.00: the task, the autoreset and the API cost nothing); physics / bare: how many "
+        "times longer the env's physics takes than its craft alone in an empty world at the "
+        "same size and call length (what the env's world costs: floor, wind, swell, wake); "
+        "physics / best bare: the same against the craft alone at its best size and call "
+        "length (what the env's call length of one action's substeps costs besides).",
         "",
         "| variant (float64) | " + " | ".join(f"{n}" for n in sizes) + " |",
         "|---|" + "---:|" * len(sizes),
