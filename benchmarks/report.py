@@ -71,6 +71,10 @@ BLOCKS = (
     Block("docs/training.md", "ppo-results", "docs/eval_*_ppo.csv", "report:results_markdown"),
     Block("docs/environments.md", "dart-glide", "docs/dart_glide.csv", "report:dart_markdown"),
     Block("docs/environments.md", "params-table", "each scene's RANGES", "report:params_markdown"),
+    Block("docs/environments.md", "v1-levels", "each v1 scene's LEVELS", "report:levels_markdown"),
+    Block(
+        "docs/environments.md", "v1-sensors", "each v1 scene's SENSORS", "report:sensors_markdown"
+    ),  # fmt: skip
     Block("docs/reliability.md", "fuzz-table", "docs/fuzz.csv", "report:fuzz_markdown"),
     Block("docs/reliability.md", "kill-table", "docs/kill_resume.csv", "report:kill_markdown"),
     Block("docs/study.md", "cost-table", "docs/study_cost.csv", "study_accuracy:cost_markdown"),
@@ -226,9 +230,11 @@ COLUMNS = (
 
 
 def scene_slug(env_id: str) -> str:
-    """``fluidsim/PaperAirplane-v0`` -> ``paper_airplane`` (the scene's package name)."""
-    name = env_id.split("/")[1].rsplit("-v", 1)[0]
-    return re.sub(r"(?<!^)(?=[A-Z])", "_", name).lower()
+    """``fluidsim/PaperAirplane-v0`` -> ``paper_airplane`` (the scene's package name), a later
+    version with its number (``paper_airplane_v1``): each version's results are its own."""
+    name, version = env_id.split("/")[1].rsplit("-v", 1)
+    slug = re.sub(r"(?<!^)(?=[A-Z])", "_", name).lower()
+    return slug if version == "0" else f"{slug}_v{version}"
 
 
 def _scores(env_id: str) -> dict[str, str]:
@@ -341,17 +347,26 @@ def params_markdown() -> str:
     from fluidsim_envs.physics.kernels import INTEGRATORS
     from fluidsim_envs.scenes import SCENES
     from fluidsim_envs.scenes import limits as LIM
+    from fluidsim_envs.scenes.realism import KNOB_RANGES
 
     lines = []
     for env_id, scene in SCENES.items():
         own = env_id.split("/")[1]
         cls = scene.params_cls
-        steps = ", ".join(f"{m} {dt:g}" for m, dt in LIM.DT_LIMIT_S.get(own, {}).items())
+        craft = scene.first_id.split("/")[1]  # the step limits are the craft's
+        steps = ", ".join(f"{m} {dt:g}" for m, dt in LIM.DT_LIMIT_S.get(craft, {}).items())
         lines += [f"**{own}** (`{cls.__name__}`)", "", "| parameter | default | allowed |"]
         lines.append("|---|---|---|")
         for f in dataclasses.fields(cls):
-            rule = cls.RANGES.get(f.name)
-            if rule is not None:
+            rule = cls.RANGES.get(f.name) or (
+                KNOB_RANGES.get(f.name) if f.name in getattr(cls, "__dataclass_fields__", {})
+                else None
+            )  # fmt: skip
+            if f.name == "difficulty":
+                allowed = "easy, standard, hard"
+            elif f.name == "actuators":
+                allowed = "True, False (None: the level's)"
+            elif rule is not None:
                 allowed = rule.text()
             elif f.name == "integrator":
                 allowed = ", ".join(sorted(INTEGRATORS))
@@ -365,9 +380,68 @@ def params_markdown() -> str:
                 allowed = "see the class docstring"
             if f.name == "dt" and steps:
                 allowed += f"; at most (s): {steps}"
+            if f.default is None and rule is not None:
+                allowed += " (None: the level's)"
             lines.append(f"| `{f.name}` | `{f.default!r}` | {allowed} |")
         lines.append("")
     return "\n".join(lines).rstrip()
+
+
+def _v1_modules():
+    """Each v1 scene's id and its module (LEVELS, SENSORS)."""
+    import importlib
+
+    from fluidsim_envs.scenes import SCENES
+
+    return [
+        (env_id, importlib.import_module(scene.vector_cls.__module__))
+        for env_id, scene in SCENES.items()
+        if scene.version == 1
+    ]
+
+
+def levels_markdown() -> str:
+    """Each v1 knob's value at each level, per scene (scenes/<scene>/v1.py's LEVELS over
+    realism.Knobs' defaults)."""
+    import dataclasses
+
+    from fluidsim_envs.scenes.realism import LEVELS
+
+    modules = _v1_modules()
+    base = {}  # every knob of any scene, at its default
+    for _, m in modules:
+        base.update({k: v for k, v in dataclasses.asdict(m.KNOBS()).items() if k not in base})
+    head = " | ".join(f"{e.split('/')[1]} {lv}" for e, _ in modules for lv in LEVELS[1:])
+    lines = [f"| knob | easy | {head} |", "|---|---" + "|---" * 2 * len(modules) + "|"]
+
+    def cell(v):
+        if isinstance(v, bool) or isinstance(v, str):
+            return str(v)
+        return f"{v[0]:g} to {v[1]:g}" if isinstance(v, tuple) else f"{v:g}"
+
+    for knob, default in base.items():
+        cells = []
+        for _, m in modules:
+            own = dataclasses.asdict(m.KNOBS())
+            for lv in LEVELS[1:]:
+                cells.append(cell({**own, **m.LEVELS[lv]}[knob]) if knob in own else "-")
+        lines.append(f"| `{knob}` | {cell(default)} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def sensors_markdown() -> str:
+    """Each v1 scene's instruments: the columns they read, their noise, bias, resolution and
+    the hardware the numbers come from (at ``sensor_scale`` 1)."""
+    from fluidsim_envs.scenes.sensors import table_rows
+
+    lines = [
+        "| env | instrument | columns | noise | bias (time) | resolution | hardware |",
+        "|---|---|---|---:|---:|---:|---|",
+    ]
+    for env_id, m in _v1_modules():
+        for row in table_rows(m.SENSORS):
+            lines.append(f"| {env_id.split('/')[1]} | " + " | ".join(row) + " |")
+    return "\n".join(lines)
 
 
 def fuzz_markdown() -> str:

@@ -44,7 +44,7 @@ import numpy as np
 from benchmarks.common import DOCS, ROOT, command, load_average, read_csv, write_csv
 from fluidsim_envs.evaluation import EVAL_SEED, TUNING_SEEDS, check_tuning_seeds, first_episodes
 from fluidsim_envs.rl.extras import require
-from fluidsim_envs.scenes import SCENES
+from fluidsim_envs.scenes import SCENES, V0_SCENES
 from fluidsim_envs.scenes.gains import TUNED_FILE, check_search_space, tuned_path, write_tuned
 
 COLUMNS = (
@@ -99,7 +99,7 @@ def tunable_ids(show: bool = True) -> list[str]:
     """The registry's envs whose pilot modules can be tuned (what ``all`` tunes); the others
     are printed with what they lack, unless ``show`` is false."""
     out = []
-    for env_id, scene in SCENES.items():
+    for env_id, scene in V0_SCENES.items():  # a scene's gains are tuned on its v0
         module = sys.modules[scene.pilot.__module__]
         if lacks := missing(module):
             if show:

@@ -1354,6 +1354,19 @@ def _deflect(e0, n, samples, ctrl, flap_now):
 
 
 @njit(**_INLINE)
+def _actuate(e0, n, actuator, command, ctrl):
+    """Move each channel of this block's environments one step toward its command: the
+    first-order lag held exactly over the step (``actuator[c, 0]`` = 1 - exp(-dt / tau)),
+    then clipped to the rate limit (``actuator[c, 1]``, control units per step)."""
+    for c in range(actuator.shape[0]):
+        share, most = actuator[c, 0], actuator[c, 1]
+        for i in range(n):
+            x = ctrl[c, e0 + i]
+            move = min(max(share * (command[c, e0 + i] - x), -most), most)
+            ctrl[c, e0 + i] = x + move
+
+
+@njit(**_INLINE)
 def _load_block(blk, model, samples, data):
     """Copy a block's state, body constants and fluid (and wake source) into its scratch and
     deflect its control surfaces; returns (first environment, environments in the block)."""
@@ -1441,7 +1454,11 @@ def _advance_block(blk, model, samples, data, method, steps, contact, pairs):
         for i in range(n):
             for c in range(touch.shape[1]):
                 touch[e0 + i, c] = 0.0
+    actuated = model.actuator.shape[0] > 0
     for _ in range(steps):
+        if actuated:  # the actuators move at the step rate, the surfaces with them
+            _actuate(e0, n, model.actuator, data.command, data.ctrl)
+            _deflect(e0, n, samples, data.ctrl, data.flap_now)
         if sea:  # the waves' time phases at the step's start
             for b in range(nb):
                 _phase_rows(scr_blk[b], n, e0, model.swell, clock)

@@ -235,6 +235,10 @@ class Model(NamedTuple):
     contact_body: np.ndarray  # [E, B, NCBODY] restitution, friction, reach (contact.CB_*)
     cprm: np.ndarray  # [NCPRM] contact parameters (contact.C_*)
     grid: np.ndarray  # the ground's height grid ([1, 1] for a plane)
+    # the control channels' actuators (Simulator.set_actuators): per channel, the first-order
+    # lag's share of the gap closed per step, 1 - exp(-dt / tau), and the most a channel
+    # moves in a step (rate limit x dt, in control units); [0, 2]: instant actuators
+    actuator: np.ndarray
 
 
 class Data(NamedTuple):
@@ -244,7 +248,8 @@ class Data(NamedTuple):
     flow: np.ndarray  # [6, E] air velocity, then water velocity
     src: np.ndarray  # [NSRC, E] the wake source of each environment (wake.source_row)
     clock: np.ndarray  # [E] float64 time (s)
-    ctrl: np.ndarray  # [C, E] control channels in [-1, 1]
+    ctrl: np.ndarray  # [C, E] control channels in [-1, 1]: where the actuators are
+    command: np.ndarray  # [C, E] where the controls are told to go (with actuators)
     flap_now: np.ndarray  # [3, n_flaps, E] deflected control-surface normals, body frame
     external: np.ndarray  # [E, B, 6] held world force and torque (set_external_force)
     warm: np.ndarray  # [E or 0, pairs, NWARM] contact warm starts
@@ -371,6 +376,7 @@ def pack(
         contact_body=np.broadcast_to(materials.astype(dtype), (E, len(crafts), CT.NCBODY)).copy(),
         cprm=cprm.astype(dtype),
         grid=np.array(grid, dtype=dtype),  # a copy: a Ground keeps its own read-only
+        actuator=np.zeros((0, 2), dtype=dtype),
     ), Samples(
         flap_mix=np.asarray(mix, dtype=dtype).reshape(len(mix), int(offsets[-1])),
         thr_channel=np.asarray(thr_ch, dtype=np.int64),

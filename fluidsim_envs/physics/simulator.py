@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections.abc import Sequence
 
@@ -363,6 +364,7 @@ class Simulator:
             # float64 whatever the dtype: wave phases omega t stay exact over long episodes
             clock=np.zeros(E, dtype=np.float64),
             ctrl=np.zeros((len(self.control_names), E), dtype=dtype),
+            command=np.zeros((len(self.control_names), E), dtype=dtype),
             flap_now=np.zeros((3, self._samples.flap.shape[1], E), dtype=dtype),
             external=np.zeros((E, B, 6), dtype=dtype),
             warm=np.zeros((E if n_pairs else 0, n_pairs, CT.NWARM), dtype=dtype),
@@ -504,9 +506,61 @@ class Simulator:
     def controls(self) -> np.ndarray:
         """``[E, n_controls]`` (read-only view): the controls of the last :meth:`step` or
         :meth:`wrench` call, channels in ``control_names`` order."""
+        v = (self._data.command if self.actuated else self._data.ctrl).T
+        v.flags.writeable = False
+        return v
+
+    @property
+    def actuators(self) -> np.ndarray:
+        """``[E, n_controls]`` (read-only view): where each control channel is now. With
+        :meth:`set_actuators` the channels follow :attr:`controls` with a lag and a rate
+        limit; without, they are the controls."""
         v = self._data.ctrl.T
         v.flags.writeable = False
         return v
+
+    @property
+    def actuated(self) -> bool:
+        """Whether the control channels move through actuators (:meth:`set_actuators`)."""
+        return self._model.actuator.shape[0] > 0
+
+    def center_actuators(self, env_ids=None) -> None:
+        """Put the actuators of environments ``env_ids`` (None: all) at rest at 0, with a
+        command of 0 (what :meth:`reset` does; for a scene that writes its starts into
+        :meth:`start_arrays`). Nothing without actuators."""
+        if self.actuated:
+            ids = self._env_ids("center_actuators", env_ids)
+            self._data.ctrl[:, ids] = 0.0
+            self._data.command[:, ids] = 0.0
+
+    def set_actuators(self, time_constant_s=None, rate_limit_per_s=None) -> None:
+        """Make every control channel follow its command through an actuator: a first-order
+        lag of time constant ``time_constant_s`` and a rate limit of ``rate_limit_per_s``
+        (control units per second: a surface's deg/s over its deflection limit in degrees),
+        each > 0, broadcast over the channels (``control_names`` order). Integrated every
+        step inside the kernel, held exactly over a step of constant command (the lag's
+        step response is 1 - exp(-t / tau)), and then clipped to the rate. The channels'
+        positions (:attr:`actuators`) are state: snapshots keep them and :meth:`reset`
+        centres them. ``set_actuators()`` (both None) makes them instant again.
+        """
+        what = "set_actuators"
+        C = len(self.control_names)
+        if time_constant_s is None and rate_limit_per_s is None:
+            self._model = self._model._replace(actuator=np.zeros((0, 2), dtype=self.dtype))
+            return
+        if time_constant_s is None or rate_limit_per_s is None:
+            raise ValueError(f"{what}: give both time_constant_s and rate_limit_per_s, or neither")
+        if C == 0:
+            raise ValueError(f"{what}: the crafts have no control channel")
+        tau = CK.array(what, "time_constant_s", time_constant_s, (C,))
+        rate = CK.array(what, "rate_limit_per_s", rate_limit_per_s, (C,))
+        for name, v in (("time_constant_s", tau), ("rate_limit_per_s", rate)):
+            if not (np.all(np.isfinite(v)) and np.all(v > 0.0)):
+                raise ValueError(f"{what}: {name} must be finite and > 0, got {CK.show(v)}")
+        table = np.stack([-np.expm1(-self.dt / tau), rate * self.dt], axis=1)
+        if not self.actuated:  # the channels start where the instant controls left them
+            self._data.command[...] = self._data.ctrl
+        self._model = self._model._replace(actuator=table.astype(self.dtype))
 
     @property
     def external_force(self) -> tuple[np.ndarray, np.ndarray]:
@@ -620,8 +674,8 @@ class Simulator:
         """Net force (N) and torque about the center of mass (N m) on each body from its
         fluid samples, buoyancy and thrusters (not gravity) at the current state, world frame,
         each ``[E, B, 3]``. ``controls`` as in :meth:`step` (None: all channels at 0)."""
-        self._set_controls(controls)
-        K.wrench(self._model, self._samples, self._data, self._wrench)
+        with self._evaluating_at(controls):
+            K.wrench(self._model, self._samples, self._data, self._wrench)
         out = self._wrench.transpose(2, 1, 0)
         return out[..., :3].copy(), out[..., 3:].copy()
 
@@ -657,10 +711,10 @@ class Simulator:
                 )
             full[e] = c
             controls = full
-        self._set_controls(controls)
         counts = [c.num_samples for c in self.crafts]
         out = np.zeros((sum(counts), 6))
-        K.sample_forces(self._model, self._samples, self._data, int(e), out)
+        with self._evaluating_at(controls):
+            K.sample_forces(self._model, self._samples, self._data, int(e), out)
         return out[:, :3], out[:, 3:], np.repeat(np.arange(self.num_bodies), counts)
 
     def _env_ids(self, what: str, env_ids) -> np.ndarray:
@@ -682,6 +736,7 @@ class Simulator:
             "src": (d.src, 1),
             "clock": (d.clock, 0),
             "ctrl": (d.ctrl, 1),
+            "command": (d.command, 1),
             "flap_now": (d.flap_now, 2),
             "external": (d.external, 0),
             "warm": (d.warm, 0),
@@ -986,6 +1041,7 @@ class Simulator:
         self._data.diverged[ids] = False
         if self._data.warm.shape[0]:  # contact warm starts belong to the old state
             self._data.warm[ids] = 0.0
+        self.center_actuators(ids)
 
     def step(self, controls=None, steps: int = 1) -> None:
         """Advance every environment by ``steps`` time steps, holding ``controls``; each
@@ -1006,9 +1062,30 @@ class Simulator:
             self._entry = _entry_point(self._kernel, args, literal)
         self._entry(*args)
 
+    @contextlib.contextmanager
+    def _evaluating_at(self, controls):
+        """Forces evaluated at ``controls`` (as :meth:`step`'s): without actuators they are
+        the controls from then on, as before; with actuators the channels are put there for
+        the evaluation only (None: where they are) and the actuators' state is kept."""
+        if not self.actuated:
+            self._set_controls(controls)
+            yield
+            return
+        held, told = self._data.ctrl.copy(), self._data.command.copy()
+        if controls is not None:
+            self._set_controls(controls)  # checked, into the commands
+            self._data.ctrl[...] = self._data.command
+        try:
+            yield
+        finally:
+            self._data.ctrl[...] = held
+            self._data.command[...] = told
+
     def _set_controls(self, controls) -> None:
+        # with actuators the controls are commands that the channels follow (set_actuators)
+        target = self._data.command if self.actuated else self._data.ctrl
         if controls is None:
-            self._data.ctrl[...] = 0.0
+            target[...] = 0.0
         else:
             a = CK.real_array("step", "controls", controls)
             shape = (self.num_envs, len(self.control_names))
@@ -1026,4 +1103,4 @@ class Simulator:
                 raise ValueError(
                     f"controls must lie in [-1, 1], got values up to {np.abs(a).max():.6g}"
                 )
-            self._data.ctrl[...] = a.T
+            target[...] = a.T

@@ -10,13 +10,16 @@ from __future__ import annotations
 
 from types import MappingProxyType
 
-from .boat_on_step import SCENE as _BOAT_ON_STEP
-from .paper_airplane import SCENE as _PAPER_AIRPLANE
+from . import boat_on_step, paper_airplane, submarine_wake
 from .scene import Scene, nan_state
-from .submarine_wake import SCENE as _SUBMARINE_WAKE
 
 SCENES: MappingProxyType[str, Scene] = MappingProxyType(
-    {s.id: s for s in (_PAPER_AIRPLANE, _SUBMARINE_WAKE, _BOAT_ON_STEP)}
+    {s.id: s for m in (paper_airplane, submarine_wake, boat_on_step) for s in (m.SCENE, m.SCENE_V1)}
 )
 
-__all__ = ["SCENES", "Scene", "nan_state"]
+# each scene's first version: what is measured per craft (step limits, tuned pilots, pictures)
+V0_SCENES: MappingProxyType[str, Scene] = MappingProxyType(
+    {i: s for i, s in SCENES.items() if s.version == 0}
+)
+
+__all__ = ["SCENES", "V0_SCENES", "Scene", "nan_state"]

@@ -81,7 +81,7 @@ class FluidVectorEnv(VectorEnv):
     metadata: dict[str, Any] = {
         "autoreset_mode": AutoresetMode.SAME_STEP,
         "render_modes": ["rgb_array"],
-        "render_fps": 30,
+        "render_fps": 30,  # each instance's: its action rate (dt x substeps)
     }
     Params: type
     obs_dim: int
@@ -108,11 +108,15 @@ class FluidVectorEnv(VectorEnv):
                 f"got {render_mode!r}"
             )
         self.params = make_params(self.Params, kwargs)
+        # frames are one action apart: a recording plays in real time at the action rate
+        period_s = self.params.dt * self.params.substeps
+        self.metadata = {**self.metadata, "render_fps": _fps(period_s)}
         self.num_envs = E = int(num_envs)
         self.render_mode = render_mode
         self.autoreset = CK.flag(type(self).__name__, "autoreset", autoreset)
         if not autoreset:
             self.metadata = {**self.metadata, "autoreset_mode": AutoresetMode.DISABLED}
+        self._keep_none = np.zeros(E, dtype=bool)  # a mask of no sub-env (observe, read)
         self._build()
         # each sub-env's pool of episode-start uniforms (see the module docstring): about
         # POOL_DRAWS numbers, whole episodes of them
@@ -127,6 +131,10 @@ class FluidVectorEnv(VectorEnv):
 
         self._rngs: list[np.random.Generator | None] = [None] * E
         self._obs = np.zeros((E, self.obs_dim), dtype=np.float32)
+        # the exact observation the task computes; through sensors (v1) the pilot sees
+        # their readings of it in _obs, else _obs is it
+        self._truth = self._obs if self.sensors is None else np.zeros_like(self._obs)
+        self._all = np.arange(E)
         self._elapsed = np.zeros(E, dtype=np.int64)
         self._sums = np.zeros((len(self.reward_terms), E))  # per-episode reward-term sums
         self._act = np.zeros((E, len(self.action_names)))
@@ -149,6 +157,10 @@ class FluidVectorEnv(VectorEnv):
 
     # uniforms in [0, 1) each episode start draws (set by _build: it may depend on params)
     draws_per_episode: int = 0
+    # the instruments between the exact observation and the pilot (sensors.SensorModel;
+    # set by _build, v1), with each sub-env's noise key [E] uint64; None: exact readings
+    sensors = None
+    noise_keys = None
 
     def _draw_reset(self, ids: np.ndarray, u: np.ndarray) -> None:
         """Start new episodes in sub-envs ``ids`` from ``u`` [len(ids), draws_per_episode]:
@@ -157,7 +169,7 @@ class FluidVectorEnv(VectorEnv):
 
     def _advance(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict]:
         """Apply ``actions`` [E, n] in [-1, 1], step the physics and write the observation of
-        every sub-env whose state did not diverge into ``self._obs`` (one task kernel does
+        every sub-env whose state did not diverge into ``self._truth`` (one task kernel does
         the terms, flags and observations); return arrays the env does not write again
         (terminated [E], diverged [E], reward terms [len(reward_terms), E], info {key: [E]})."""
         raise NotImplementedError
@@ -236,7 +248,8 @@ class FluidVectorEnv(VectorEnv):
             seed = CK.seed("reset", f"seed (or a list of {E}, one per sub-env)", seed)
             self._seed(np.random.SeedSequence(seed).spawn(E))
         self._start(ids)
-        self._observe(self._obs, ids)
+        self._observe(self._truth, ids)
+        self._read(ids, start=True)
         return self._obs.copy(), self._info_after_reset()
 
     def _reset_ids(self, options) -> np.ndarray:
@@ -291,6 +304,7 @@ class FluidVectorEnv(VectorEnv):
         # learner (the task kernel skips those rows)
         terminated, diverged, terms, info = self._advance(self._act)
         self._elapsed += 1
+        self._read(self._all, start=False, skip=diverged)  # a diverged one keeps its last
         reward = terms.sum(axis=0)
         self._sums += terms
         terminated |= diverged
@@ -314,7 +328,10 @@ class FluidVectorEnv(VectorEnv):
                 for hook in self.before_autoreset:
                     hook(ended, info, reward)
                 self._start(ended)
-                self._observe(self._obs, ended)
+                self._observe(self._truth, ended)
+                self._read(ended, start=True)
+                for key, value in self._info_after_reset().items():  # the new episodes'
+                    info[key], info[f"_{key}"] = value, done
             else:
                 self._needs_reset[ended] = True
         return self._obs.copy(), reward, terminated, truncated, info
@@ -441,7 +458,18 @@ class FluidVectorEnv(VectorEnv):
         self._sums[:, ids] = 0.0
         self._needs_reset[ids] = False
 
+    def _read(self, ids: np.ndarray, start: bool, skip=None) -> None:
+        """The sensors' readings of sub-envs ``ids`` into ``_obs`` from ``_truth``
+        (``start``: their episodes begin; ``skip`` [E]: keep these readings); nothing
+        without sensors (_obs is _truth)."""
+        if self._truth is not self._obs:
+            skip = self._keep_none if skip is None else skip
+            self.sensors.read(ids, start, self._elapsed, self.noise_keys, self._truth,
+                              self._obs, skip)  # fmt: skip
+
     def _info_after_reset(self) -> dict:
+        """What a reset tells of the new episodes (also put in a step's info, masked, where
+        sub-envs restarted): nothing here."""
         return {}
 
 
@@ -450,12 +478,19 @@ _BASE_STATE = (
     ("_pool", 0),
     ("_pool_next", 0),
     ("_obs", 0),
+    ("_truth", 0),
     ("_elapsed", 0),
     ("_sums", 1),
     ("_act", 0),
     ("_needs_reset", 0),
     ("_episodes", 0),
 )
+
+
+def _fps(period_s: float) -> float | int:
+    """Frames per second of one frame per action: an int where the action rate is one."""
+    fps = 1.0 / period_s
+    return round(fps) if abs(fps - round(fps)) < 1e-9 * fps else fps
 
 
 def _read_only(a: np.ndarray) -> np.ndarray:
@@ -489,6 +524,7 @@ class FluidEnv(gym.Env):
             num_envs=1, render_mode=render_mode, autoreset=False, **kwargs
         )
         self.params = self.vector.params
+        self.metadata = {**type(self).metadata, "render_fps": self.vector.metadata["render_fps"]}
         self.render_mode = render_mode
         self.action_space = self.vector.single_action_space
         self.observation_space = self.vector.single_observation_space

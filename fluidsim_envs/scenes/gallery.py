@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import SCENES
+from . import SCENES, V0_SCENES
 from .render import Canvas
 
 CAPTION_H, GAP = 16, 4  # the caption strip under each frame; the gap between frames (px)
@@ -53,16 +53,18 @@ def strip(captioned: list[tuple[str, np.ndarray]]) -> np.ndarray:
 
 
 def scene_name(scene) -> str:
-    """The scene's package name (``paper_airplane`` for PaperAirplane-v0)."""
-    return scene.env_cls.__module__.split(".")[-2]
+    """The scene's package name (``paper_airplane`` for PaperAirplane-v0), with its version
+    after v0 (``paper_airplane_v1``)."""
+    name = scene.env_cls.__module__.split(".")[-2]
+    return name if scene.version == 0 else f"{name}_v{scene.version}"
 
 
 def write(out_dir: Path, seed: int = 0, ids=None) -> list[Path]:
-    """Write the pictures of the scenes ``ids`` (default all) into ``out_dir``; returns the
-    paths written."""
+    """Write the pictures of the scenes ``ids`` (default each scene's v0: a later version
+    flies the same craft) into ``out_dir``; returns the paths written."""
     from PIL import Image  # matplotlib's dependency; only this tool needs it
 
-    ids = list(SCENES) if ids is None else list(ids)
+    ids = list(V0_SCENES) if ids is None else list(ids)
     unknown = [i for i in ids if i not in SCENES]
     if unknown:
         raise ValueError(f"unknown scene id {unknown[0]!r}; registered: {sorted(SCENES)}")

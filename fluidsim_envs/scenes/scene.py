@@ -92,6 +92,17 @@ class Scene:
         return self.success.format(**{f: getattr(p, f) for f in p.__dataclass_fields__})
 
     @property
+    def version(self) -> int:
+        """The N of ``-vN``: v0 the first task, v1 the same with a real craft (realism.py)."""
+        return int(self.id.rsplit("-v", 1)[1])
+
+    @property
+    def first_id(self) -> str:
+        """The id of this scene's v0: the same craft and task, whose per-craft measurements
+        (step limits, tuned pilot gains, pictures) a later version starts from."""
+        return self.id.rsplit("-v", 1)[0] + "-v0"
+
+    @property
     def obs_names(self) -> tuple[str, ...]:
         return tuple(name for name, _, _ in self.observation)
 

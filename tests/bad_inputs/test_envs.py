@@ -21,7 +21,8 @@ from tests.bad_inputs.table import Row, check, params
 
 NAN, INF = float("nan"), float("inf")
 DART, BOAT, SUB = "fluidsim/PaperAirplane-v0", "fluidsim/BoatOnStep-v0", "fluidsim/SubmarineWake-v0"
-SHORT = {DART: "dart", BOAT: "boat", SUB: "sub"}
+DART1, BOAT1, SUB1 = (e.replace("-v0", "-v1") for e in (DART, BOAT, SUB))
+SHORT = {DART: "dart", BOAT: "boat", SUB: "sub", DART1: "dart1", BOAT1: "boat1", SUB1: "sub1"}
 assert set(SHORT) == set(SCENES), "a new scene needs its rows here"
 
 
@@ -120,6 +121,27 @@ OWN = {
         ("circulation-str", {"circulation": "1"}, ["circulation", "'1'"]),
     ],
 }  # fmt: skip
+# v1's knobs (scenes/realism.py), refused alike by every v1 scene
+KNOBS = [
+    ("difficulty-name", {"difficulty": "medium"}, ["difficulty", "'medium'", "standard"]),
+    ("difficulty-int", {"difficulty": 1}, ["difficulty", "got 1"]),
+    ("sensor-scale-neg", {"sensor_scale": -0.5}, ["sensor_scale", "-0.5", "[0, 10]"]),
+    ("latency-float", {"sensor_latency_steps": 1.5}, ["sensor_latency_steps", "1.5", "integer"]),
+    ("tau-0", {"surface_time_constant_s": 0.0}, ["surface_time_constant_s", "0.0"]),
+    ("thrust-tau-0", {"thrust_time_constant_s": 0}, ["thrust_time_constant_s", "got 0"]),
+    ("rate-nan", {"surface_rate_dps": NAN}, ["surface_rate_dps", "nan"]),
+    ("mass-reversed", {"mass_scale": (1.2, 0.8)}, ["mass_scale", "(1.2, 0.8)", "low <= high"]),
+    ("mass-0", {"mass_scale": (0.0, 1.0)}, ["mass_scale", "0.0", "[0.25, 4]"]),
+    ("efficiency-up", {"efficiency_scale": (1.0, 1.2)}, ["efficiency_scale", "1.2", "[0, 1]"]),
+    ("actuators-int", {"actuators": 1}, ["actuators", "got 1", "True or False"]),
+]
+for _v0, _v1 in ((DART, DART1), (BOAT, BOAT1), (SUB, SUB1)):
+    OWN[_v1] = OWN[_v0] + KNOBS
+OWN[DART1] += [  # the dart's moving air
+    ("turbulence-name", {"turbulence": "stormy"}, ["turbulence", "'stormy'", "moderate"]),
+    ("gust-neg", {"gust_mps": -1.0}, ["gust_mps", "-1.0", "[0, 20]"]),
+    ("gust-duration-0", {"gust_duration_s": 0.0}, ["gust_duration_s", "0.0"]),
+]
 
 
 def param_rows() -> list[Row]:
@@ -366,6 +388,10 @@ NUMPY_PARAMS = {  # each scene's parameters given as NumPy scalars and arrays
     BOAT: {"engine_power_w": np.int64(60_000), "buoy_bodies": np.bool_(False)},
     SUB: {"wake_dipoles": np.int32(8), "screws": np.int64(2), "wake": np.bool_(True)},
 }
+for _v0, _v1 in ((DART, DART1), (BOAT, BOAT1), (SUB, SUB1)):  # and v1's knobs
+    NUMPY_PARAMS[_v1] = {**NUMPY_PARAMS[_v0], "sensor_latency_steps": np.int64(2),
+                         "mass_scale": np.array([0.9, 1.1]), "actuators": np.bool_(True),
+                         "sensor_scale": np.float32(0.5)}  # fmt: skip
 
 
 @pytest.mark.parametrize("env_id", sorted(SHORT))

@@ -21,7 +21,7 @@ def test_strip_puts_the_frames_side_by_side_over_their_captions():
 
 
 def test_each_scene_has_its_own_file_name():
-    names = [G.scene_name(s) for s in SCENES.values()]
+    names = [G.scene_name(s) for s in SCENES.values()]  # v1's with its version
     assert len(set(names)) == len(names)
     assert "paper_airplane" in names
 

@@ -108,8 +108,8 @@ def test_every_array_of_a_sub_env_is_in_the_snapshot(sid):
     venv.reset(seed=0)
     covered = [getattr(venv, name) for name, _ in venv._state_arrays()]
     covered += [arr for arr, _ in venv.sim._env_arrays().values()]
-    # scratch, and the task kernels' constant all-False row mask
-    scratch = [venv.sim._data.scr, venv.sim._omega, venv.sim._wrench, venv._keep_none]
+    # scratch, the task kernels' constant all-False row mask and the constant ids of all
+    scratch = [venv.sim._data.scr, venv.sim._omega, venv.sim._wrench, venv._keep_none, venv._all]
     for owner, obj in (("env", venv), ("Simulator", venv.sim)):
         for name, value in vars(obj).items():
             if not isinstance(value, np.ndarray) or E not in value.shape:

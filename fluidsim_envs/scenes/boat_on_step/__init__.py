@@ -7,6 +7,8 @@
 - ``pilot.py``: the scripted baseline pilot and the demo.
 """
 
+import dataclasses
+
 from ..planner import PlannerConfig
 from ..scene import Scene
 from .env import GATES, BoatOnStepEnv, BoatOnStepParams, BoatOnStepVectorEnv
@@ -14,6 +16,7 @@ from .kernel import OBS, OBS_NAMES, OBSERVATION
 from .mesh import meshes
 from .pilot import BoatOnStepPilot, HelmGains, demo, make_hand_pilot, make_pilot
 from .rerun import BoatOnStepRerun
+from .v1 import OBSERVATION_V1, BoatOnStepV1Env, BoatOnStepV1Params, BoatOnStepV1VectorEnv
 from .view import BoatOnStepView
 
 SCENE = Scene(
@@ -34,12 +37,23 @@ SCENE = Scene(
     meshes=meshes,
 )
 
+# v1: the same task with a randomized craft, sensors and actuators (v1.py)
+SCENE_V1 = dataclasses.replace(
+    SCENE,
+    id="fluidsim/BoatOnStep-v1",
+    env_cls=BoatOnStepV1Env,
+    vector_cls=BoatOnStepV1VectorEnv,
+    params_cls=BoatOnStepV1Params,
+    observation=OBSERVATION_V1,
+)
+
 __all__ = [
     "GATES",
     "OBS",
     "OBSERVATION",
     "OBS_NAMES",
     "SCENE",
+    "SCENE_V1",
     "BoatOnStepEnv",
     "BoatOnStepParams",
     "BoatOnStepPilot",

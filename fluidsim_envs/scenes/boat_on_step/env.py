@@ -81,6 +81,7 @@ class BoatOnStepParams:
     w_fuel: float = 0.01  # per step, times the throttle ahead
     w_crash: float = 20.0  # capsize, bow stuffed, off the course, diverged
 
+    NAME: ClassVar[str] = "BoatOnStep-v0"  # what errors name
     RANGES: ClassVar[dict] = {
         "dt": Bound(1e-5, 0.05),  # and the integrator's limit (limits.DT_LIMIT_S)
         "substeps": SUBSTEPS,
@@ -106,10 +107,10 @@ class BoatOnStepParams:
     }
 
     def __post_init__(self) -> None:
-        own = "BoatOnStep-v0"
+        own = self.NAME
         check_params(self, own, self.RANGES)
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
-        check_step(own, self.dt, self.integrator, own)
+        check_step(own, self.dt, self.integrator, "BoatOnStep-v0")  # v1 flies the same craft
         check_choice(own, "dtype", self.dtype, ("float32", "float64"))
         CK.flag(own, "buoy_bodies", self.buoy_bodies)
         try:
@@ -182,7 +183,6 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         self._cfg = np.array([self._cfg_value(name) for name in TK.CFG_FIELDS], dtype=np.float64)
         self.draws_per_episode = 4 + 2 * GATES
         self._task = TK.task_parallel if self.sim.parallel else TK.task_serial
-        self._keep_none = np.zeros(E, dtype=bool)  # observe: no row kept
         self._ctrl = np.zeros((E, 3))
         self._terms = np.zeros((len(REWARD_TERMS), E))
         self._flags = np.zeros((TK.NFLAGS, E), dtype=bool)
@@ -279,7 +279,7 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         self._task(
             st, body, diverged, actions, self.course,
             self.buoys[:, :0] if p.buoy_bodies else self.buoys,
-            self._hits, self.task, swell, clock, self._cfg, self._terms, self._flags, self._obs,
+            self._hits, self.task, swell, clock, self._cfg, self._terms, self._flags, self._truth,
         )  # fmt: skip
         f = self._flags.copy()
         crashed = f[TK.F_CAPSIZE] | f[TK.F_STUFF] | f[TK.F_LEFT]

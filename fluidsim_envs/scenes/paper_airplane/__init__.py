@@ -6,6 +6,8 @@
 - ``pilot.py``: the scripted baseline pilot and the demo.
 """
 
+import dataclasses
+
 import numpy as np
 
 from ..planner import PlannerConfig
@@ -15,6 +17,7 @@ from .kernel import OBS, OBS_NAMES, OBSERVATION
 from .mesh import meshes
 from .pilot import PaperAirplanePilot, PilotGains, demo, make_hand_pilot, make_pilot
 from .rerun import PaperAirplaneRerun
+from .v1 import OBSERVATION_V1, PaperAirplaneV1Env, PaperAirplaneV1Params, PaperAirplaneV1VectorEnv
 from .view import PaperAirplaneView
 
 
@@ -44,11 +47,22 @@ SCENE = Scene(
     meshes=meshes,
 )
 
+# v1: the same task with a randomized craft, sensors and actuators (v1.py)
+SCENE_V1 = dataclasses.replace(
+    SCENE,
+    id="fluidsim/PaperAirplane-v1",
+    env_cls=PaperAirplaneV1Env,
+    vector_cls=PaperAirplaneV1VectorEnv,
+    params_cls=PaperAirplaneV1Params,
+    observation=OBSERVATION_V1,
+)
+
 __all__ = [
     "OBS",
     "OBSERVATION",
     "OBS_NAMES",
     "SCENE",
+    "SCENE_V1",
     "PaperAirplaneEnv",
     "PaperAirplaneParams",
     "PaperAirplanePilot",

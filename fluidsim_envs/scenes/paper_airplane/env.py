@@ -60,6 +60,7 @@ class PaperAirplaneParams:
     w_crash: float = 10.0  # crash, leaving the arena or a diverged state
     w_effort: float = 0.01  # per step, times the mean squared action
 
+    NAME: ClassVar[str] = "PaperAirplane-v0"  # what errors name
     RANGES: ClassVar[dict] = {
         "dt": Bound(1e-5, 0.1),  # and the integrator's limit (limits.DT_LIMIT_S)
         "substeps": SUBSTEPS,
@@ -85,10 +86,10 @@ class PaperAirplaneParams:
     }
 
     def __post_init__(self) -> None:
-        own = "PaperAirplane-v0"
+        own = self.NAME
         check_params(self, own, self.RANGES)
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
-        check_step(own, self.dt, self.integrator, own)
+        check_step(own, self.dt, self.integrator, "PaperAirplane-v0")  # v1 flies the same craft
         check_choice(own, "dtype", self.dtype, ("float32", "float64"))
         if self.ceiling_m <= self.launch_height_m[1]:
             raise ValueError(
@@ -161,7 +162,6 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
             dtype=np.float64,
         )
         self._task = TK.task_parallel if self.sim.parallel else TK.task_serial
-        self._keep_none = np.zeros(E, dtype=bool)  # observe: no row kept
 
     # ---- episode start --------------------------------------------------------------------
 
@@ -181,7 +181,7 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
         self._task(
             st, body, flow, diverged, self._hull, self.target, self.launch, self._distance,
             actions, self._cfg, self._terms, self._flags, self._sink, self._v_prev,
-            self.sim.ground_impulse[:, 0], self._obs,
+            self.sim.ground_impulse[:, 0], self._truth,
         )  # fmt: skip
         flags = self._flags.copy()
         info = {

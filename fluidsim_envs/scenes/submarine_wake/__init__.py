@@ -8,6 +8,8 @@
 - ``pilot.py``: the scripted baseline pilot and the demo.
 """
 
+import dataclasses
+
 from ..planner import PlannerConfig
 from ..scene import Scene
 from .env import SubmarineWakeEnv, SubmarineWakeParams, SubmarineWakeVectorEnv
@@ -15,6 +17,7 @@ from .kernel import OBS, OBS_NAMES, OBSERVATION
 from .mesh import meshes
 from .pilot import StationGains, SubmarineWakePilot, demo, make_hand_pilot, make_pilot
 from .rerun import SubmarineWakeRerun
+from .v1 import OBSERVATION_V1, SubmarineWakeV1Env, SubmarineWakeV1Params, SubmarineWakeV1VectorEnv
 from .view import SubmarineWakeView
 
 SCENE = Scene(
@@ -36,11 +39,22 @@ SCENE = Scene(
     meshes=meshes,
 )
 
+# v1: the same task with a randomized craft, sensors and actuators (v1.py)
+SCENE_V1 = dataclasses.replace(
+    SCENE,
+    id="fluidsim/SubmarineWake-v1",
+    env_cls=SubmarineWakeV1Env,
+    vector_cls=SubmarineWakeV1VectorEnv,
+    params_cls=SubmarineWakeV1Params,
+    observation=OBSERVATION_V1,
+)
+
 __all__ = [
     "OBS",
     "OBSERVATION",
     "OBS_NAMES",
     "SCENE",
+    "SCENE_V1",
     "StationGains",
     "SubmarineWakeEnv",
     "SubmarineWakeParams",

@@ -90,6 +90,7 @@ class SubmarineWakeParams:
     w_crash: float = 100.0  # hitting the hull or the floor, losing the lead, diverging
 
     CHOICES: ClassVar[dict] = {"wake_model": WAKE_MODELS}  # the allowed strings
+    NAME: ClassVar[str] = "SubmarineWake-v0"  # what errors name
     RANGES: ClassVar[dict] = {
         "dt": Bound(1e-5, 0.5),  # and the integrator's limit (limits.DT_LIMIT_S)
         "substeps": SUBSTEPS,
@@ -121,10 +122,10 @@ class SubmarineWakeParams:
     }
 
     def __post_init__(self) -> None:
-        own = "SubmarineWake-v0"
+        own = self.NAME
         check_params(self, own, self.RANGES)
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
-        check_step(own, self.dt, self.integrator, own)
+        check_step(own, self.dt, self.integrator, "SubmarineWake-v0")  # v1 flies the same craft
         check_choice(own, "dtype", self.dtype, ("float32", "float64"))
         for key, choices in self.CHOICES.items():
             check_choice(own, key, getattr(self, key), choices)
@@ -225,7 +226,6 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
         self._on_station = np.zeros(E, dtype=np.int64)
         self.draws_per_episode = 14 + 4 * ROUTE_SEGMENTS
         self._task = TK.task_parallel if self.sim.parallel else TK.task_serial
-        self._keep_none = np.zeros(E, dtype=bool)  # observe: no row kept
 
     def _cfg_value(self, name: str) -> float:
         derived = {
@@ -310,7 +310,7 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
         self._task(
             st, body, diverged, self.lead, self.route, p.dt * p.substeps, p.route_lag_s,
             self.noise_offset, self._src, self.station, self._wprm, actions, self._cfg,
-            self._terms, self._flags, self._distance, self._obs,
+            self._terms, self._flags, self._distance, self._truth,
         )  # fmt: skip
         flags = self._flags.copy()
         self._on_station += flags[TK.F_ON_STATION]

@@ -1,0 +1,185 @@
+"""fluidsim/BoatOnStep-v1: the course of v0 with a boat whose load, hull and engine differ from
+run to run, real instruments, hydraulic steering and trim tabs and an engine that spools, at
+a difficulty level (``scenes/realism.py``)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+from ..base import FluidEnv
+from ..realism import (
+    V1_STATE,
+    KnobParams,
+    Knobs,
+    Plan,
+    Version1,
+    actuator_columns,
+    resolve,
+    v1_doc,
+)
+from ..sensors import Sensor
+from .env import BoatOnStepEnv, BoatOnStepParams, BoatOnStepVectorEnv
+from .kernel import OBSERVATION
+
+CONTROLS = ("throttle", "rudder", "trim_tabs")  # the craft's channels (speedboat.toml)
+OBSERVATION_V1 = OBSERVATION + actuator_columns(CONTROLS)
+
+# The instruments of a small sport boat with a navigation and motion package. Noise per
+# reading at the action rate (20 Hz), from the datasheets named; the task's own columns
+# (target speed, the trim oscillation estimate) are exact.
+SENSORS = (
+    Sensor("gnss_velocity", ("u", "v", "w", "speed_error"), noise=0.05,
+           hardware="GNSS velocity (u-blox ZED-F9P: 0.05 m/s)"),
+    Sensor("gyro", ("p", "q", "r"), noise=0.0012, bias=0.0035, bias_time_s=100.0,
+           quantum=1.33e-4,
+           hardware="MEMS gyro (InvenSense MPU-6000: 0.005 deg/s/sqrt(Hz) over its 188 Hz "
+                    "band, 16 bits over +-250 deg/s; 0.2 deg/s residual bias)"),
+    Sensor("attitude", ("trim", "heel"), noise=0.003, bias=0.009, bias_time_s=20.0,
+           hardware="motion reference unit (Kongsberg MRU class: roll and pitch 0.5 deg "
+                    "dynamic for a low-cost unit)"),
+    Sensor("heave", ("heave",), noise=0.02, bias=0.03, bias_time_s=10.0,
+           hardware="MRU heave (Kongsberg MRU 5: 5 cm or 5%)"),
+    Sensor("gnss_position", ("gate_x", "gate_y"), noise=0.01, bias=0.02, bias_time_s=30.0,
+           hardware="RTK GNSS (u-blox ZED-F9P: 0.01 m + 1 ppm CEP horizontal)"),
+    Sensor("gnss_heading",
+           ("gate_bearing_sin", "gate_bearing_cos", "gate_heading_sin", "gate_heading_cos"),
+           noise=0.004, bias=0.005, bias_time_s=60.0,
+           hardware="dual-antenna GNSS heading (u-blox ZED-F9P moving base: about 0.4 deg "
+                    "on a 1 m baseline)"),
+)  # fmt: skip
+KNOBS = Knobs  # what docs/environments.md's level table lists
+PLAN = Plan(groups=("bottom", "friction", "topsides"), sensors=SENSORS)
+
+LEVELS: dict[str, dict] = {
+    "easy": {},
+    "standard": {
+        # one to three people and the fuel between empty and full; fouling; an engine off
+        # its best; fresh to salt water
+        "mass_scale": (0.85, 1.2),
+        "inertia_scale": (0.9, 1.1),
+        "com_shift_m": 0.1,
+        "area_scale": (0.95, 1.05),
+        "efficiency_scale": (0.9, 1.0),
+        "thrust_scale": (0.85, 1.05),
+        "density_scale": (0.975, 1.0),
+        "sensor_scale": 1.0,
+        "sensor_latency_steps": 1,
+        # hydraulic steering and trim tabs; the engine's torque builds over about a second
+        "actuators": True,
+        "surface_time_constant_s": 0.2,
+        "surface_rate_dps": 40.0,
+        "thrust_time_constant_s": 1.0,
+        "thrust_rate_per_s": 1.0,
+    },
+    "hard": {
+        "mass_scale": (0.75, 1.35),
+        "inertia_scale": (0.8, 1.2),
+        "com_shift_m": 0.2,
+        "area_scale": (0.9, 1.1),
+        "efficiency_scale": (0.8, 1.0),
+        "thrust_scale": (0.7, 1.05),
+        "density_scale": (0.975, 1.0),
+        "sensor_scale": 2.0,
+        "sensor_latency_steps": 2,
+        "actuators": True,
+        "surface_time_constant_s": 0.3,
+        "surface_rate_dps": 25.0,
+        "thrust_time_constant_s": 1.5,
+        "thrust_rate_per_s": 0.7,
+    },
+}
+
+
+@dataclass(frozen=True)
+class BoatOnStepV1Params(BoatOnStepParams, KnobParams):
+    """Parameters of BoatOnStep-v1: v0's, ``difficulty`` and the knobs of
+    :class:`~fluidsim_envs.scenes.realism.Knobs` (None: the level's value, ``LEVELS``)."""
+
+    NAME: ClassVar[str] = "BoatOnStep-v1"
+
+    def __post_init__(self) -> None:
+        resolve(self, self.NAME, LEVELS)
+        super().__post_init__()
+
+
+class BoatOnStepV1VectorEnv(Version1, BoatOnStepVectorEnv):
+    """BoatOnStep-v1 for N boats at once; documented on :class:`BoatOnStepV1Env`."""
+
+    Params = BoatOnStepV1Params
+    obs_dim = len(OBSERVATION_V1)
+    plan = PLAN
+    state_fields = BoatOnStepVectorEnv.state_fields + V1_STATE
+
+    def _observation_names(self):
+        return (name for name, _, _ in OBSERVATION_V1)
+
+
+class BoatOnStepV1Env(FluidEnv):
+    vector_cls = BoatOnStepV1VectorEnv
+
+
+BoatOnStepV1Env.__doc__ = v1_doc(
+    BoatOnStepEnv.__doc__,
+    """
+    BoatOnStep-v0's task with a real boat: its load, hull and engine drawn anew each run,
+    read through real instruments, steered through hydraulics, driven by an engine that
+    spools.""",
+    OBSERVATION_V1[len(OBSERVATION) :],
+    replace={
+        "Description": """
+    As v0: get the speedboat up on step and run the course of gates. Each run's boat
+    is drawn anew (load: mass, inertia, centre of gravity; the bottom's, friction strips'
+    and topsides' areas and efficiencies; the engine's thrust; the water's density), its
+    instruments are noisy, biased and late, its rudder and trim tabs move hydraulically
+    and its engine spools. ``difficulty`` picks a bundle of these knobs.""",
+        "Action Space": """
+    As v0: ``Box(-1, 1, (3,), float32)``, throttle, rudder, trim tabs: now commands
+    that the actuators follow with a first-order lag and a rate limit
+    (``surface_time_constant_s``, ``surface_rate_dps``; the throttle:
+    ``thrust_time_constant_s``, ``thrust_rate_per_s``).""",
+        "Arguments": """
+    v0's, ``difficulty`` (``"easy"``, ``"standard"`` (default), ``"hard"``) and each
+    knob of :class:`~fluidsim_envs.scenes.realism.Knobs` alone (given, it overrides its
+    level's value; ``params.knobs`` holds them all). Levels (``LEVELS``):
+
+    - ``easy``: v0's dynamics and exact readings (the actuator columns added);
+    - ``standard``: mass -15% to +20%, centre of gravity +-10 cm, thrust -15% to +5%, fresh
+      to salt water; the instruments of ``SENSORS``, one action late; steering and tabs at
+      0.2 s and 40 deg/s, the engine at 1 s;
+    - ``hard``: wider spreads, instruments twice as noisy and two actions late, slower
+      steering (25 deg/s) and engine (1.5 s).""",
+        "Version History": """
+    - v1: randomized boat, sensors, actuators, difficulty levels (its moving air and water and
+      the sample observations are still to come).
+    - v0: first version.
+
+    Examples:
+        >>> import gymnasium as gym
+        >>> import fluidsim_envs
+        >>> env = gym.make("fluidsim/BoatOnStep-v1", difficulty="hard")
+        >>> obs, info = env.reset(seed=0)
+        >>> obs.shape
+        (21,)
+        >>> float(info["randomized"]["mass_kg"]) > 0.0
+        True""",
+    },
+    append={
+        "Observation Space": """
+    The task's columns as the instruments read them (``SENSORS`` in
+    ``scenes/boat_on_step/v1.py``: GNSS velocity, position and heading, gyro, motion
+    reference unit; ``target_speed`` and ``pitch_oscillation`` exact), ``sensor_latency_steps``
+    late; the positions are exact.""",
+        "Starting State": """
+    Before the boat is placed, its physics is drawn from the level's ranges; what
+    was drawn is ``info["randomized"]`` at every reset (and at a step where sub-envs restarted,
+    masked by ``info["_randomized"]``): the mass (kg), the inertia factor, the centre of
+    mass shift (m), each sample group's area and efficiency factors, the thrust and density
+    factors. The actuators start centred.""",
+        "Episode End": "As v0, judged on the true state, not on the readings.",
+    },
+)
+
+
+__all__ = ["LEVELS", "OBSERVATION_V1", "PLAN", "SENSORS", "BoatOnStepV1Env",
+           "BoatOnStepV1Params", "BoatOnStepV1VectorEnv"]  # fmt: skip

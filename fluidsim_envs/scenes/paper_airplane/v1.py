@@ -1,0 +1,266 @@
+"""fluidsim/PaperAirplane-v1: the dart of v0 with a craft that differs from throw to throw,
+real instruments and servos, at a difficulty level (``scenes/realism.py``)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from .. import turbulence as TB
+from ..base import FluidEnv
+from ..limits import Bound
+from ..realism import (
+    V1_STATE,
+    KnobParams,
+    Knobs,
+    Plan,
+    Version1,
+    actuator_columns,
+    resolve,
+    v1_doc,
+)
+from ..sensors import Sensor
+from .env import PaperAirplaneEnv, PaperAirplaneParams, PaperAirplaneVectorEnv
+from .kernel import OBSERVATION
+
+CONTROLS = ("aileron", "elevator", "rudder")  # the craft's channels (paper_airplane.toml)
+OBSERVATION_V1 = OBSERVATION + actuator_columns(CONTROLS)
+
+# The instruments of a small drone of the dart's size class. Noise per reading at the action
+# rate (30 Hz), from the datasheets named; columns not listed are exact.
+SENSORS = (
+    Sensor("airspeed", ("u", "v", "w"), noise=0.1, bias=0.05, bias_time_s=60.0,
+           hardware="pitot on a differential-pressure sensor with flow-angle vanes (Sensirion "
+                    "SDP3x class: 0.2 Pa zero point; vanes about 1 deg: 0.1 m/s at 6 m/s)"),
+    Sensor("gyro", ("p", "q", "r"), noise=0.0012, bias=0.0035, bias_time_s=100.0,
+           quantum=1.33e-4,
+           hardware="MEMS gyro (InvenSense MPU-6000: 0.005 deg/s/sqrt(Hz) over its 188 Hz "
+                    "band, 16 bits over +-250 deg/s; 0.2 deg/s residual bias after "
+                    "calibration)"),
+    Sensor("attitude", ("gx", "gy", "gz"), noise=0.003, bias=0.01, bias_time_s=20.0,
+           hardware="AHRS attitude (VectorNav VN-100 class: pitch and roll 0.5 deg static, "
+                    "1 deg dynamic)"),
+    Sensor("rangefinder", ("height",), noise=0.02, quantum=0.01,
+           hardware="lidar rangefinder (Garmin LIDAR-Lite v3: +-2.5 cm, 1 cm resolution)"),
+    Sensor("gnss_position", ("target_forward", "target_left"), noise=0.01, bias=0.02,
+           bias_time_s=30.0,
+           hardware="RTK GNSS (u-blox ZED-F9P: 0.01 m + 1 ppm CEP horizontal)"),
+    Sensor("gnss_velocity", ("ground_forward", "ground_left", "climb"), noise=0.05,
+           hardware="GNSS velocity (u-blox ZED-F9P: 0.05 m/s)"),
+)  # fmt: skip
+PLAN = Plan(groups=("wings", "tail", "fuselage"), sensors=SENSORS)
+
+
+@dataclass(frozen=True)
+class DartKnobs(Knobs):
+    """The dart's own knobs beside realism.Knobs': its moving air (scenes/turbulence.py)."""
+
+    turbulence: str = "none"  # Dryden: none, wind (W20: the mean wind), light, moderate, severe
+    gust_mps: float = 0.0  # one 1-cosine gust per episode of this peak (0: none)
+    gust_duration_s: float = 1.0  # its length in time
+    gust_within_s: float = 4.0  # it starts in the first this many seconds
+
+
+KNOB_RANGES = {
+    "gust_mps": Bound(0.0, 20.0),
+    "gust_duration_s": Bound(0.05, 10.0),
+    "gust_within_s": Bound(0.01, 1000.0),
+}
+CHOICES = {"turbulence": TB.LEVELS}
+KNOBS = DartKnobs  # what docs/environments.md's level table lists
+
+# each level's knobs (realism.Knobs and DartKnobs; easy: v0's physics, exact readings)
+LEVELS: dict[str, dict] = {
+    "easy": {},
+    "standard": {
+        # paper of 80 to 100 g/m^2, folds a few mm off; air from sea level to 1 km, 0-30 C
+        "mass_scale": (0.85, 1.15),
+        "inertia_scale": (0.9, 1.1),
+        "com_shift_m": 0.003,
+        "area_scale": (0.9, 1.1),
+        "efficiency_scale": (0.9, 1.0),
+        "density_scale": (0.9, 1.05),
+        "sensor_scale": 1.0,
+        "sensor_latency_steps": 1,
+        # a micro servo: 0.08 s per 60 deg (750 deg/s), about 30 ms to settle
+        "actuators": True,
+        "surface_time_constant_s": 0.03,
+        "surface_rate_dps": 600.0,
+        # turbulence of the episode's own breeze (MIL-HDBK-1797: sigma_w = 0.1 W20), a gust
+        "turbulence": "wind",
+        "gust_mps": 0.5,
+    },
+    "hard": {
+        "mass_scale": (0.7, 1.3),
+        "inertia_scale": (0.8, 1.2),
+        "com_shift_m": 0.006,
+        "area_scale": (0.8, 1.2),
+        "efficiency_scale": (0.75, 1.0),
+        "density_scale": (0.8, 1.1),
+        "sensor_scale": 2.0,
+        "sensor_latency_steps": 2,
+        "actuators": True,
+        "surface_time_constant_s": 0.06,
+        "surface_rate_dps": 300.0,
+        "turbulence": "light",  # W20 = 15 kt: 1.5 m/s along, 0.8 m/s up at 5 m
+        "gust_mps": 1.5,
+    },
+}
+
+
+@dataclass(frozen=True)
+class PaperAirplaneV1Params(PaperAirplaneParams, KnobParams):
+    """Parameters of PaperAirplane-v1: v0's, ``difficulty`` and the knobs of
+    :class:`~fluidsim_envs.scenes.realism.Knobs` (None: the level's value, ``LEVELS``)."""
+
+    NAME: ClassVar[str] = "PaperAirplane-v1"
+    turbulence: str | None = None
+    gust_mps: float | None = None
+    gust_duration_s: float | None = None
+    gust_within_s: float | None = None
+
+    def __post_init__(self) -> None:
+        resolve(self, self.NAME, LEVELS, DartKnobs, KNOB_RANGES, CHOICES)
+        super().__post_init__()
+
+
+class PaperAirplaneV1VectorEnv(Version1, PaperAirplaneVectorEnv):
+    """PaperAirplane-v1 for N darts at once; documented on :class:`PaperAirplaneV1Env`."""
+
+    Params = PaperAirplaneV1Params
+    obs_dim = len(OBSERVATION_V1)
+    plan = PLAN
+    state_fields = (
+        PaperAirplaneVectorEnv.state_fields
+        + V1_STATE
+        + (
+            ("_mean_wind", 0),
+            ("_w20", 0),
+            ("_gusts", 0),
+            ("_air_state", 0),
+        )
+    )
+
+    def _observation_names(self):
+        return (name for name, _, _ in OBSERVATION_V1)
+
+    own_draws = 3  # the gust's moment and direction
+
+    def _build(self) -> None:
+        super()._build()
+        E, k = self.num_envs, self.params.knobs
+        self.moving_air = k.turbulence != "none" or k.gust_mps > 0.0
+        self._mean_wind = np.zeros((E, 3))  # each episode's steady wind (v0's)
+        self._w20 = np.zeros(E)  # its turbulence's W20 (m/s)
+        self._gusts = np.zeros((E, 6))  # start (s), duration (s), peak (m/s), direction
+        self._air_state = np.zeros((E, TB.NSTATE))  # the Dryden filters'
+        self._period_s = self.params.dt * self.params.substeps
+
+    def _start_own(self, ids, u) -> None:
+        if not self.moving_air:
+            return
+        k = self.params.knobs
+        _, flow, _, _ = self.sim.start_arrays()
+        self._mean_wind[ids] = flow[:3, ids].T
+        w20 = TB.W20_MPS[k.turbulence]
+        self._w20[ids] = np.linalg.norm(self._mean_wind[ids], axis=1) if math.isnan(w20) else w20
+        up = 2.0 * u[:, 1] - 1.0  # a direction uniform on the sphere
+        around = 2.0 * np.pi * u[:, 2]
+        flat = np.sqrt(1.0 - up * up)
+        self._gusts[ids] = np.stack(
+            [u[:, 0] * k.gust_within_s, np.full(len(ids), k.gust_duration_s),
+             np.full(len(ids), k.gust_mps), flat * np.cos(around), flat * np.sin(around), up],
+            axis=1,
+        )  # fmt: skip
+        self._blow(ids, start=True)
+
+    def _blow(self, ids, start: bool) -> None:
+        """The air of sub-envs ``ids`` over their next step (turbulence.air)."""
+        st, flow, _, _ = self.sim.start_arrays()
+        TB.air(ids, start, self.noise_keys, self._elapsed, st, self._mean_wind, self._w20,
+               self._gusts, self._period_s, self._air_state, flow)  # fmt: skip
+
+    def _advance(self, actions):
+        if self.moving_air:
+            self._blow(self._all, start=False)
+        return super()._advance(actions)
+
+
+class PaperAirplaneV1Env(FluidEnv):
+    vector_cls = PaperAirplaneV1VectorEnv
+
+
+PaperAirplaneV1Env.__doc__ = v1_doc(
+    PaperAirplaneEnv.__doc__,
+    """
+    PaperAirplane-v0's task with a real dart: drawn anew at each throw, read through
+    real instruments, steered through servos.""",
+    OBSERVATION_V1[len(OBSERVATION) :],
+    replace={
+        "Description": """
+    As v0: a paper dart thrown from a height must glide to a target on the ground
+    and land on it. Each throw's dart is drawn anew (mass, inertia, centre of mass, the
+    wings', tail's and fuselage's areas and efficiencies, the air's density), its
+    instruments are noisy, biased and late, its surfaces move through servos, and the air
+    moves: Dryden turbulence and a 1-cosine gust on top of v0's steady wind
+    (``scenes/turbulence.py``). ``difficulty`` picks a bundle of these knobs.""",
+        "Action Space": """
+    As v0: ``Box(-1, 1, (3,), float32)``, aileron, elevator, rudder: now the servos'
+    commands, which each servo follows with a first-order lag and a rate limit
+    (``surface_time_constant_s``, ``surface_rate_dps`` over the surface's deflection limit).""",
+        "Arguments": """
+    v0's, ``difficulty`` (``"easy"``, ``"standard"`` (default), ``"hard"``) and each
+    knob of :class:`~fluidsim_envs.scenes.realism.Knobs` alone (given, it overrides its
+    level's value; ``params.knobs`` holds them all). Levels (``LEVELS``):
+
+    - ``easy``: v0's dynamics and exact readings (the actuator columns added);
+    - ``standard``: mass +-15%, inertia +-10%, centre of mass +-3 mm, areas +-10%,
+      efficiencies to -10%, air density -10% to +5%; the instruments of ``SENSORS``, one
+      action late; servos of 30 ms and 600 deg/s; turbulence of the episode's own breeze
+      (MIL-HDBK-1797's low-altitude Dryden model with W20 the mean wind) and a 0.5 m/s gust;
+    - ``hard``: twice the spreads, instruments twice as noisy and two actions late, servos
+      of 60 ms and 300 deg/s; light turbulence (W20 = 15 kt) and a 1.5 m/s gust.""",
+        "Version History": """
+    - v1: randomized dart, sensors, actuators, moving air, difficulty levels (the sample
+      observations are still to come).
+    - v0: first version.
+
+    Examples:
+        >>> import gymnasium as gym
+        >>> import fluidsim_envs
+        >>> env = gym.make("fluidsim/PaperAirplane-v1", difficulty="hard")
+        >>> obs, info = env.reset(seed=0)
+        >>> obs.shape
+        (18,)
+        >>> float(info["randomized"]["mass_kg"]) > 0.0
+        True""",
+    },
+    append={
+        "Observation Space": """
+    Columns 0-14 as the instruments read them (``SENSORS`` in
+    ``scenes/paper_airplane/v1.py``: airspeed, gyro, attitude, rangefinder, GNSS position and
+    velocity; white noise, a wandering bias, resolution, ``sensor_latency_steps`` late);
+    the positions are exact.""",
+        "Starting State": """
+    Before the dart is placed, its physics is drawn from the level's ranges; what
+    was drawn is ``info["randomized"]`` at every reset (and at a step where sub-envs restarted,
+    masked by ``info["_randomized"]``): the mass (kg), the inertia factor, the centre of
+    mass shift (m), each sample group's area and efficiency factors, the thrust and density
+    factors. The actuators start centred.""",
+        "Episode End": "As v0, judged on the true state, not on the readings.",
+    },
+)
+
+
+__all__ = [
+    "LEVELS",
+    "OBSERVATION_V1",
+    "PLAN",
+    "SENSORS",
+    "PaperAirplaneV1Env",
+    "PaperAirplaneV1Params",
+    "PaperAirplaneV1VectorEnv",
+]
