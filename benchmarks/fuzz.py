@@ -20,6 +20,8 @@ any case has a non-finite value or an unflagged runaway::
 
     python -m benchmarks.fuzz --env-steps 1e8        # the published run (16 min on 2 cores)
     python -m benchmarks.fuzz --quick                # a few seconds per case, into build/
+    python -m benchmarks.fuzz --env fluidsim/PaperAirplane-v1 --env fluidsim/BoatOnStep-v1 \
+        --env fluidsim/SubmarineWake-v1 --env-steps 1e7 --out docs/fuzz_v1.csv  # v1 at hard
 
 ``tests/scenes/test_fuzz.py`` runs :func:`run_case` at a small budget.
 """
@@ -62,9 +64,14 @@ EXTREMES = {
         "wake_dipoles": 32,
     },
 }
-# v1 flies the same crafts: v0's extremes, with every knob at its hardest level
+# v1 flies the same crafts: v0's extremes, with every knob at its hardest level (the boat's
+# sea is hard's irregular one, which replaces v0's swell)
 EXTREMES.update(
-    {i.replace("-v0", "-v1"): {**kw, "difficulty": "hard"} for i, kw in list(EXTREMES.items())}
+    {
+        i.replace("-v0", "-v1"): {k: v for k, v in kw.items() if k != "swell"}
+        | {"difficulty": "hard"}
+        for i, kw in list(EXTREMES.items())
+    }
 )
 MODES = ("uniform", "bang_bang", "sinusoid", "saturated")
 
@@ -206,16 +213,23 @@ def main() -> None:
     parser.add_argument("--env-steps", type=float, default=1e8, help="in all (default 1e8)")
     parser.add_argument("--num-envs", type=int, default=2048)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument(
+        "--env",
+        action="append",
+        choices=list(SCENES),
+        help="only these envs (repeatable; default: every registered one)",
+    )
     args = parser.parse_args()
     out = args.out if not args.quick or args.out != parser.get_default("out") else None
-    todo = cases(args.quick)
+    todo = [c for c in cases(args.quick) if not args.env or c.env_id in args.env]
     # every case its share, weighted by what a step costs (the submarine's wake, the boat)
     weight = {"fluidsim/PaperAirplane-v0": 4.0, "fluidsim/BoatOnStep-v0": 1.0}
-    total = sum(weight.get(c.env_id, 0.5) for c in todo)
+    weight = {c.env_id: weight.get(SCENES[c.env_id].first_id, 0.5) for c in todo}
+    total = sum(weight[c.env_id] for c in todo)
     budget = 2e5 * len(todo) if args.quick else args.env_steps
     rows, failed = [], 0
     for case in todo:
-        share = math.ceil(budget * weight.get(case.env_id, 0.5) / total)
+        share = math.ceil(budget * weight[case.env_id] / total)
         r = run_case(case, share, args.num_envs, args.seed)
         kw = case.kwargs()
         rate = r["diverged"] / max(r["episodes"], 1)

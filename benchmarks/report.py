@@ -75,6 +75,7 @@ BLOCKS = (
     Block(
         "docs/environments.md", "v1-sensors", "each v1 scene's SENSORS", "report:sensors_markdown"
     ),  # fmt: skip
+    Block("docs/environments.md", "v1-pilots", "docs/study_levels.csv", "study_levels:markdown"),
     Block("docs/reliability.md", "fuzz-table", "docs/fuzz.csv", "report:fuzz_markdown"),
     Block("docs/reliability.md", "kill-table", "docs/kill_resume.csv", "report:kill_markdown"),
     Block("docs/study.md", "cost-table", "docs/study_cost.csv", "study_accuracy:cost_markdown"),

@@ -151,6 +151,7 @@ from .state import (
     ROWS,
     SAMPLE_X,
     SAMPLE_Y,
+    SAMPLE_Z,
     SOURCE,
     STALE,
     START,
@@ -194,10 +195,12 @@ P_GM = P_TETRA_SWITCH + 1  # World.central_gravity_m3s2 (0: none)
 # dtype's machine epsilon), its most iterations, and the round-off stop's bound (the dtype's
 # epsilon to the 3/4: _implicit_midpoint)
 P_IMPLICIT_TOL, P_IMPLICIT_MAX, P_IMPLICIT_LOOSE = P_GM + 1, P_GM + 2, P_GM + 3
-NPRM = P_IMPLICIT_LOOSE + 1
+P_ORBITAL = P_IMPLICIT_LOOSE + 1  # World.wave_orbital_velocity: 1 the water moves with the waves
+NPRM = P_ORBITAL + 1
 POLAR_ITERATIONS = 8  # fit passes from the rigid turn: energy floor ~1e-11 (docs/tetra_spin.csv)
 
 SIX = np.float32(6.0)
+HALF_PI = 0.5 * math.pi  # wave_cos(x - HALF_PI) is sin(x)
 EIGHTH, INV48, INV384 = np.float32(1 / 8), np.float32(1 / 48), np.float32(1 / 384)  # series
 T0 = 0.0  # the step's start, as a float64 stage time offset
 
@@ -450,6 +453,35 @@ def _swell_rows(S, n, ox, oy, oz, prm, tau):
 
 
 @njit(**_JIT)
+def _orbital_rows(S, n, ox, oy, oz, wake, prm, tau):
+    """Rows FLUID + 3.. at one sample's point, after ``_swell_rows``: the water's own velocity
+    (or, with a wake, the wake's rows) plus each wave's orbital velocity there. Linear
+    deep-water theory for ``eta = a cos(theta)``: ``a omega e^(k z') cos(theta)`` along the
+    wave's direction and ``a omega e^(k z') sin(theta)`` up, at ``z' = min(z - eta, 0)``
+    below the moving surface (Wheeler's stretching in deep water: the surface's own velocity
+    at the surface, decaying with depth below it)."""
+    for i in range(n):
+        if not wake:
+            for k in range(3):
+                S[(FLUID + 3 + k) * BLOCK + i] = S[(OWN_WATER + k) * BLOCK + i]
+        # the sample's depth below the surface: HEIGHT holds the body's z - eta
+        S[SAMPLE_Z * BLOCK + i] = min(S[HEIGHT * BLOCK + i] + _arm(S, i, ox, oy, oz)[2], ZERO)
+    for j in range(int(prm[P_NWAVES])):
+        w = P_SWELL + 4 * j
+        a, kx, ky, omega = prm[w], prm[w + 1], prm[w + 2], prm[w + 3]
+        k = math.sqrt(kx * kx + ky * ky)
+        ux, uy, shift = kx / k, ky / k, omega * tau
+        for i in range(n):
+            theta = kx * S[SAMPLE_X * BLOCK + i] + ky * S[SAMPLE_Y * BLOCK + i]
+            theta += S[(PHASE + j) * BLOCK + i] - shift
+            speed = a * omega * math.exp(k * S[SAMPLE_Z * BLOCK + i])
+            along = speed * wave_cos(theta)
+            S[(FLUID + 3) * BLOCK + i] += along * ux
+            S[(FLUID + 4) * BLOCK + i] += along * uy
+            S[(FLUID + 5) * BLOCK + i] += speed * wave_cos(theta - HALF_PI)
+
+
+@njit(**_JIT)
 def _where_rows(S, n, ox, oy, oz, wake, sea, wprm, prm, tau):
     """The rows that depend on where the sample at (ox, oy, oz) is, those that are on: the
     wake's flow there, the surface's height under it. Every kind's loop calls it first,
@@ -459,6 +491,8 @@ def _where_rows(S, n, ox, oy, oz, wake, sea, wprm, prm, tau):
         _wake_rows(S, n, ox, oy, oz, wprm, tau)
     if sea:
         _swell_rows(S, n, ox, oy, oz, prm, tau)
+        if prm[P_ORBITAL] != 0.0:
+            _orbital_rows(S, n, ox, oy, oz, wake, prm, tau)
 
 
 @njit(**_INLINE)
@@ -1388,12 +1422,13 @@ def _load_block(blk, model, samples, data):
                 air = flow[k, e0 + i]
                 scr_blk[b, (FLUID + k) * BLOCK + i] = air
                 scr_blk[b, (FLUID + 3 + k) * BLOCK + i] = flow[3 + k, e0 + i] - air
-        if model.wprm[W_ON] != 0.0:
+        if model.wprm[W_ON] != 0.0 or model.prm[P_ORBITAL] != 0.0:  # per-sample water
             for k in range(3):
                 for i in range(n):
                     scr_blk[b, (OWN_WATER + k) * BLOCK + i] = scr_blk[
                         b, (FLUID + 3 + k) * BLOCK + i
                     ]
+        if model.wprm[W_ON] != 0.0:
             for k in range(src.shape[0]):
                 for i in range(n):
                     scr_blk[b, (SOURCE + k) * BLOCK + i] = src[k, e0 + i]

@@ -67,6 +67,7 @@ def _world_params(world: World, dt: float, swell: np.ndarray, dtype: np.dtype) -
     prm[K.P_DT] = dt
     prm[K.P_TETRA_SWITCH] = world.tetra_rigid_spin_rad
     prm[K.P_NWAVES] = len(swell)
+    prm[K.P_ORBITAL] = 1.0 if world.wave_orbital_velocity and len(swell) else 0.0
     for j, (a, kx, ky, omega, _) in enumerate(swell):
         prm[K.P_SWELL + 4 * j : K.P_SWELL + 4 * j + 4] = (a, kx, ky, omega)
     return prm

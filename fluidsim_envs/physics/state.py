@@ -68,11 +68,12 @@ SCRATCH_FIELDS = (
     ("rot", 9),  # the rotation matrix R, row-major
     ("omega", 3),  # the world angular velocity
     ("fluid", 6),  # the environment's air velocity, then water minus air velocity
-    ("own_water", 3),  # with a wake: the environment's own water minus air velocity
+    ("own_water", 3),  # with a wake or orbital velocities: the env's own water minus air
     ("source", NSRC),  # with a wake: the wake source (wake.source_row)
     ("height", 1),  # the body's z minus the surface height under the current sample
     ("sample_x", 1),  # with swell: the current sample's world x
     ("sample_y", 1),  # and y
+    ("sample_z", 1),  # with orbital velocities: its depth below the moving surface (<= 0)
     ("phase", MAX_WAVES),  # with swell: each wave's time phase at the step's start
     ("body", NBODY),  # the environment's body constants (BODY_FIELDS)
     ("memory", NMEMORY),  # a carrying integrator's memory (MEMORY_FIELDS), loaded per call
@@ -86,5 +87,6 @@ STATE, START, RK_SUM, DERIV, ROT, OMEGA = (
 )
 FLUID, OWN_WATER, SOURCE, HEIGHT = (_ROW[n] for n in ("fluid", "own_water", "source", "height"))
 SAMPLE_X, SAMPLE_Y, PHASE, BODY = (_ROW[n] for n in ("sample_x", "sample_y", "phase", "body"))
+SAMPLE_Z = _ROW["sample_z"]
 MEMORY, STALE, ITERATIONS, CHANGE = (_ROW[n] for n in ("memory", "stale", "iterations", "change"))
 END, CARRY = MEMORY + _MEMORY["end"], MEMORY + _MEMORY["carry"]

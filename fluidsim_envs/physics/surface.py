@@ -217,3 +217,59 @@ def surface_heights(x, y, t, swell, out):
     """``out[i] = surface_height(x[i], y[i], t[i], swell)`` for flat float64 arrays."""
     for i in range(out.shape[0]):
         out[i] = surface_height(x[i], y[i], t[i], swell)
+
+
+# --------------------------------------------------------------------------------------------
+# irregular seas
+
+
+def jonswap(omega, hs_m: float, tp_s: float, gamma: float = 3.3) -> np.ndarray:
+    """The JONSWAP spectrum S(omega) (m^2 s / rad, one-sided) of significant height ``hs_m``
+    and peak period ``tp_s`` (DNV-RP-C205, 2010, 3.5.5): the Pierson-Moskowitz form
+    ``5/16 Hs^2 wp^4 w^-5 exp(-5/4 (w / wp)^-4)`` times the normalizing ``1 - 0.287 ln
+    gamma`` and the peak enhancement ``gamma^exp(-(w - wp)^2 / (2 sigma^2 wp^2))``,
+    sigma 0.07 below the peak and 0.09 above. ``gamma`` 1 is Pierson-Moskowitz."""
+    w = np.asarray(omega, dtype=np.float64)
+    wp = 2.0 * math.pi / tp_s
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        pm = 5.0 / 16.0 * hs_m**2 * wp**4 * w**-5.0 * np.exp(-1.25 * (w / wp) ** -4.0)
+        sigma = np.where(w <= wp, 0.07, 0.09)
+        peak = gamma ** np.exp(-((w - wp) ** 2) / (2.0 * sigma**2 * wp**2))
+        s = (1.0 - 0.287 * math.log(gamma)) * pm * peak
+    return np.where(w > 0.0, s, 0.0)
+
+
+def irregular_sea(hs_m: float, tp_s: float, gamma: float = 3.3, waves: int = MAX_WAVES,
+                  direction_deg: float = 0.0, spread_deg: float = 0.0, seed: int = 0,
+                  gravity_mps2: float = 9.81) -> tuple[SwellWave, ...]:  # fmt: skip
+    """A sea of ``waves`` components from the JONSWAP spectrum (:func:`jonswap`): the
+    spectrum cut into bands of equal energy, each a wave at its band's mean frequency
+    (deep-water wavelength ``2 pi g / w^2``) with the band's energy (amplitude
+    ``sqrt(2 m0 / waves)``, m0 the spectrum's zeroth moment: the components' m0 is the
+    spectrum's, whose ``4 sqrt(m0)`` is ``hs_m`` to within the normalization's 1-2%), a
+    random phase and a direction within ``spread_deg`` of ``direction_deg``,
+    drawn from ``seed``."""
+    CK.number("irregular_sea", "hs_m", hs_m, gt=0.0)
+    CK.number("irregular_sea", "tp_s", tp_s, gt=0.0)
+    CK.number("irregular_sea", "gamma", gamma, ge=1.0, le=10.0)
+    CK.number("irregular_sea", "waves", waves, ge=1, le=MAX_WAVES, integer=True)
+    wp = 2.0 * math.pi / tp_s
+    w = np.linspace(0.2 * wp, 6.0 * wp, 20001)  # holds all but ~1e-4 of the energy
+    s = jonswap(w, hs_m, tp_s, gamma)
+    cum = np.concatenate([[0.0], np.cumsum(0.5 * (s[1:] + s[:-1]) * np.diff(w))])
+    m0 = cum[-1]
+    edges = np.interp(np.linspace(0.0, m0, waves + 1), cum, w)
+    rng = np.random.default_rng(seed)
+    out = []
+    for j in range(waves):
+        inside = (w >= edges[j]) & (w <= edges[j + 1])
+        mean_w = np.sum(w[inside] * s[inside]) / np.sum(s[inside])
+        out.append(
+            SwellWave(
+                amplitude_m=math.sqrt(2.0 * m0 / waves),
+                wavelength_m=2.0 * math.pi * gravity_mps2 / mean_w**2,
+                direction_deg=direction_deg + spread_deg * (2.0 * rng.random() - 1.0),
+                phase_rad=2.0 * math.pi * rng.random(),
+            )
+        )
+    return tuple(out)

@@ -19,8 +19,10 @@ class World:
     The surface is flat at z = 0 (calm water, the default) or, with ``swell``, the sum of a
     few linear deep-water waves (``physics/surface.py``): each environment's surface moves
     with its own clock (:meth:`Simulator.set_clock`), and every sample's water fraction and
-    buoyancy depth are taken from the surface height under it. The swell moves the surface
-    only: the water under it stays still (no orbital velocities).
+    buoyancy depth are taken from the surface height under it. By default the swell moves
+    the surface only; with ``wave_orbital_velocity`` the water under it moves too, each
+    wave's linear deep-water orbital velocity at every sample, decaying with depth below the
+    moving surface (``kernels._orbital_rows``).
 
     Args:
         gravity_mps2: magnitude of gravity (>= 0), acting along -z.
@@ -53,6 +55,9 @@ class World:
             passes the rigid turn's near 0.05-0.1: tests/physics/test_tetra_integrator.py,
             docs/tetra_spin.png); ``math.inf``: never.
 
+        wave_orbital_velocity: whether the swell moves the water too (default False: the
+            surface only, as before this option).
+
     Examples:
         >>> import numpy as np
         >>> world = World(water=True, swell=[(0.5, 40.0, 90.0)])  # 0.5 m, 40 m, toward +y
@@ -76,6 +81,7 @@ class World:
     swell: tuple[SwellWave, ...] = ()
     ground: Ground | None = None
     contact_passes: int = 1
+    wave_orbital_velocity: bool = False
 
     def __post_init__(self) -> None:
         for key, bound in (
@@ -93,6 +99,8 @@ class World:
         spin = CK.number("World", "tetra_rigid_spin_rad", spin, gt=0, finite=False)
         object.__setattr__(self, "tetra_rigid_spin_rad", spin)
         object.__setattr__(self, "water", CK.flag("World", "water", self.water))
+        orbital = CK.flag("World", "wave_orbital_velocity", self.wave_orbital_velocity)
+        object.__setattr__(self, "wave_orbital_velocity", orbital)
         for key in ("wind_mps", "current_mps"):
             object.__setattr__(self, key, CK.vector("World", key, getattr(self, key)))
         swell = coerce_swell(self.swell)

@@ -142,6 +142,15 @@ OWN[DART1] += [  # the dart's moving air
     ("gust-neg", {"gust_mps": -1.0}, ["gust_mps", "-1.0", "[0, 20]"]),
     ("gust-duration-0", {"gust_duration_s": 0.0}, ["gust_duration_s", "0.0"]),
 ]
+OWN[BOAT1] += [  # the boat's moving air and water
+    ("sea-neg", {"sea_hs_m": -0.1}, ["sea_hs_m", "-0.1", "[0, 2]"]),
+    ("sea-and-swell", {"sea_hs_m": 0.2, "swell": [(0.1, 20.0)]}, ["swell", "sea_hs_m", "both"]),
+    ("wind-nan", {"wind_mps": NAN}, ["wind_mps", "nan"]),
+]
+OWN[SUB1] += [  # the UUV's current
+    ("current-neg", {"current_mps": -0.2}, ["current_mps", "-0.2", "[0, 3]"]),
+    ("current-time-0", {"current_time_s": 0.0}, ["current_time_s", "0.0"]),
+]
 
 
 def param_rows() -> list[Row]:

@@ -163,7 +163,7 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         p = self.params
         E = self.num_envs
         self.craft = Craft.load("speedboat")
-        self.world = World(water=True, swell=p.swell)
+        self.world = self._world()
         crafts = [self.craft]
         if p.buoy_bodies:
             self.marker = MarkerBuoy.scaled(p.buoy_radius_m)
@@ -186,6 +186,10 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         self._ctrl = np.zeros((E, 3))
         self._terms = np.zeros((len(REWARD_TERMS), E))
         self._flags = np.zeros((TK.NFLAGS, E), dtype=bool)
+
+    def _world(self) -> World:
+        """The water and its swell (v1 moves the water with it)."""
+        return World(water=True, swell=self.params.swell)
 
     def _cfg_value(self, name: str) -> float:
         (prop,) = self.craft.thrusters

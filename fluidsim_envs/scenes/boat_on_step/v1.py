@@ -7,7 +7,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
+import numpy as np
+
+from ...physics import World
+from ...physics.surface import irregular_sea
 from ..base import FluidEnv
+from ..limits import Bound
 from ..realism import (
     V1_STATE,
     KnobParams,
@@ -48,7 +53,25 @@ SENSORS = (
            hardware="dual-antenna GNSS heading (u-blox ZED-F9P moving base: about 0.4 deg "
                     "on a 1 m baseline)"),
 )  # fmt: skip
-KNOBS = Knobs  # what docs/environments.md's level table lists
+
+
+@dataclass(frozen=True)
+class BoatKnobs(Knobs):
+    """The boat's own knobs beside realism.Knobs': its moving air and water."""
+
+    wind_mps: float = 0.0  # a steady wind on the topsides, drawn up to this per episode
+    sea_hs_m: float = 0.0  # an irregular sea (JONSWAP) of this significant height (0: v0's)
+    sea_tp_s: float = 3.0  # its peak period
+    sea_gamma: float = 3.3  # its peak enhancement (1: Pierson-Moskowitz)
+
+
+KNOB_RANGES = {
+    "wind_mps": Bound(0.0, 30.0),
+    "sea_hs_m": Bound(0.0, 2.0),
+    "sea_tp_s": Bound(1.0, 20.0),
+    "sea_gamma": Bound(1.0, 10.0),
+}
+KNOBS = BoatKnobs  # what docs/environments.md's level table lists
 PLAN = Plan(groups=("bottom", "friction", "topsides"), sensors=SENSORS)
 
 LEVELS: dict[str, dict] = {
@@ -71,6 +94,10 @@ LEVELS: dict[str, dict] = {
         "surface_rate_dps": 40.0,
         "thrust_time_constant_s": 1.0,
         "thrust_rate_per_s": 1.0,
+        # a fresh breeze and a light chop that moves the water (orbital velocities)
+        "wind_mps": 5.0,
+        "sea_hs_m": 0.2,
+        "sea_tp_s": 2.5,
     },
     "hard": {
         "mass_scale": (0.75, 1.35),
@@ -87,6 +114,9 @@ LEVELS: dict[str, dict] = {
         "surface_rate_dps": 25.0,
         "thrust_time_constant_s": 1.5,
         "thrust_rate_per_s": 0.7,
+        "wind_mps": 10.0,
+        "sea_hs_m": 0.4,
+        "sea_tp_s": 3.0,
     },
 }
 
@@ -97,10 +127,19 @@ class BoatOnStepV1Params(BoatOnStepParams, KnobParams):
     :class:`~fluidsim_envs.scenes.realism.Knobs` (None: the level's value, ``LEVELS``)."""
 
     NAME: ClassVar[str] = "BoatOnStep-v1"
+    wind_mps: float | None = None
+    sea_hs_m: float | None = None
+    sea_tp_s: float | None = None
+    sea_gamma: float | None = None
 
     def __post_init__(self) -> None:
-        resolve(self, self.NAME, LEVELS)
+        resolve(self, self.NAME, LEVELS, BoatKnobs, KNOB_RANGES)
         super().__post_init__()
+        if self.knobs.sea_hs_m > 0.0 and self.swell:
+            raise ValueError(
+                f"{self.NAME}: give swell or sea_hs_m, not both (swell={self.swell!r}, "
+                f"sea_hs_m={self.knobs.sea_hs_m!r})"
+            )
 
 
 class BoatOnStepV1VectorEnv(Version1, BoatOnStepVectorEnv):
@@ -113,6 +152,25 @@ class BoatOnStepV1VectorEnv(Version1, BoatOnStepVectorEnv):
 
     def _observation_names(self):
         return (name for name, _, _ in OBSERVATION_V1)
+
+    def _world(self) -> World:
+        """v0's water, with an irregular sea where ``sea_hs_m`` is set, and the water moving
+        with every wave (orbital velocities: the boat rides the swell, not only its shape)."""
+        k = self.params.knobs
+        swell = self.params.swell
+        if k.sea_hs_m > 0.0:  # the components straddle the peak: a fixed sea, a random moment
+            swell = irregular_sea(k.sea_hs_m, k.sea_tp_s, k.sea_gamma, spread_deg=30.0)
+        return World(water=True, swell=swell, wave_orbital_velocity=True)
+
+    own_draws = 2  # the wind's speed and direction
+
+    def _start_own(self, ids, u) -> None:
+        speed = self.params.knobs.wind_mps * u[:, 0]
+        if not speed.any():
+            return
+        way = 2.0 * np.pi * u[:, 1]
+        wind = np.stack([speed * np.cos(way), speed * np.sin(way), 0.0 * speed], axis=1)
+        self.sim.set_wind(wind, env_ids=ids)
 
 
 class BoatOnStepV1Env(FluidEnv):
@@ -132,7 +190,9 @@ BoatOnStepV1Env.__doc__ = v1_doc(
     is drawn anew (load: mass, inertia, centre of gravity; the bottom's, friction strips'
     and topsides' areas and efficiencies; the engine's thrust; the water's density), its
     instruments are noisy, biased and late, its rudder and trim tabs move hydraulically
-    and its engine spools. ``difficulty`` picks a bundle of these knobs.""",
+    and its engine spools; the wind blows on its topsides and, in v1, the water moves with
+    the waves (linear orbital velocities at every sample) in an irregular JONSWAP sea
+    (``sea_hs_m``, ``sea_tp_s``). ``difficulty`` picks a bundle of these knobs.""",
         "Action Space": """
     As v0: ``Box(-1, 1, (3,), float32)``, throttle, rudder, trim tabs: now commands
     that the actuators follow with a first-order lag and a rate limit
@@ -146,12 +206,12 @@ BoatOnStepV1Env.__doc__ = v1_doc(
     - ``easy``: v0's dynamics and exact readings (the actuator columns added);
     - ``standard``: mass -15% to +20%, centre of gravity +-10 cm, thrust -15% to +5%, fresh
       to salt water; the instruments of ``SENSORS``, one action late; steering and tabs at
-      0.2 s and 40 deg/s, the engine at 1 s;
+      0.2 s and 40 deg/s, the engine at 1 s; a wind of up to 5 m/s and a 0.2 m sea of 2.5 s;
     - ``hard``: wider spreads, instruments twice as noisy and two actions late, slower
-      steering (25 deg/s) and engine (1.5 s).""",
+      steering (25 deg/s) and engine (1.5 s), a wind of up to 10 m/s and a 0.4 m sea of 3 s.""",
         "Version History": """
-    - v1: randomized boat, sensors, actuators, difficulty levels (its moving air and water and
-      the sample observations are still to come).
+    - v1: randomized boat, sensors, actuators, wind, an irregular sea whose water moves,
+      difficulty levels (the sample observations are still to come).
     - v0: first version.
 
     Examples:
