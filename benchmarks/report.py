@@ -83,6 +83,7 @@ BLOCKS = (
     Block("docs/study.md", "fixed-table", "docs/study_fixed.csv", "study_fixed:markdown"),
     Block("docs/benchmarks.md", "kernel-table", "docs/bench_kernel.csv", "bench_kernel:markdown"),
     Block("docs/benchmarks.md", "env-table", "docs/bench_envs.csv", "bench_envs:markdown"),
+    Block("docs/benchmarks.md", "levels-table", "docs/bench_levels.csv", "bench_levels:markdown"),
     Block("docs/study.md", "float32-table", "docs/study_float32.csv", "study_float32:markdown"),
     Block("docs/physics.md", "wake-table", "docs/study_wake*.csv", "study_wake:markdown"),
     Block(

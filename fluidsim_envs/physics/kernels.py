@@ -157,7 +157,7 @@ from .state import (
     START,
     STATE,
 )
-from .surface import MAX_WAVES, time_phase, wave_cos
+from .surface import MAX_WAVES, time_phase, wave_cos, wave_exp
 from .wake import W_ON, wake_at
 
 # A slot's scratch is one flat row-major array S[row * BLOCK + i] (rows: state.SCRATCH_FIELDS):
@@ -474,7 +474,7 @@ def _orbital_rows(S, n, ox, oy, oz, wake, prm, tau):
         for i in range(n):
             theta = kx * S[SAMPLE_X * BLOCK + i] + ky * S[SAMPLE_Y * BLOCK + i]
             theta += S[(PHASE + j) * BLOCK + i] - shift
-            speed = a * omega * math.exp(k * S[SAMPLE_Z * BLOCK + i])
+            speed = a * omega * wave_exp(k * S[SAMPLE_Z * BLOCK + i])
             along = speed * wave_cos(theta)
             S[(FLUID + 3) * BLOCK + i] += along * ux
             S[(FLUID + 4) * BLOCK + i] += along * uy
@@ -665,7 +665,7 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
     for p in range(buoy_at[b], buoy_at[b + 1]):  # the water's, never the wake's: no flow
         ox, oy, oz = tab[S_OFFSET, p], tab[S_OFFSET + 1, p], tab[S_OFFSET + 2, p]
         if sea:
-            _where_rows(S, n, ox, oy, oz, False, sea, wprm, prm, tau)
+            _swell_rows(S, n, ox, oy, oz, prm, tau)  # the surface only: no flow
         vol, area, ra = tab[S_VOLUME, p], tab[S_BUOY_AREA, p], frow[F_AREA, j]
         for i in range(n):
             e = e0 + i

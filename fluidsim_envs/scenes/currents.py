@@ -4,7 +4,7 @@ component, a first-order Gauss-Markov process (standard deviation ``variation_mp
 correlation time ``time_s``: the tidal and inertial wander of a coastal current, minutes
 long), stepped exactly each action: ``x <- a x + sigma sqrt(1 - a^2) n``,
 ``a = exp(-h / time_s)``; an episode starts in the stationary law. Its normals come from
-:mod:`.noise` (the sub-env's key, its step, lanes 4000 and 4001)."""
+:mod:`.noise` (the sub-env's key, its step, the pair of lane 4000)."""
 
 from __future__ import annotations
 
@@ -28,12 +28,12 @@ def current(ids, start, keys, counter, mean, state, variation_mps, time_s, step,
     for i in range(ids.size):
         e = ids[i]
         t = 0 if start else counter[e] + 1
+        n = NZ.normal_pair(keys[e], t, _LANE)
         for c in range(2):
-            n = NZ.normal(keys[e], t, _LANE + c)
             if start:
-                state[e, c] = variation_mps * n
+                state[e, c] = variation_mps * n[c]
             else:
-                state[e, c] = a * state[e, c] + drive * n
+                state[e, c] = a * state[e, c] + drive * n[c]
         flow[3, e] = mean[e, 0] + state[e, 0]
         flow[4, e] = mean[e, 1] + state[e, 1]
         flow[5, e] = mean[e, 2]

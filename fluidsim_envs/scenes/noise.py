@@ -60,6 +60,17 @@ def normal(key, counter, lane):
     return math.sqrt(-2.0 * math.log1p(-u1)) * math.cos(2.0 * math.pi * u2)
 
 
+@njit(**_JIT)
+def normal_pair(key, counter, lane):
+    """Two independent standard normals from lanes ``2 lane`` and ``2 lane + 1`` (both of
+    Box and Muller's outputs: half the logarithms and roots of two :func:`normal` calls)."""
+    u1 = uniform(key, counter, 2 * lane)
+    u2 = uniform(key, counter, 2 * lane + 1)
+    r = math.sqrt(-2.0 * math.log1p(-u1))
+    a = 2.0 * math.pi * u2
+    return r * math.cos(a), r * math.sin(a)
+
+
 def keys_from_uniforms(u: np.ndarray) -> np.ndarray:
     """64-bit keys from uniforms in [0, 1) (an episode's draws): the 53 bits each holds,
     spread by the mix so that nearby uniforms give unrelated keys."""

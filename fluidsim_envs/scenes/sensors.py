@@ -26,12 +26,14 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from . import noise as NZ
 
-# lanes of the noise stream (noise.normal's lane numbers): a block of columns each
-_WHITE, _BIAS_STEP, _BIAS_START = 0, 1024, 2048
+# lanes of the noise stream (noise.normal_pair's): a column each
+_WHITE = 0
+PARALLEL_MIN_IDS = 1024  # from this many sub-envs a read runs on every thread
+BLOCK_IDS = 64
 MAX_COLUMNS = 1024  # observation columns a sensor model can read
 MAX_LATENCY_STEPS = 16
 
@@ -125,9 +127,42 @@ class SensorModel:
         ring filled with the first reading); ``counter`` [E] each one's step in its episode;
         ``keys`` [E] uint64 their noise keys; where ``skip`` [E] is set (a diverged state)
         the reading stays the last one."""
-        read(ids, start, counter, keys, truth, self.state, self.history, self.head, self.noise,
-             self.bias, self.bias_a, self.bias_b, self.quantum, self.read_by, out,
-             skip)  # fmt: skip
+        kernel = read_parallel if ids.size >= PARALLEL_MIN_IDS else read
+        kernel(ids, start, counter, keys, truth, self.state, self.history, self.head, self.noise,
+               self.bias, self.bias_a, self.bias_b, self.quantum, self.read_by, out,
+               skip)  # fmt: skip
+
+
+@njit(cache=True, inline="always")
+def _read_range(lo, hi, ids, start, counter, keys, truth, bias, history, head, noise,
+                bias_std, bias_a, bias_b, quantum, read_by, out, skip):  # fmt: skip
+    """Sub-envs ``ids[lo:hi]``: each column's bias and white noise from one pair of normals
+    (lane: the column; at the start, the pair's first draws the turn-on bias)."""
+    slots = history.shape[1]
+    for i in range(lo, hi):
+        e = ids[i]
+        if skip[e]:
+            continue
+        k, t = keys[e], counter[e]
+        head[e] = 0 if start else (head[e] + 1) % slots
+        h = head[e]
+        for j in range(truth.shape[1]):
+            if not read_by[j]:
+                out[e, j] = truth[e, j]
+                continue
+            n_bias, n_white = NZ.normal_pair(k, t, _WHITE + j)
+            if start:
+                bias[e, j] = bias_std[j] * n_bias
+            else:
+                bias[e, j] = bias_a[j] * bias[e, j] + bias_b[j] * n_bias
+            x = np.float64(truth[e, j]) + bias[e, j] + noise[j] * n_white
+            if quantum[j] > 0.0:
+                x = quantum[j] * math.floor(x / quantum[j] + 0.5)  # to the nearest step
+            history[e, h, j] = x
+            if start:
+                for s in range(slots):
+                    history[e, s, j] = x
+            out[e, j] = history[e, (h + 1) % slots, j]
 
 
 @njit(cache=True)
@@ -135,37 +170,20 @@ def read(ids, start, counter, keys, truth, bias, history, head, noise, bias_std,
          bias_b, quantum, read_by, out, skip):  # fmt: skip
     """:meth:`SensorModel.read`, compiled: each sub-env's columns in turn; a column no
     instrument reads (``read_by``) is the truth, now."""
-    slots = history.shape[1]
-    for i in range(ids.size):
-        e = ids[i]
-        if skip[e]:
-            continue
-        k, t = keys[e], counter[e]
-        if start:
-            head[e] = 0
-        else:
-            head[e] = (head[e] + 1) % slots
-        h = head[e]
-        for j in range(truth.shape[1]):
-            if bias_std[j] > 0.0:
-                if start:
-                    bias[e, j] = bias_std[j] * NZ.normal(k, t, _BIAS_START + j)
-                else:
-                    bias[e, j] = bias_a[j] * bias[e, j] + bias_b[j] * NZ.normal(
-                        k, t, _BIAS_STEP + j
-                    )
-            x = np.float64(truth[e, j]) + bias[e, j]
-            if noise[j] > 0.0:
-                x += noise[j] * NZ.normal(k, t, _WHITE + j)
-            if quantum[j] > 0.0:
-                x = quantum[j] * math.floor(x / quantum[j] + 0.5)  # to the nearest step
-            history[e, h, j] = x
-            if start:
-                for s in range(slots):
-                    history[e, s, j] = x
-        oldest = (h + 1) % slots
-        for j in range(truth.shape[1]):
-            out[e, j] = history[e, oldest, j] if read_by[j] else truth[e, j]
+    _read_range(0, ids.size, ids, start, counter, keys, truth, bias, history, head, noise,
+                bias_std, bias_a, bias_b, quantum, read_by, out, skip)  # fmt: skip
+
+
+@njit(cache=True, parallel=True)
+def read_parallel(ids, start, counter, keys, truth, bias, history, head, noise, bias_std,
+                  bias_a, bias_b, quantum, read_by, out, skip):  # fmt: skip
+    """:func:`read` on every thread, ``BLOCK_IDS`` sub-envs a task: each writes only its own
+    rows, bit for bit as serial."""
+    for b in prange((ids.size + BLOCK_IDS - 1) // BLOCK_IDS):
+        lo = b * BLOCK_IDS
+        _read_range(lo, min(ids.size, lo + BLOCK_IDS), ids, start, counter, keys, truth, bias,
+                    history, head, noise, bias_std, bias_a, bias_b, quantum, read_by, out,
+                    skip)  # fmt: skip
 
 
 def table_rows(sensors) -> list[tuple[str, str, str, str, str, str]]:

@@ -7,8 +7,8 @@ Tolerances from the estimators: 64 independent series of 16384 steps at 30 Hz. A
 deviation's error is about 1 / sqrt(2 n_eff), n_eff = 64 x 546 s / (2 tau) (u and v:
 tau = 5.2 s, about 3400, 1.2%; w: 0.71 s, 25000). Welch's estimate averages 64 x 15
 segments (3.2% per bin: 15% is five of it); the Hann window's leakage from below the decade
-adds to the lowest bins of u and v (measured: per bin 0.91-1.09, each decade's mean within
-1.4%)."""
+adds to the lowest bins of u and v (measured: per bin 0.92-1.09, each decade's mean within
+1.5%)."""
 
 import math
 

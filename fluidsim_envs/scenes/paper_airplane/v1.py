@@ -180,7 +180,8 @@ class PaperAirplaneV1VectorEnv(Version1, PaperAirplaneVectorEnv):
     def _blow(self, ids, start: bool) -> None:
         """The air of sub-envs ``ids`` over their next step (turbulence.air)."""
         st, flow, _, _ = self.sim.start_arrays()
-        TB.air(ids, start, self.noise_keys, self._elapsed, st, self._mean_wind, self._w20,
+        kernel = TB.air_parallel if ids.size >= 1024 else TB.air
+        kernel(ids, start, self.noise_keys, self._elapsed, st, self._mean_wind, self._w20,
                self._gusts, self._period_s, self._air_state, flow)  # fmt: skip
 
     def _advance(self, actions):
