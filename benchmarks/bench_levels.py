@@ -1,6 +1,7 @@
 """What each v1 level, and each part of ``standard`` alone, costs in env-steps per second.
 
-For each v1 env: its v0 and its v1 at ``easy``, ``standard``, ``hard`` and at ``easy`` with one
+For each v1 env: its v0, its v1 at ``easy`` without the probes (``observe_samples=False``:
+what the probes cost), at ``easy``, ``standard``, ``hard`` and at ``easy`` with one
 part of ``standard`` switched on at a time (``study_levels.settings``: the randomized physics,
 the instruments, the actuators, the moving air or water), as vector envs of ``--num-envs``
 sub-envs in float64, timed interleaved round by round (``--repeats`` rounds, the best window
@@ -65,6 +66,10 @@ def main() -> None:
     for env_id in (i for i, s in SCENES.items() if s.version == 1):
         first = SCENES[env_id].first_id
         rigs = {"v0": Rig(first, {}, n)}
+        # the probes' cost: easy reads them (observe_samples, on by default), this does not
+        rigs["easy without probes"] = Rig(
+            env_id, {"difficulty": "easy", "observe_samples": False}, n
+        )
         rigs.update({label: Rig(env_id, kw, n) for label, kw in settings(env_id)})
         best = dict.fromkeys(rigs, 0.0)
         for _ in range(repeats):  # interleaved: every setting once per round

@@ -15,7 +15,7 @@ from .craft import (
     Surface,
     Thruster,
 )
-from .kernels import EVALS_PER_STEP, INTEGRATORS
+from .kernels import EVALS_PER_STEP, INTEGRATORS, SENSE_FIELDS
 from .simulator import Simulator
 from .surface import SwellWave
 from .tracers import SpatialHash, Tracers
@@ -36,6 +36,7 @@ __all__ = [
     "Simulator",
     "Surface",
     "SpatialHash",
+    "SENSE_FIELDS",
     "SwellWave",
     "Thruster",
     "Tracers",

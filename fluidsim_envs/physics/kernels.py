@@ -317,11 +317,47 @@ def _first_sample(samples, b):
     return at + samples.buoy_at[b] + samples.thr_at[b]
 
 
+# A recording ``rec = (slot[N], out[P, R, E'], e0)`` of ``_evaluate`` (``out`` C-contiguous, so
+# that its loops vectorize): sample j (all bodies' samples in order) goes to
+# ``out[slot[j], :, e0 + i]`` for environment i of the block, or nowhere where ``slot[j] < 0``
+# (``_picked``). Rows: the world offset from the center of mass and the force
+# (``sample_forces``: R = R_FORCE), then, where R > R_FORCE, what the sample senses
+# (``sample_flows``), in SENSE_FIELDS' order.
+R_FORCE = 6
+SENSE_FIELDS = (
+    "inflow_x_mps",  # the fluid's velocity relative to the sample, body frame
+    "inflow_y_mps",
+    "inflow_z_mps",
+    "inflow_normal_mps",  # along the plate's normal (the cylinder's axis, the thrust's line)
+    "density_kgm3",  # the fluid's there: the air's, the water's, or a blend at the surface
+    "height_m",  # the sample's height above the surface under it (above z = 0 without one)
+    "pressure_pa",  # the force against the normal per unit of area: onto a hull whose
+    # normals point out of it (0: no area)
+)
+R_SENSE = R_FORCE + len(SENSE_FIELDS)
+
+
 @njit(**_INLINE)
-def _record(rec, j, i, rx, ry, rz, fx, fy, fz):
-    """Sample j's world offset r and force F for body i of the block (``sample_forces``)."""
-    rec[j, 0, i], rec[j, 1, i], rec[j, 2, i] = rx, ry, rz
-    rec[j, 3, i], rec[j, 4, i], rec[j, 5, i] = fx, fy, fz
+def _record(rec, j, i, S, got):
+    """Sample j's world offset r and force F for body i of the block, and, where ``rec``
+    has the rows, what it senses: ``got = (rx, ry, rz, fx, fy, fz, flow, nx, ny, nz, area)``
+    as the ``_plate_at`` kind return, ``flow`` as ``_flow``'s (its velocity through the fluid
+    and the density), n its normal (world). Not on the step path: ``rec`` is None there."""
+    rx, ry, rz, fx, fy, fz, flow, nx, ny, nz, area = got
+    slot, out, e0 = rec
+    s, e = slot[j], e0 + i
+    out[s, 0, e], out[s, 1, e], out[s, 2, e] = rx, ry, rz
+    out[s, 3, e], out[s, 4, e], out[s, 5, e] = fx, fy, fz
+    if out.shape[1] > R_FORCE:
+        vx, vy, vz, rho = flow
+        m = _matrix(S, i)  # body = M^T world; the inflow is the fluid's: -v
+        out[s, 6, e] = -(m[0] * vx + m[3] * vy + m[6] * vz)
+        out[s, 7, e] = -(m[1] * vx + m[4] * vy + m[7] * vz)
+        out[s, 8, e] = -(m[2] * vx + m[5] * vy + m[8] * vz)
+        out[s, 9, e] = -(vx * nx + vy * ny + vz * nz)
+        out[s, 10, e] = rho
+        out[s, 11, e] = S[HEIGHT * BLOCK + i] + rz
+        out[s, 12, e] = -(fx * nx + fy * ny + fz * nz) / area if area > ZERO else ZERO
 
 
 @njit(**_INLINE)
@@ -509,11 +545,73 @@ def _skin(pt, rx, ry, rz, nx, ny, nz, fluid, area, cf, ittc, length, vmax, fmax)
 
 
 @njit(**_INLINE)
-def _record_add(rec, j, i, fx, fy, fz):
-    """Add a second force to sample j's record (a plate's skin friction to its pressure)."""
-    rec[j, 3, i] += fx
-    rec[j, 4, i] += fy
-    rec[j, 5, i] += fz
+def _record_add(rec, j, i, got):
+    """Add a force to sample j's recorded one (its skin friction; the sensed pressure is the
+    plate's normal force's only)."""
+    slot, out, e0 = rec
+    s, e = slot[j], e0 + i
+    out[s, 3, e] += got[3]
+    out[s, 4, e] += got[4]
+    out[s, 5, e] += got[5]
+
+
+@njit(**_INLINE)
+def _picked(rec, j) -> bool:
+    """Whether a recording ``rec`` (None on the step path) takes sample j."""
+    if rec is None:
+        return False
+    return rec[0][j] >= 0
+
+
+# One sample's force in environment i of a block, from its offset and body-frame direction:
+# what the force loops add up and what a recording (``_record``'s arguments after S) holds;
+# the loops call them once to add and, where they record, again in a loop of their own.
+
+
+@njit(**_INLINE)
+def _plate_at(S, i, ox, oy, oz, bx, by, bz, fluid, area, eff, vmax, fmax, side):
+    """A plate: (r, F, flow, world normal, area)."""
+    rx, ry, rz = _arm(S, i, ox, oy, oz)
+    nx, ny, nz = _rotate(S, i, bx, by, bz)
+    flow = _flow(_body_point(S, i), rx, ry, rz, fluid)
+    vx, vy, vz, rho = flow
+    fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, area, eff, vmax, fmax, side)
+    return rx, ry, rz, fx, fy, fz, flow, nx, ny, nz, area
+
+
+@njit(**_INLINE)
+def _skin_at(S, i, ox, oy, oz, bx, by, bz, fluid, area, friction):
+    """A plate's skin friction (``friction``: cf, ittc, length, vmax, fmax): (r, F)."""
+    cf, ittc, reach, vmax, fmax = friction
+    rx, ry, rz = _arm(S, i, ox, oy, oz)
+    nx, ny, nz = _rotate(S, i, bx, by, bz)
+    pt = _body_point(S, i)
+    fx, fy, fz = _skin(pt, rx, ry, rz, nx, ny, nz, fluid, area, cf, ittc, reach, vmax, fmax)
+    return rx, ry, rz, fx, fy, fz
+
+
+@njit(**_INLINE)
+def _cylinder_at(S, i, ox, oy, oz, bx, by, bz, fluid, area, vmax, fmax):
+    """A cylinder: (r, F, flow, world axis, 0: no pressure area)."""
+    rx, ry, rz = _arm(S, i, ox, oy, oz)
+    ax, ay, az = _rotate(S, i, bx, by, bz)
+    flow = _flow(_body_point(S, i), rx, ry, rz, fluid)
+    vx, vy, vz, rho = flow
+    fx, fy, fz = cylinder_force(vx, vy, vz, ax, ay, az, rho, area, vmax, fmax)
+    return rx, ry, rz, fx, fy, fz, flow, ax, ay, az, ZERO
+
+
+@njit(**_INLINE)
+def _buoyancy_at(S, i, ox, oy, oz, fluid, g, volume, area):
+    """A buoyancy sample at rest in the water it displaces: (r, F, flow, its floor's normal
+    (down: the pressure is its lift per area), area)."""
+    water, inv_blend, rho_a, rho_w = fluid
+    rx, ry, rz = _arm(S, i, ox, oy, oz)
+    z = S[HEIGHT * BLOCK + i] + rz  # the sample's height above the surface
+    frac = water_fraction(z, water, inv_blend)
+    fz = buoyancy_force(z, frac, water, rho_w, g, volume, area)
+    flow = (ZERO, ZERO, ZERO, rho_a + frac * (rho_w - rho_a))
+    return rx, ry, rz, ZERO, ZERO, fz, flow, ZERO, ZERO, -ONE, area
 
 
 @njit(**_JIT)
@@ -526,12 +624,13 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
     from the environment's center of mass), its sizes times the environment's factors
     (``Samples.factor``), its force law (``forces.py``) and :func:`_add_force`.
 
-    ``rec``: None in the step path, or ``rec[N, 6, BLOCK]`` (``sample_forces``) that gets each
-    sample's world offset from the center of mass and force, ``rec[j, :, i]``, j counting the
-    samples of all bodies in order (fixed plates, control plates, cylinders, buoyancy,
-    thrusters); the external force is not a sample. ``rec is None`` is resolved when numba
-    compiles (a branch on a None argument is pruned), so the step kernels' machine code has
-    no recording in it at all, and the forces have one source: these loops."""
+    ``rec``: None in the step path, or a recording (``_record``: ``sample_forces``,
+    ``sample_flows``) that gets each sample's world offset from the center of mass and force
+    (and what it senses), j counting the samples of all bodies in order (fixed plates,
+    control plates, cylinders, buoyancy, thrusters); the external force is not a sample.
+    ``rec is None`` is resolved when numba compiles (a branch on a None argument is pruned),
+    so the step kernels' machine code has no recording in it at all, and the forces have one
+    source: these loops."""
     e0 = max(e0, 0)  # tells the compiler e0 + i >= 0: no negative-index wraparound per lane
     # each field taken out of the tuples once: every take costs a reference count per call
     plate_at, flap_at, cyl_at, buoy_at, thr_at = (
@@ -546,7 +645,6 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
     wake = wprm[W_ON] != 0.0
     sea = prm[P_NWAVES] > ZERO
     fluid = _fluid(prm)
-    water, inv_blend, rho_w = fluid[0], fluid[1], fluid[3]
     _omega_row(S, n)
     for i in range(n):
         S[HEIGHT * BLOCK + i] = S[(STATE + OX + 2) * BLOCK + i]  # calm water: the surface is z = 0
@@ -580,28 +678,34 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
             frow[F_EFFICIENCY, j],
         )
         side, skin = tab[S_ONE_SIDED, p], tab[S_SKIN_AREA, p]
-        cf, ittc, reach = tab[S_FRICTION_CF, p], tab[S_FRICTION_ITTC, p], tab[S_FRICTION_LENGTH, p]
+        friction = (tab[S_FRICTION_CF, p], tab[S_FRICTION_ITTC, p], tab[S_FRICTION_LENGTH, p],
+                    vmax, fmax)  # fmt: skip
         for i in range(n):
             e = e0 + i
-            rx, ry, rz = _arm(S, i, ox, oy, oz)
-            nx, ny, nz = _rotate(S, i, bx, by, bz)
-            vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
-            a, f = area * factor[ra, e], eff * factor[re, e]
-            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, a, f, vmax, fmax, side)
+            rx, ry, rz, fx, fy, fz, _, nx, ny, nz, _ = _plate_at(
+                S, i, ox, oy, oz, bx, by, bz, fluid, area * factor[ra, e], eff * factor[re, e],
+                vmax, fmax, side,
+            )  # fmt: skip
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
-            if rec is not None:
-                _record(rec, j, i, rx, ry, rz, fx, fy, fz)
+        if _picked(rec, j):  # a loop of its own: the force loop stays vectorized
+            for i in range(n):
+                e = e0 + i
+                _record(rec, j, i, S, _plate_at(
+                    S, i, ox, oy, oz, bx, by, bz, fluid, area * factor[ra, e],
+                    eff * factor[re, e], vmax, fmax, side,
+                ))  # fmt: skip
         if skin > ZERO:  # skin friction, where the craft has it
             for i in range(n):
-                rx, ry, rz = _arm(S, i, ox, oy, oz)
-                nx, ny, nz = _rotate(S, i, bx, by, bz)
-                a, pt = skin * factor[ra, e0 + i], _body_point(S, i)
-                fx, fy, fz = _skin(
-                    pt, rx, ry, rz, nx, ny, nz, fluid, a, cf, ittc, reach, vmax, fmax
+                rx, ry, rz, fx, fy, fz = _skin_at(
+                    S, i, ox, oy, oz, bx, by, bz, fluid, skin * factor[ra, e0 + i], friction
                 )
                 _add_force(S, i, rx, ry, rz, fx, fy, fz)
-                if rec is not None:
-                    _record_add(rec, j, i, fx, fy, fz)
+            if _picked(rec, j):
+                for i in range(n):
+                    a = skin * factor[ra, e0 + i]
+                    _record_add(
+                        rec, j, i, _skin_at(S, i, ox, oy, oz, bx, by, bz, fluid, a, friction)
+                    )
         j += 1
 
     tab, normal = samples.flap, flap_now  # control surfaces: normals deflected per env
@@ -616,29 +720,37 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
             frow[F_EFFICIENCY, j],
         )
         side, skin = tab[S_ONE_SIDED, p], tab[S_SKIN_AREA, p]
-        cf, ittc, reach = tab[S_FRICTION_CF, p], tab[S_FRICTION_ITTC, p], tab[S_FRICTION_LENGTH, p]
+        friction = (tab[S_FRICTION_CF, p], tab[S_FRICTION_ITTC, p], tab[S_FRICTION_LENGTH, p],
+                    vmax, fmax)  # fmt: skip
         for i in range(n):
             e = e0 + i
-            rx, ry, rz = _arm(S, i, ox, oy, oz)
-            nx, ny, nz = _rotate(S, i, normal[0, p, e], normal[1, p, e], normal[2, p, e])
-            vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
-            a, f = area * factor[ra, e], eff * factor[re, e]
-            fx, fy, fz = plate_force(vx, vy, vz, nx, ny, nz, rho, a, f, vmax, fmax, side)
+            rx, ry, rz, fx, fy, fz, _, nx, ny, nz, _ = _plate_at(
+                S, i, ox, oy, oz, normal[0, p, e], normal[1, p, e], normal[2, p, e], fluid,
+                area * factor[ra, e], eff * factor[re, e], vmax, fmax, side,
+            )  # fmt: skip
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
-            if rec is not None:
-                _record(rec, j, i, rx, ry, rz, fx, fy, fz)
+        if _picked(rec, j):
+            for i in range(n):
+                e = e0 + i
+                _record(rec, j, i, S, _plate_at(
+                    S, i, ox, oy, oz, normal[0, p, e], normal[1, p, e], normal[2, p, e], fluid,
+                    area * factor[ra, e], eff * factor[re, e], vmax, fmax, side,
+                ))  # fmt: skip
         if skin > ZERO:  # skin friction, where the craft has it
             for i in range(n):
                 e = e0 + i
-                rx, ry, rz = _arm(S, i, ox, oy, oz)
-                nx, ny, nz = _rotate(S, i, normal[0, p, e], normal[1, p, e], normal[2, p, e])
-                a, pt = skin * factor[ra, e], _body_point(S, i)
-                fx, fy, fz = _skin(
-                    pt, rx, ry, rz, nx, ny, nz, fluid, a, cf, ittc, reach, vmax, fmax
-                )
+                rx, ry, rz, fx, fy, fz = _skin_at(
+                    S, i, ox, oy, oz, normal[0, p, e], normal[1, p, e], normal[2, p, e], fluid,
+                    skin * factor[ra, e], friction,
+                )  # fmt: skip
                 _add_force(S, i, rx, ry, rz, fx, fy, fz)
-                if rec is not None:
-                    _record_add(rec, j, i, fx, fy, fz)
+            if _picked(rec, j):
+                for i in range(n):
+                    e = e0 + i
+                    _record_add(rec, j, i, _skin_at(
+                        S, i, ox, oy, oz, normal[0, p, e], normal[1, p, e], normal[2, p, e],
+                        fluid, skin * factor[ra, e], friction,
+                    ))  # fmt: skip
         j += 1
 
     tab, axis = samples.cyl, samples.cyl_axis
@@ -649,15 +761,15 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
         bx, by, bz = axis[0, p], axis[1, p], axis[2, p]
         area, ra = tab[S_CYL_AREA, p], frow[F_AREA, j]
         for i in range(n):
-            e = e0 + i
-            rx, ry, rz = _arm(S, i, ox, oy, oz)
-            ax, ay, az = _rotate(S, i, bx, by, bz)
-            vx, vy, vz, rho = _flow(_body_point(S, i), rx, ry, rz, fluid)
-            a = area * factor[ra, e]
-            fx, fy, fz = cylinder_force(vx, vy, vz, ax, ay, az, rho, a, vmax, fmax)
+            a = area * factor[ra, e0 + i]
+            rx, ry, rz, fx, fy, fz = _cylinder_at(S, i, ox, oy, oz, bx, by, bz, fluid, a, vmax,
+                                                  fmax)[:6]  # fmt: skip
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
-            if rec is not None:
-                _record(rec, j, i, rx, ry, rz, fx, fy, fz)
+        if _picked(rec, j):
+            for i in range(n):
+                a = area * factor[ra, e0 + i]
+                _record(rec, j, i, S, _cylinder_at(S, i, ox, oy, oz, bx, by, bz, fluid, a,
+                                                    vmax, fmax))  # fmt: skip
         j += 1
 
     g = prm[P_G]
@@ -668,15 +780,13 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
             _swell_rows(S, n, ox, oy, oz, prm, tau)  # the surface only: no flow
         vol, area, ra = tab[S_VOLUME, p], tab[S_BUOY_AREA, p], frow[F_AREA, j]
         for i in range(n):
-            e = e0 + i
-            rx, ry, rz = _arm(S, i, ox, oy, oz)
-            z = S[HEIGHT * BLOCK + i] + rz  # the sample's height above the surface
-            frac = water_fraction(z, water, inv_blend)
-            k = factor[ra, e]
-            fz = buoyancy_force(z, frac, water, rho_w, g, vol * k, area * k)
+            k = factor[ra, e0 + i]
+            rx, ry, rz, _, _, fz = _buoyancy_at(S, i, ox, oy, oz, fluid, g, vol * k, area * k)[:6]
             _add_force(S, i, rx, ry, rz, ZERO, ZERO, fz)
-            if rec is not None:
-                _record(rec, j, i, rx, ry, rz, ZERO, ZERO, fz)
+        if _picked(rec, j):
+            for i in range(n):
+                k = factor[ra, e0 + i]
+                _record(rec, j, i, S, _buoyancy_at(S, i, ox, oy, oz, fluid, g, vol * k, area * k))
         j += 1
 
     tab, direction, channel = samples.thr, samples.thr_dir, samples.thr_channel
@@ -692,8 +802,9 @@ def _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, tau, re
             dx, dy, dz = _rotate(S, i, bx, by, bz)
             fx, fy, fz = thrust * dx, thrust * dy, thrust * dz
             _add_force(S, i, rx, ry, rz, fx, fy, fz)
-            if rec is not None:
-                _record(rec, j, i, rx, ry, rz, fx, fy, fz)
+            if _picked(rec, j):  # a point force: it senses nothing
+                nothing = (ZERO, ZERO, ZERO, ZERO)
+                _record(rec, j, i, S, (rx, ry, rz, fx, fy, fz, nothing, dx, dy, dz, ZERO))
         j += 1
 
     ext = external  # Simulator.set_external_force: world force and torque, held per call
@@ -1668,7 +1779,8 @@ def sample_forces(model, samples, data, env, out):
     blk = env // BLOCK
     e0, n = _load_block(blk, model, samples, data)
     i = env - e0
-    rec = np.zeros((out.shape[0], 6, BLOCK), dtype=scr.dtype)
+    rows = np.zeros((out.shape[0], R_FORCE, BLOCK), dtype=scr.dtype)
+    rec = (np.arange(out.shape[0]), rows, 0)
     for b in range(st.shape[1]):
         S = scr[blk, b]
         if model.swell.shape[0] > 0:
@@ -1676,8 +1788,39 @@ def sample_forces(model, samples, data, env, out):
         _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, rec)
         for j in range(_first_sample(samples, b), _first_sample(samples, b + 1)):
             for k in range(3):
-                out[j, k] = st[OX + k, b, env] + rec[j, k, i]
-                out[j, 3 + k] = rec[j, 3 + k, i]
+                out[j, k] = st[OX + k, b, env] + rows[j, k, i]
+                out[j, 3 + k] = rows[j, 3 + k, i]
+
+
+@njit(**_INLINE)
+def _sense_block(blk, model, samples, data, slot, bodies, out):
+    """``sample_flows`` for one block: ``_evaluate`` of each body in ``bodies`` recording the
+    samples that ``slot`` picks into the block's columns of ``out``."""
+    prm, wprm, ctrl, flap_now, external = _forces(model, data)
+    e0, n = _load_block(blk, model, samples, data)
+    rec = (slot, out, e0)
+    for b in bodies:
+        S = data.scr[blk, b]
+        if model.swell.shape[0] > 0:
+            _phase_rows(S, n, e0, model.swell, data.clock)
+        _evaluate(S, b, n, e0, samples, prm, wprm, ctrl, flap_now, external, T0, rec)
+
+
+@njit(**_JIT)
+def sample_flows_serial(model, samples, data, slot, bodies, out):
+    """What the samples that ``slot[N]`` picks sense in every environment at its clock:
+    ``out[P, R_SENSE, E]`` (rows: ``_record``'s), ``out[slot[j]]`` sample j's; ``bodies``
+    the body slots that own them. The state is not changed (scratch only: the next step
+    reloads it), so observing them leaves the trajectory bit-identical."""
+    for blk in range(data.scr.shape[0]):
+        _sense_block(blk, model, samples, data, slot, bodies, out)
+
+
+@njit(parallel=True, **_JIT)
+def sample_flows_parallel(model, samples, data, slot, bodies, out):
+    """:func:`sample_flows_serial`, blocks spread over numba's threads."""
+    for blk in prange(data.scr.shape[0]):
+        _sense_block(blk, model, samples, data, slot, bodies, out)
 
 
 @njit(**_JIT)

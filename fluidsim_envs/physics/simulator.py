@@ -345,6 +345,7 @@ class Simulator:
         first = np.cumsum([0] + [c.num_samples for c in crafts])
         self._bodies = [_Body(c, E, int(first[b])) for b, c in enumerate(crafts)]
         self._factors = FactorTable(self._samples.factor_row, self._samples.factor)
+        self._probes: dict = {}  # sample_flows' slot maps and outputs, by samples and body
         n_pairs = CT.num_pairs(B) if cprm[CT.C_ON] else 0
         # the step kernel compiled without contact.py where nothing can touch (its None
         # is resolved when numba compiles: kernels.step_serial)
@@ -717,6 +718,58 @@ class Simulator:
         with self._evaluating_at(controls):
             K.sample_forces(self._model, self._samples, self._data, int(e), out)
         return out[:, :3], out[:, 3:], np.repeat(np.arange(self.num_bodies), counts)
+
+    def sample_flows(self, samples: Sequence[str], body: int = 0) -> np.ndarray:
+        """What the named samples of body slot ``body`` meet in every environment at the
+        current state, from the same kernel code as the forces (``kernels._record``): an
+        array of air-data probes, pressure taps and flow sensors wherever the craft has a
+        sample. The controls are where they are (with actuators: their current positions).
+
+        Args:
+            samples: sample names of the body's craft (``Craft.plates``, ``cylinders``,
+                ``buoyancy``, ``thrusters``), P of them, each at most once.
+            body: the body slot.
+
+        Returns:
+            ``[E, P, len(SENSE_FIELDS)]`` float64, fields :data:`SENSE_FIELDS`: the inflow
+            (the fluid's velocity relative to the sample, body frame, m/s), its component
+            along the sample's normal (a plate's; a cylinder's axis; a thruster's line), the
+            density there (kg/m^3: the air's, the water's or their blend across the
+            surface), the sample's height above the surface under it (m) and the pressure
+            (a plate's or a buoyancy sample's force against its normal per area, Pa: onto a
+            hull whose normals point out; 0 where it has no area). Each call evaluates the
+            chosen bodies' forces once (a step's cost over its force evaluations); the state
+            is untouched.
+        """
+        what = "sample_flows"
+        bd = self._body(what, body)
+        key = (tuple(samples), int(body)) if isinstance(samples, (list, tuple)) else None
+        probe = self._probes.get(key)
+        if probe is None:
+            probe = self._probe(what, samples, bd, int(body))
+            self._probes[key] = probe
+        slot, bodies, out = probe
+        kernel = K.sample_flows_parallel if self.parallel else K.sample_flows_serial
+        kernel(self._model, self._samples, self._data, slot, bodies, out)
+        # a view: ``.transpose(1, 2, 0)`` of it is C-contiguous [P, fields, E] (ProbeArray's)
+        return out[:, K.R_FORCE :, :].transpose(2, 0, 1).astype(np.float64, copy=False)
+
+    def _probe(self, what: str, samples, bd: _Body, body: int):
+        """``sample_flows``' slot map, bodies and output rows for these samples (checked)."""
+        if isinstance(samples, str) or not isinstance(samples, Sequence) or not samples:
+            raise ValueError(f"{what}: samples must be a non-empty list of sample names, got "
+                             f"{CK.show(samples)}")  # fmt: skip
+        where = {n: (k, i) for k, names in bd.names.items() for i, n in enumerate(names)}
+        unknown = [n for n in samples if n not in where]
+        if unknown:
+            raise ValueError(f"{what}: unknown samples {unknown} of craft {bd.craft.name!r}; "
+                             f"its samples are {sorted(where)}")  # fmt: skip
+        if len(set(samples)) != len(samples):
+            raise ValueError(f"{what}: samples named twice in {list(samples)}")
+        slot = np.full(self._samples.factor_row.shape[1], -1, dtype=np.int64)
+        slot[bd.numbers([where[n] for n in samples])] = np.arange(len(samples))
+        out = np.zeros((len(samples), K.R_SENSE, self.num_envs), dtype=self._data.scr.dtype)
+        return slot, np.array([body], dtype=np.int64), out
 
     def _env_ids(self, what: str, env_ids) -> np.ndarray:
         """``env_ids`` as int64 indices (:func:`checks.env_ids`: None, indices or a boolean

@@ -18,7 +18,11 @@ at every reset, and at a step where a sub-env restarted.
 **Actuators.** Each control channel follows its command through a first-order lag and a
 rate limit (``Simulator.set_actuators``; surfaces in deg/s over their deflection limit,
 thrust channels a spool time), integrated at the physics step inside the kernel; the v1
-observation ends with each channel's position.
+observation has each channel's position after the scene's columns.
+
+**Probes.** With ``observe_samples`` (on by default) the observation ends with what the
+craft's fluid samples meet (``probes.py``: angles of attack and dynamic pressures, hull
+pressures, flow along the hull), read through the scene's instruments like the rest.
 """
 
 from __future__ import annotations
@@ -31,6 +35,7 @@ import numpy as np
 
 from . import noise as NZ
 from .limits import Bound, Span, check_params
+from .probes import ProbeArray, probe_columns
 from .sensors import MAX_LATENCY_STEPS, SensorModel
 
 LEVELS = ("easy", "standard", "hard")
@@ -83,6 +88,7 @@ class KnobParams:
     level's value. The class's ``__post_init__`` calls :func:`resolve` first."""
 
     difficulty: str = "standard"
+    observe_samples: bool = True  # the probes' columns (the plan's) end the observation
     mass_scale: tuple | None = None
     inertia_scale: tuple | None = None
     com_shift_m: float | None = None
@@ -115,6 +121,10 @@ def resolve(params, own: str, levels: dict, knobs=Knobs, ranges=None, choices=No
     given = {k: getattr(params, k) for k in names if getattr(params, k) is not None}
     if "actuators" in given and not isinstance(given["actuators"], (bool, np.bool_)):
         raise ValueError(f"{own}: actuators must be True or False, got {given['actuators']!r}")
+    if not isinstance(params.observe_samples, (bool, np.bool_)):
+        raise ValueError(
+            f"{own}: observe_samples must be True or False, got {params.observe_samples!r}"
+        )
     for key, words in (choices or {}).items():
         if key in given and (not isinstance(given[key], str) or given[key] not in words):
             raise ValueError(f"{own}: {key} must be one of {list(words)}, got {given[key]!r}")
@@ -131,10 +141,15 @@ def resolve(params, own: str, levels: dict, knobs=Knobs, ranges=None, choices=No
 @dataclass(frozen=True)
 class Plan:
     """What a scene randomizes and reads: the sample groups of its craft (body 0) drawn
-    per episode, and its instruments."""
+    per episode, its instruments, and its probes of the craft's samples."""
 
     groups: tuple[str, ...]  # disjoint sample groups of the craft: area and efficiency
     sensors: tuple  # sensors.Sensor
+    probes: tuple = ()  # probes.Probe: the columns that end the observation
+
+    def columns(self, control_names) -> tuple[tuple[str, str, str], ...]:
+        """The columns v1 adds to the scene's: each actuator's position, then the probes'."""
+        return actuator_columns(control_names) + probe_columns(self.probes)
 
 
 class Realism:
@@ -175,7 +190,10 @@ class Realism:
             or k.com_shift_m > 0.0
         )
         period = env.params.dt * env.params.substeps
-        self.sensors = SensorModel(plan.sensors, names, k.sensor_scale, period,
+        # without the probes' columns, the instruments that read only them are not fitted
+        probed = {name for name, _, _ in probe_columns(plan.probes)} - set(names)
+        sensors = [s for s in plan.sensors if not set(s.columns) <= probed]
+        self.sensors = SensorModel(sensors, names, k.sensor_scale, period,
                                    k.sensor_latency_steps, E)  # fmt: skip
         self.keys = np.zeros(E, dtype=np.uint64)
         for g in plan.groups:  # each a group of the craft with plates (else a clear error)
@@ -255,24 +273,34 @@ def actuator_columns(control_names) -> tuple[tuple[str, str, str], ...]:
 class Version1:
     """A scene's v1 vector env: put it before the scene's v0 class
     (``class SceneV1VectorEnv(Version1, SceneVectorEnv)``) and set ``plan`` (what is
-    randomized and read) and ``obs_dim`` (the v0 columns, then :func:`actuator_columns`).
-    It adds :class:`Realism` around the scene's hooks: the episode's physics drawn before the
-    scene places the craft, the actuators' positions after the scene's columns, the
-    sensors between the truth and the pilot."""
+    randomized and read) and ``obs_dim`` (the v0 columns, then ``plan.columns``: with
+    ``observe_samples=False`` an instance has fewer). It adds :class:`Realism` around the
+    scene's hooks: the episode's physics drawn before the scene places the craft, the
+    actuators' positions and the probes' readings after the scene's columns, the sensors
+    between the truth and the pilot."""
 
     plan: Plan
 
     def _build(self) -> None:
         super()._build()
         names = tuple(self._observation_names())
-        if len(names) != self.obs_dim:
+        if len(names) != type(self).obs_dim:
             raise AssertionError(f"{type(self).__name__}: obs_dim is not its {len(names)} columns")
+        n_probe = len(probe_columns(self.plan.probes))
+        n_scene = len(names) - n_probe - len(self.sim.control_names)
+        self._positions = slice(n_scene, n_scene + len(self.sim.control_names))
+        self.probes = None
+        if self.params.observe_samples and self.plan.probes:
+            self.probes = ProbeArray(self.sim, self.plan.probes)
+        else:
+            self.obs_dim = len(names) - n_probe  # this instance's observation
+            names = names[: self.obs_dim]
+        self._probed = slice(self._positions.stop, self.obs_dim)
         self.realism = Realism(self, self.plan, names)
         self.sensors = None if self.realism.sensors.exact else self.realism.sensors
         self.noise_keys = self.realism.keys
         self._scene_draws = self.draws_per_episode
         self.draws_per_episode += self.realism.draws + self.own_draws
-        self._positions = slice(self.obs_dim - len(self.sim.control_names), self.obs_dim)
         self._drawn = self.realism.drawn  # snapshots: state_fields
         self._sensor_bias = self.realism.sensors.state
         self._sensor_history = self.realism.sensors.history
@@ -299,11 +327,22 @@ class Version1:
     def _advance(self, actions):
         out = super()._advance(actions)
         self._truth[:, self._positions] = self.sim.actuators
+        if self.probes is not None:  # not where the physics diverged: no NaN observation
+            ok = ~out[1]
+            self._truth[ok, self._probed] = self._probe()[ok]
         return out
 
     def _observe(self, out, ids) -> None:
         super()._observe(out, ids)
         out[ids, self._positions] = self.sim.actuators[ids]
+        if self.probes is not None:
+            out[ids, self._probed] = self._probe()[ids]
+
+    def _probe(self) -> np.ndarray:
+        """The probes' columns of every sub-env, in the episode's fluid density."""
+        return self.probes.read(
+            self.realism.drawn[:, self.realism.drawn_names.index("density_scale")]
+        )
 
     def _info_after_reset(self) -> dict:
         return {**super()._info_after_reset(), "randomized": self.realism.info()}

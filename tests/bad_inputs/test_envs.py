@@ -134,6 +134,7 @@ KNOBS = [
     ("mass-0", {"mass_scale": (0.0, 1.0)}, ["mass_scale", "0.0", "[0.25, 4]"]),
     ("efficiency-up", {"efficiency_scale": (1.0, 1.2)}, ["efficiency_scale", "1.2", "[0, 1]"]),
     ("actuators-int", {"actuators": 1}, ["actuators", "got 1", "True or False"]),
+    ("probes-str", {"observe_samples": "yes"}, ["observe_samples", "'yes'", "True or False"]),
 ]
 for _v0, _v1 in ((DART, DART1), (BOAT, BOAT1), (SUB, SUB1)):
     OWN[_v1] = OWN[_v0] + KNOBS

@@ -11,6 +11,7 @@ import pytest
 
 import fluidsim_envs  # noqa: F401  (registers the ids)
 from fluidsim_envs.scenes import SCENES
+from fluidsim_envs.scenes.probes import probe_columns
 from fluidsim_envs.scenes.realism import LEVELS
 
 V1 = [i for i in SCENES if i.endswith("-v1")]
@@ -53,7 +54,10 @@ def test_actuator_columns_are_where_the_actuators_are(env_id):
     venv.reset(seed=0)
     venv.step(np.ones((4, 3)))
     env = venv.unwrapped
-    cols = slice(env.obs_dim - 3, env.obs_dim)
+    cols = env._positions
+    assert [n for n, _, _ in SCENES[env_id].observation[cols]] == [
+        f"{c}_position" for c in env.sim.control_names
+    ]
     np.testing.assert_array_equal(env.observation[:, cols], env.sim.actuators.astype(np.float32))
     assert np.all(env.sim.actuators < 1.0)  # standard: lagging behind the command
 
@@ -232,3 +236,83 @@ def test_the_uuvs_water_moves_only_where_its_level_says():
                     current_variation_mps=0.0)  # fmt: skip
     calm.reset(seed=1)
     assert not calm.unwrapped.sim.start_arrays()[1][3:].any()
+
+
+# ---- observations read from the fluid samples (scenes/probes.py) -------------------------
+
+
+def _columns(env_id, obs):
+    return dict(zip(SCENES[env_id].obs_names, np.moveaxis(obs, -1, 0), strict=True))
+
+
+@pytest.mark.parametrize("env_id", V1)
+def test_observe_samples_only_adds_the_probes_columns(env_id):
+    """At standard (sensors on), the same seed with and without the probes: the same
+    trajectory and readings in every other column, bit for bit; the probes' columns end the
+    observation, finite and alive."""
+    probes = probe_columns(SCENES[env_id].vector_cls.plan.probes)
+    on, off = make_vec(env_id, 3), make_vec(env_id, 3, observe_samples=False)
+    n = off.unwrapped.obs_dim
+    assert on.unwrapped.obs_dim == len(SCENES[env_id].observation) == n + len(probes) > n
+    assert off.single_observation_space.shape == (n,)
+    a, b = rollout(on, 8, seed=5), rollout(off, 8, seed=5)
+    np.testing.assert_array_equal(a[..., :n], b)
+    assert [c for c, _, _ in SCENES[env_id].observation[n:]] == [c for c, _, _ in probes]
+    assert np.isfinite(a).all() and (a[1:, :, n:].std(axis=0) > 0.0).all()
+
+
+def test_the_darts_vanes_and_pitots_read_its_airspeed_at_each_plate():
+    """Exact instruments (easy): at each wing the inflow is the airspeed columns' (u, v, w)
+    plus the rotation's (p, q, r) x r at the plate, reversed; its dynamic pressure is
+    rho |inflow|^2 / 2 and its angle of attack asin(inflow . n / |inflow|), n the wing's
+    normal (paper_airplane.toml). The observation is float32: 1e-5 relative (2e-6
+    measured), 1e-5 rad."""
+    env_id = "fluidsim/PaperAirplane-v1"
+    venv = make_vec(env_id, 8, difficulty="easy")
+    c = _columns(env_id, rollout(venv, 10, seed=6).astype(np.float64))
+    craft = venv.unwrapped.sim.crafts[0]
+    omega = np.stack([c["p"], c["q"], c["r"]], axis=-1)
+    airspeed = np.stack([c["u"], c["v"], c["w"]], axis=-1)
+    for plate in craft.plates:
+        if plate.name not in ("left_wing", "right_wing"):
+            continue
+        inflow = -(airspeed + np.cross(omega, np.asarray(plate.offset_m)))
+        speed = np.linalg.norm(inflow, axis=-1)
+        normal = np.asarray(plate.normal) / np.linalg.norm(plate.normal)
+        np.testing.assert_allclose(c[f"{plate.name}_q"], 0.5 * 1.225 * speed**2, rtol=1e-5)
+        aoa = np.arcsin(inflow @ normal / speed)
+        np.testing.assert_allclose(c[f"{plate.name}_aoa"], aoa, rtol=0.0, atol=1e-5)
+
+
+def test_the_hulls_taps_at_rest_are_wet_aft_and_dry_forward():
+    """Floating at rest (easy): the transom's stations under water and the bow's in the
+    air, and each tap's gauge pressure the water's weight above it (rho g depth)."""
+    venv = make_vec("fluidsim/BoatOnStep-v1", 2, difficulty="easy")
+    obs, _ = venv.reset(seed=0)
+    c = _columns("fluidsim/BoatOnStep-v1", obs)
+    wet = np.array([c[f"station_{k}_wetted"] for k in range(8)])
+    assert np.all(wet[0] == 1.0) and np.all(wet[-1] == 0.0)
+    assert np.all(np.diff(wet, axis=0) <= 0.0)  # drier toward the bow
+    env = venv.unwrapped
+    flows = env.sim.sample_flows(
+        [f"bottom_0_{s}_{j}" for s in ("port", "starboard") for j in (0, 1)]
+    )
+    depth = np.maximum(-flows[..., 5], 0.0).mean(axis=1)
+    static_kpa = 1025.0 * 9.81 * depth / 1000.0
+    dynamic_kpa = flows[..., 6].mean(axis=1) / 1000.0  # the plates' flow share: ~0 at rest
+    np.testing.assert_allclose(c["station_0_pressure"], static_kpa + dynamic_kpa, rtol=1e-6)
+    assert np.all(c["station_0_pressure"] > 1.0)  # about 0.2 m under water
+
+
+def test_the_uuvs_lateral_line_reads_the_wake_less_its_own_motion():
+    """Exact instruments (easy): the nose probe's inflow is the wake's water velocity at
+    the nose (v0's flow sensor) less the nose's own velocity, (u, v, w) + (p, q, r) x r."""
+    env_id = "fluidsim/SubmarineWake-v1"
+    obs = rollout(make_vec(env_id, 4, difficulty="easy"), 12, seed=7)
+    c = _columns(env_id, obs)
+    nose = 1.2  # uuv.toml's nose plate, where v0's flow sensor is
+    own = (c["u"], c["v"] + nose * c["r"], c["w"] - nose * c["q"])
+    for axis, mine in zip("xyz", own, strict=True):
+        expected = c[f"flow_{axis}"] - mine
+        np.testing.assert_allclose(c[f"nose_flow_{axis}"], expected, rtol=0.0, atol=2e-5)
+    assert np.abs(c["flow_y"]).max() > 1e-3  # the wake is there to be read

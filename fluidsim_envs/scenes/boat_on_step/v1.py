@@ -13,13 +13,13 @@ from ...physics import World
 from ...physics.surface import irregular_sea
 from ..base import FluidEnv
 from ..limits import Bound
+from ..probes import Probe
 from ..realism import (
     V1_STATE,
     KnobParams,
     Knobs,
     Plan,
     Version1,
-    actuator_columns,
     resolve,
     v1_doc,
 )
@@ -28,7 +28,15 @@ from .env import BoatOnStepEnv, BoatOnStepParams, BoatOnStepVectorEnv
 from .kernel import OBSERVATION
 
 CONTROLS = ("throttle", "rudder", "trim_tabs")  # the craft's channels (speedboat.toml)
-OBSERVATION_V1 = OBSERVATION + actuator_columns(CONTROLS)
+
+# A hull pressure-tap array: at each of the hull's 8 stations (from the transom), the wetted
+# fraction and the mean pressure of its four bottom plates (speedboat.toml; craft/hull.py)
+PROBES = tuple(
+    Probe(f"station_{k}", tuple(f"bottom_{k}_{side}_{j}" for side in ("port", "starboard")
+                                for j in (0, 1)),
+          ("wetted", "pressure"), f"hull station {k} from the transom")
+    for k in range(8)
+)  # fmt: skip
 
 # The instruments of a small sport boat with a navigation and motion package. Noise per
 # reading at the action rate (20 Hz), from the datasheets named; the task's own columns
@@ -52,6 +60,12 @@ SENSORS = (
            noise=0.004, bias=0.005, bias_time_s=60.0,
            hardware="dual-antenna GNSS heading (u-blox ZED-F9P moving base: about 0.4 deg "
                     "on a 1 m baseline)"),
+    Sensor("hull_taps", tuple(f"{p.name}_pressure" for p in PROBES), noise=0.2, bias=0.35,
+           bias_time_s=60.0,
+           hardware="flush piezoresistive hull pressure transducers (0-350 kPa at 0.1% of "
+                    "full scale: Kulite XTL-190 class)"),
+    Sensor("wetness", tuple(f"{p.name}_wetted" for p in PROBES), noise=0.02,
+           hardware="conductivity wetness taps, one per bottom plate, averaged per station"),
 )  # fmt: skip
 
 
@@ -72,7 +86,8 @@ KNOB_RANGES = {
     "sea_gamma": Bound(1.0, 10.0),
 }
 KNOBS = BoatKnobs  # what docs/environments.md's level table lists
-PLAN = Plan(groups=("bottom", "friction", "topsides"), sensors=SENSORS)
+PLAN = Plan(groups=("bottom", "friction", "topsides"), sensors=SENSORS, probes=PROBES)
+OBSERVATION_V1 = OBSERVATION + PLAN.columns(CONTROLS)
 
 LEVELS: dict[str, dict] = {
     "easy": {},
@@ -123,8 +138,9 @@ LEVELS: dict[str, dict] = {
 
 @dataclass(frozen=True)
 class BoatOnStepV1Params(BoatOnStepParams, KnobParams):
-    """Parameters of BoatOnStep-v1: v0's, ``difficulty`` and the knobs of
-    :class:`~fluidsim_envs.scenes.realism.Knobs` (None: the level's value, ``LEVELS``)."""
+    """Parameters of BoatOnStep-v1: v0's, ``difficulty``, ``observe_samples`` and
+    the knobs of :class:`~fluidsim_envs.scenes.realism.Knobs` (None: the level's value,
+    ``LEVELS``)."""
 
     NAME: ClassVar[str] = "BoatOnStep-v1"
     wind_mps: float | None = None
@@ -199,7 +215,8 @@ BoatOnStepV1Env.__doc__ = v1_doc(
     (``surface_time_constant_s``, ``surface_rate_dps``; the throttle:
     ``thrust_time_constant_s``, ``thrust_rate_per_s``).""",
         "Arguments": """
-    v0's, ``difficulty`` (``"easy"``, ``"standard"`` (default), ``"hard"``) and each
+    v0's, ``difficulty`` (``"easy"``, ``"standard"`` (default), ``"hard"``),
+    ``observe_samples`` (default True: the probes' columns end the observation) and each
     knob of :class:`~fluidsim_envs.scenes.realism.Knobs` alone (given, it overrides its
     level's value; ``params.knobs`` holds them all). Levels (``LEVELS``):
 
@@ -211,7 +228,8 @@ BoatOnStepV1Env.__doc__ = v1_doc(
       steering (25 deg/s) and engine (1.5 s), a wind of up to 10 m/s and a 0.4 m sea of 3 s.""",
         "Version History": """
     - v1: randomized boat, sensors, actuators, wind, an irregular sea whose water moves,
-      difficulty levels (the sample observations are still to come).
+      difficulty levels, and a hull pressure-tap array in the observation
+      (``observe_samples``).
     - v0: first version.
 
     Examples:
@@ -220,7 +238,7 @@ BoatOnStepV1Env.__doc__ = v1_doc(
         >>> env = gym.make("fluidsim/BoatOnStep-v1", difficulty="hard")
         >>> obs, info = env.reset(seed=0)
         >>> obs.shape
-        (21,)
+        (37,)
         >>> float(info["randomized"]["mass_kg"]) > 0.0
         True""",
     },
@@ -229,7 +247,11 @@ BoatOnStepV1Env.__doc__ = v1_doc(
     The task's columns as the instruments read them (``SENSORS`` in
     ``scenes/boat_on_step/v1.py``: GNSS velocity, position and heading, gyro, motion
     reference unit; ``target_speed`` and ``pitch_oscillation`` exact), ``sensor_latency_steps``
-    late; the positions are exact.""",
+    late; the positions are exact. The last 16 columns (``observe_samples=True``, the
+    default; without it the observation stops at the positions) are a hull pressure-tap
+    array (``PROBES``; ``scenes/probes.py``): at each of the 8 stations from the transom
+    the wetted fraction and the mean gauge pressure of its four bottom plates, read through
+    the ``wetness`` and ``hull_taps`` instruments.""",
         "Starting State": """
     Before the boat is placed, its physics is drawn from the level's ranges; what
     was drawn is ``info["randomized"]`` at every reset (and at a step where sub-envs restarted,

@@ -12,13 +12,13 @@ import numpy as np
 from .. import turbulence as TB
 from ..base import FluidEnv
 from ..limits import Bound
+from ..probes import Probe
 from ..realism import (
     V1_STATE,
     KnobParams,
     Knobs,
     Plan,
     Version1,
-    actuator_columns,
     resolve,
     v1_doc,
 )
@@ -27,7 +27,18 @@ from .env import PaperAirplaneEnv, PaperAirplaneParams, PaperAirplaneVectorEnv
 from .kernel import OBSERVATION
 
 CONTROLS = ("aileron", "elevator", "rudder")  # the craft's channels (paper_airplane.toml)
-OBSERVATION_V1 = OBSERVATION + actuator_columns(CONTROLS)
+
+# What the dart's plates meet, like an array of flow-angle vanes and pitot tubes: the angle of
+# attack and dynamic pressure at each wing, the tail and the fin, and the angle of attack at
+# each control surface (its deflection included)
+PROBES = (
+    Probe("left_wing", ("left_wing",), ("aoa", "q"), "left wing"),
+    Probe("right_wing", ("right_wing",), ("aoa", "q"), "right wing"),
+    Probe("tail", ("left_stabilizer", "right_stabilizer"), ("aoa", "q"), "tail"),
+    Probe("fin", ("fin",), ("aoa", "q"), "fin"),
+    *(Probe(s, (s,), ("aoa",), s.replace("_", " "))
+      for s in ("left_aileron", "right_aileron", "left_elevator", "right_elevator", "rudder")),
+)  # fmt: skip
 
 # The instruments of a small drone of the dart's size class. Noise per reading at the action
 # rate (30 Hz), from the datasheets named; columns not listed are exact.
@@ -50,8 +61,17 @@ SENSORS = (
            hardware="RTK GNSS (u-blox ZED-F9P: 0.01 m + 1 ppm CEP horizontal)"),
     Sensor("gnss_velocity", ("ground_forward", "ground_left", "climb"), noise=0.05,
            hardware="GNSS velocity (u-blox ZED-F9P: 0.05 m/s)"),
+    Sensor("vanes", tuple(f"{p.name}_aoa" for p in PROBES), noise=0.0175, bias=0.009,
+           bias_time_s=60.0,
+           hardware="flow-angle vanes on angle encoders (about 1 deg per reading, 0.5 deg "
+                    "alignment)"),
+    Sensor("pitots", tuple(f"{p.name}_q" for p in PROBES if "q" in p.reads), noise=0.1,
+           bias=0.2, bias_time_s=60.0, quantum=1.0 / 60.0,
+           hardware="pitot tubes on differential-pressure sensors (Sensirion SDP31: 0.2 Pa "
+                    "zero point, 1/60 Pa resolution)"),
 )  # fmt: skip
-PLAN = Plan(groups=("wings", "tail", "fuselage"), sensors=SENSORS)
+PLAN = Plan(groups=("wings", "tail", "fuselage"), sensors=SENSORS, probes=PROBES)
+OBSERVATION_V1 = OBSERVATION + PLAN.columns(CONTROLS)
 
 
 @dataclass(frozen=True)
@@ -113,8 +133,9 @@ LEVELS: dict[str, dict] = {
 
 @dataclass(frozen=True)
 class PaperAirplaneV1Params(PaperAirplaneParams, KnobParams):
-    """Parameters of PaperAirplane-v1: v0's, ``difficulty`` and the knobs of
-    :class:`~fluidsim_envs.scenes.realism.Knobs` (None: the level's value, ``LEVELS``)."""
+    """Parameters of PaperAirplane-v1: v0's, ``difficulty``, ``observe_samples`` and
+    the knobs of :class:`~fluidsim_envs.scenes.realism.Knobs` (None: the level's value,
+    ``LEVELS``)."""
 
     NAME: ClassVar[str] = "PaperAirplane-v1"
     turbulence: str | None = None
@@ -213,7 +234,8 @@ PaperAirplaneV1Env.__doc__ = v1_doc(
     commands, which each servo follows with a first-order lag and a rate limit
     (``surface_time_constant_s``, ``surface_rate_dps`` over the surface's deflection limit).""",
         "Arguments": """
-    v0's, ``difficulty`` (``"easy"``, ``"standard"`` (default), ``"hard"``) and each
+    v0's, ``difficulty`` (``"easy"``, ``"standard"`` (default), ``"hard"``),
+    ``observe_samples`` (default True: the probes' columns end the observation) and each
     knob of :class:`~fluidsim_envs.scenes.realism.Knobs` alone (given, it overrides its
     level's value; ``params.knobs`` holds them all). Levels (``LEVELS``):
 
@@ -225,8 +247,8 @@ PaperAirplaneV1Env.__doc__ = v1_doc(
     - ``hard``: twice the spreads, instruments twice as noisy and two actions late, servos
       of 60 ms and 300 deg/s; light turbulence (W20 = 15 kt) and a 1.5 m/s gust.""",
         "Version History": """
-    - v1: randomized dart, sensors, actuators, moving air, difficulty levels (the sample
-      observations are still to come).
+    - v1: randomized dart, sensors, actuators, moving air, difficulty levels, and what its
+      plates meet in the observation (``observe_samples``).
     - v0: first version.
 
     Examples:
@@ -235,7 +257,7 @@ PaperAirplaneV1Env.__doc__ = v1_doc(
         >>> env = gym.make("fluidsim/PaperAirplane-v1", difficulty="hard")
         >>> obs, info = env.reset(seed=0)
         >>> obs.shape
-        (18,)
+        (31,)
         >>> float(info["randomized"]["mass_kg"]) > 0.0
         True""",
     },
@@ -244,7 +266,11 @@ PaperAirplaneV1Env.__doc__ = v1_doc(
     Columns 0-14 as the instruments read them (``SENSORS`` in
     ``scenes/paper_airplane/v1.py``: airspeed, gyro, attitude, rangefinder, GNSS position and
     velocity; white noise, a wandering bias, resolution, ``sensor_latency_steps`` late);
-    the positions are exact.""",
+    the positions are exact. The last 13 columns (``observe_samples=True``, the default;
+    without it the observation stops at the positions) are what the dart's plates meet
+    (``PROBES``; ``scenes/probes.py``), like flow-angle vanes and pitot tubes on each wing,
+    the tail, the fin and each control surface, read through the ``vanes`` and ``pitots``
+    instruments.""",
         "Starting State": """
     Before the dart is placed, its physics is drawn from the level's ranges; what
     was drawn is ``info["randomized"]`` at every reset (and at a step where sub-envs restarted,

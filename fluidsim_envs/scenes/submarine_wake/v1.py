@@ -12,13 +12,13 @@ import numpy as np
 from .. import currents as CU
 from ..base import FluidEnv
 from ..limits import Bound
+from ..probes import Probe
 from ..realism import (
     V1_STATE,
     KnobParams,
     Knobs,
     Plan,
     Version1,
-    actuator_columns,
     resolve,
     v1_doc,
 )
@@ -27,7 +27,15 @@ from .env import SubmarineWakeEnv, SubmarineWakeParams, SubmarineWakeVectorEnv
 from .kernel import OBSERVATION
 
 CONTROLS = ("thrust", "rudder", "dive_planes")  # the craft's channels (uuv.toml)
-OBSERVATION_V1 = OBSERVATION + actuator_columns(CONTROLS)
+
+# A lateral line: the flow along the hull where each hull sample feels it (the lead's wake
+# included), and the angle of attack at each fin and dive plane
+PROBES = (
+    *(Probe(s, (s,), ("flow_x", "flow_y", "flow_z"), s.replace("_", " "))
+      for s in ("nose", "hull_fore", "hull_aft")),
+    *(Probe(s, (s,), ("aoa",), s.replace("_", " "))
+      for s in ("upper_fin", "lower_fin", "port_plane", "starboard_plane")),
+)  # fmt: skip
 
 # The navigation package of a small survey UUV. Noise per reading at the action rate
 # (10 Hz), from the datasheets named.
@@ -55,6 +63,14 @@ SENSORS = (
     Sensor("heading", ("heading_sin", "heading_cos"), noise=0.005, bias=0.01,
            bias_time_s=60.0,
            hardware="AHRS heading against the lead's acoustic bearing (about 1 deg)"),
+    Sensor("lateral_line", tuple(f"{p.name}_{r}" for p in PROBES[:3] for r in p.reads),
+           noise=0.005, bias=0.005, bias_time_s=300.0,
+           hardware="electromagnetic flow sensors on the hull (Valeport Model 802 class: "
+                    "+-0.5% of reading +-5 mm/s)"),
+    Sensor("plane_vanes", tuple(f"{p.name}_aoa" for p in PROBES[3:]), noise=0.0175,
+           bias=0.009, bias_time_s=60.0,
+           hardware="flow-angle vanes on angle encoders (about 1 deg per reading, 0.5 deg "
+                    "alignment)"),
 )  # fmt: skip
 
 
@@ -73,7 +89,8 @@ KNOB_RANGES = {
     "current_time_s": Bound(1.0, 1e5),
 }
 KNOBS = SubKnobs  # what docs/environments.md's level table lists
-PLAN = Plan(groups=("control_surfaces",), sensors=SENSORS)
+PLAN = Plan(groups=("control_surfaces",), sensors=SENSORS, probes=PROBES)
+OBSERVATION_V1 = OBSERVATION + PLAN.columns(CONTROLS)
 
 LEVELS: dict[str, dict] = {
     "easy": {},
@@ -122,8 +139,9 @@ LEVELS: dict[str, dict] = {
 
 @dataclass(frozen=True)
 class SubmarineWakeV1Params(SubmarineWakeParams, KnobParams):
-    """Parameters of SubmarineWake-v1: v0's, ``difficulty`` and the knobs of
-    :class:`~fluidsim_envs.scenes.realism.Knobs` (None: the level's value, ``LEVELS``)."""
+    """Parameters of SubmarineWake-v1: v0's, ``difficulty``, ``observe_samples`` and
+    the knobs of :class:`~fluidsim_envs.scenes.realism.Knobs` (None: the level's value,
+    ``LEVELS``)."""
 
     NAME: ClassVar[str] = "SubmarineWake-v1"
     current_mps: float | None = None
@@ -207,7 +225,8 @@ SubmarineWakeV1Env.__doc__ = v1_doc(
     As v0: ``Box(-1, 1, (3,), float32)``, thrust, rudder, dive planes: now commands that
     the actuators follow with a first-order lag and a rate limit.""",
         "Arguments": """
-    v0's, ``difficulty`` (``"easy"``, ``"standard"`` (default), ``"hard"``) and each
+    v0's, ``difficulty`` (``"easy"``, ``"standard"`` (default), ``"hard"``),
+    ``observe_samples`` (default True: the probes' columns end the observation) and each
     knob of :class:`~fluidsim_envs.scenes.realism.Knobs` alone (given, it overrides its
     level's value; ``params.knobs`` holds them all). Levels (``LEVELS``):
 
@@ -219,9 +238,9 @@ SubmarineWakeV1Env.__doc__ = v1_doc(
     - ``hard``: twice the spreads, instruments twice as noisy and two actions late, fins at
       30 deg/s, the thruster at 0.6 s; a tidal stream of up to 0.6 m/s wandering by 0.2 m/s.""",
         "Version History": """
-    - v1: randomized vehicle, sensors, actuators, an ocean current, difficulty levels (the
-      sample observations are still to come; the lead already changes speed and turn rate
-      from one route segment to the next, as in v0).
+    - v1: randomized vehicle, sensors, actuators, an ocean current, difficulty levels, and
+      a lateral line in the observation (``observe_samples``); the lead changes speed and
+      turn rate from one route segment to the next, as in v0.
     - v0: first version.
 
     Examples:
@@ -230,7 +249,7 @@ SubmarineWakeV1Env.__doc__ = v1_doc(
         >>> env = gym.make("fluidsim/SubmarineWake-v1", difficulty="hard")
         >>> obs, info = env.reset(seed=0)
         >>> obs.shape
-        (25,)
+        (38,)
         >>> float(info["randomized"]["mass_kg"]) > 0.0
         True""",
     },
@@ -238,7 +257,12 @@ SubmarineWakeV1Env.__doc__ = v1_doc(
         "Observation Space": """
     The task's columns as the instruments read them (``SENSORS`` in
     ``scenes/submarine_wake/v1.py``: DVL, gyro, AHRS, depth, altimeter, USBL, flow
-    sensor), ``sensor_latency_steps`` late; the positions are exact.""",
+    sensor), ``sensor_latency_steps`` late; the positions are exact. The last 13 columns
+    (``observe_samples=True``, the default; without it the observation stops at the
+    positions) are a lateral line (``PROBES``; ``scenes/probes.py``): the flow along the
+    body's axes where the nose and the two hull cylinders meet it (the lead's wake and the
+    current included), and the angle of attack at each fin and dive plane, read through
+    the ``lateral_line`` and ``plane_vanes`` instruments.""",
         "Starting State": """
     Before the vehicle is placed, its physics is drawn from the level's ranges; what
     was drawn is ``info["randomized"]`` at every reset (and at a step where sub-envs restarted,
