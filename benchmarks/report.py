@@ -76,7 +76,9 @@ BLOCKS = (
         "docs/environments.md", "v1-sensors", "each v1 scene's SENSORS", "report:sensors_markdown"
     ),  # fmt: skip
     Block("docs/environments.md", "v1-pilots", "docs/study_levels.csv", "study_levels:markdown"),
+    Block("docs/environments.md", "v1-ppo", "docs/study_v1_ppo.csv", "study_v1_ppo:markdown"),
     Block("docs/reliability.md", "fuzz-table", "docs/fuzz.csv", "report:fuzz_markdown"),
+    Block("docs/reliability.md", "fuzz-v1-table", "docs/fuzz_v1.csv", "report:fuzz_v1_markdown"),
     Block("docs/reliability.md", "kill-table", "docs/kill_resume.csv", "report:kill_markdown"),
     Block("docs/study.md", "cost-table", "docs/study_cost.csv", "study_accuracy:cost_markdown"),
     Block("docs/study.md", "hairer-table", "docs/study_hairer.csv", "study_hairer:markdown"),
@@ -446,11 +448,17 @@ def sensors_markdown() -> str:
     return "\n".join(lines)
 
 
-def fuzz_markdown() -> str:
-    """docs/fuzz.csv as a table: each case's steps, divergence rate and the checks."""
-    if not (DOCS / "fuzz.csv").is_file():
-        return "(no docs/fuzz.csv yet: run python -m benchmarks.fuzz)"
-    comments, table = read_csv(DOCS / "fuzz.csv")
+def fuzz_v1_markdown() -> str:
+    """docs/fuzz_v1.csv (the v1 envs at hard) as :func:`fuzz_markdown`'s table."""
+    return fuzz_markdown("fuzz_v1.csv")
+
+
+def fuzz_markdown(name: str = "fuzz.csv") -> str:
+    """docs/fuzz.csv (or ``name``) as a table: each case's steps, divergence rate and the
+    checks."""
+    if not (DOCS / name).is_file():
+        return f"(no docs/{name} yet: run python -m benchmarks.fuzz)"
+    comments, table = read_csv(DOCS / name)
     lines = [
         "| env | parameters | dtype | integrator | dt (s) | env-steps | episodes | diverged "
         "| non-finite | unflagged runaways | max \\|reward\\| |",

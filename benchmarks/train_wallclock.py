@@ -65,9 +65,12 @@ def run_dir(runs: Path, config: str, variant: str, seed: int, steps: int | None 
     return runs / (f"{config}-{variant}-s{seed}" + (f"-t{steps}" if steps else ""))
 
 
-def train(runs: Path, config: str, variant: str, seed: int, steps: int | None = None) -> Path:
+def train(
+    runs: Path, config: str, variant: str, seed: int, steps: int | None = None, sets=None
+) -> Path:
     """The run of ``config`` / ``variant`` / ``seed`` (for ``steps`` env steps, else the
-    config's ``total_timesteps``), trained unless it has finished."""
+    config's ``total_timesteps``), trained unless it has finished; ``sets``: the variant's
+    ``--set`` items (default: :data:`VARIANTS`')."""
     out = run_dir(runs, config, variant, seed, steps)
     if (out / "model.zip").is_file():
         return out
@@ -81,7 +84,7 @@ def train(runs: Path, config: str, variant: str, seed: int, steps: int | None = 
         config,
         "--set",
         f"seed={seed}",
-        *VARIANTS[variant],
+        *(VARIANTS[variant] if sets is None else sets),
         *([f"total_timesteps={steps}"] if steps else []),
         "--run-dir",
         str(out),

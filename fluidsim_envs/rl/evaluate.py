@@ -160,8 +160,9 @@ def load_run(run_dir: Path, which: str = "final") -> tuple[TrainConfig, Any]:
         )
 
     vector_cls = load_env_creator(gym.spec(cfg.env_id).vector_entry_point)
-    obs_shape = (vector_cls.obs_dim,)
-    act_shape = (len(vector_cls.action_names),)
+    probe = vector_cls(num_envs=1, **cfg.env_kwargs)  # its observation follows its params
+    obs_shape, act_shape = probe.single_observation_space.shape, probe.single_action_space.shape
+    probe.close()
     model_obs = getattr(data["observation_space"], "shape", None)
     model_act = getattr(data.get("action_space"), "shape", None)
     if model_obs != obs_shape or model_act != act_shape:
