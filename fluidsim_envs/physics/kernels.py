@@ -1807,20 +1807,21 @@ def _sense_block(blk, model, samples, data, slot, bodies, out):
 
 
 @njit(**_JIT)
-def sample_flows_serial(model, samples, data, slot, bodies, out):
+def sample_flows_serial(model, samples, data, slot, bodies, blocks, out):
     """What the samples that ``slot[N]`` picks sense in every environment at its clock:
     ``out[P, R_SENSE, E]`` (rows: ``_record``'s), ``out[slot[j]]`` sample j's; ``bodies``
-    the body slots that own them. The state is not changed (scratch only: the next step
+    the body slots that own them; ``blocks`` the blocks of environments to read (the others'
+    columns are left as they were). The state is not changed (scratch only: the next step
     reloads it), so observing them leaves the trajectory bit-identical."""
-    for blk in range(data.scr.shape[0]):
-        _sense_block(blk, model, samples, data, slot, bodies, out)
+    for k in range(blocks.size):
+        _sense_block(blocks[k], model, samples, data, slot, bodies, out)
 
 
 @njit(parallel=True, **_JIT)
-def sample_flows_parallel(model, samples, data, slot, bodies, out):
+def sample_flows_parallel(model, samples, data, slot, bodies, blocks, out):
     """:func:`sample_flows_serial`, blocks spread over numba's threads."""
-    for blk in prange(data.scr.shape[0]):
-        _sense_block(blk, model, samples, data, slot, bodies, out)
+    for k in prange(blocks.size):
+        _sense_block(blocks[k], model, samples, data, slot, bodies, out)
 
 
 @njit(**_JIT)

@@ -346,6 +346,7 @@ class Simulator:
         self._bodies = [_Body(c, E, int(first[b])) for b, c in enumerate(crafts)]
         self._factors = FactorTable(self._samples.factor_row, self._samples.factor)
         self._probes: dict = {}  # sample_flows' slot maps and outputs, by samples and body
+        self._all_blocks = np.arange(-(-E // BLOCK), dtype=np.int64)  # sample_flows' default
         n_pairs = CT.num_pairs(B) if cprm[CT.C_ON] else 0
         # the step kernel compiled without contact.py where nothing can touch (its None
         # is resolved when numba compiles: kernels.step_serial)
@@ -719,7 +720,7 @@ class Simulator:
             K.sample_forces(self._model, self._samples, self._data, int(e), out)
         return out[:, :3], out[:, 3:], np.repeat(np.arange(self.num_bodies), counts)
 
-    def sample_flows(self, samples: Sequence[str], body: int = 0) -> np.ndarray:
+    def sample_flows(self, samples: Sequence[str], body: int = 0, env_ids=None) -> np.ndarray:
         """What the named samples of body slot ``body`` meet in every environment at the
         current state, from the same kernel code as the forces (``kernels._record``): an
         array of air-data probes, pressure taps and flow sensors wherever the craft has a
@@ -729,10 +730,13 @@ class Simulator:
             samples: sample names of the body's craft (``Craft.plates``, ``cylinders``,
                 ``buoyancy``, ``thrusters``), P of them, each at most once.
             body: the body slot.
+            env_ids: the environments to read (None: all; only their blocks of environments
+                are evaluated).
 
         Returns:
-            ``[E, P, len(SENSE_FIELDS)]`` float64, fields :data:`SENSE_FIELDS`: the inflow
-            (the fluid's velocity relative to the sample, body frame, m/s), its component
+            ``[n, P, len(SENSE_FIELDS)]`` float64 for the n environments ``env_ids``,
+            fields :data:`SENSE_FIELDS`: the inflow (the fluid's velocity relative to the
+            sample, body frame, m/s), its component
             along the sample's normal (a plate's; a cylinder's axis; a thruster's line), the
             density there (kg/m^3: the air's, the water's or their blend across the
             surface), the sample's height above the surface under it (m) and the pressure
@@ -742,7 +746,7 @@ class Simulator:
             is untouched.
         """
         what = "sample_flows"
-        bd = self._body(what, body)
+        ids, bd = self._env_ids(what, env_ids), self._body(what, body)
         key = (tuple(samples), int(body)) if isinstance(samples, (list, tuple)) else None
         probe = self._probes.get(key)
         if probe is None:
@@ -750,9 +754,12 @@ class Simulator:
             self._probes[key] = probe
         slot, bodies, out = probe
         kernel = K.sample_flows_parallel if self.parallel else K.sample_flows_serial
-        kernel(self._model, self._samples, self._data, slot, bodies, out)
-        # a view: ``.transpose(1, 2, 0)`` of it is C-contiguous [P, fields, E] (ProbeArray's)
-        return out[:, K.R_FORCE :, :].transpose(2, 0, 1).astype(np.float64, copy=False)
+        every = env_ids is None
+        blocks = self._all_blocks if every else np.unique(ids // BLOCK)
+        kernel(self._model, self._samples, self._data, slot, bodies, blocks, out)
+        sensed = out[:, K.R_FORCE :, :] if every else out[:, K.R_FORCE :, ids]
+        # a view: ``.transpose(1, 2, 0)`` of it is C-contiguous [P, fields, n] (ProbeArray's)
+        return sensed.transpose(2, 0, 1).astype(np.float64, copy=False)
 
     def _probe(self, what: str, samples, bd: _Body, body: int):
         """``sample_flows``' slot map, bodies and output rows for these samples (checked)."""

@@ -94,12 +94,14 @@ class ProbeArray:
         self.rho_air, self.rho_water = w.air_density_kgm3, w.water_density_kgm3
         self.gravity_mps2 = w.gravity_mps2
 
-    def read(self, density_scale: np.ndarray) -> np.ndarray:
-        """Every sub-env's probe columns [E, len(columns)] (float64), at the current state.
-        ``density_scale`` [E]: each sub-env's fluid density factor (a v1 episode's draw): the
-        physics scales the samples' areas by it, so q and pressure are scaled here."""
-        rows = self.sim.sample_flows(self.samples).transpose(1, 2, 0)  # [samples, fields, E]
-        out = np.empty((self.sim.num_envs, len(self.columns)))
+    def read(self, density_scale: np.ndarray, env_ids=None) -> np.ndarray:
+        """The probe columns [n, len(columns)] (float64) of sub-envs ``env_ids`` (None: all),
+        at the current state. ``density_scale`` [n]: each one's fluid density factor (a v1
+        episode's draw): the physics scales the samples' areas by it, so q and pressure are
+        scaled here."""
+        flows = self.sim.sample_flows(self.samples, env_ids=env_ids)
+        rows = flows.transpose(1, 2, 0)  # [samples, fields, n]
+        out = np.empty((rows.shape[2], len(self.columns)))
         c = 0
         for at, probe in zip(self.at, self.probes, strict=True):
             # the probe's mean sensed fields [fields, E] (no BLAS: its threads would spin

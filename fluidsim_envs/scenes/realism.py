@@ -336,13 +336,13 @@ class Version1:
         super()._observe(out, ids)
         out[ids, self._positions] = self.sim.actuators[ids]
         if self.probes is not None:
-            out[ids, self._probed] = self._probe()[ids]
+            out[ids, self._probed] = self._probe(ids)
 
-    def _probe(self) -> np.ndarray:
-        """The probes' columns of every sub-env, in the episode's fluid density."""
-        return self.probes.read(
-            self.realism.drawn[:, self.realism.drawn_names.index("density_scale")]
-        )
+    def _probe(self, ids=None) -> np.ndarray:
+        """The probes' columns of sub-envs ``ids`` (None: all), in the episode's fluid
+        density."""
+        scale = self.realism.drawn[:, self.realism.drawn_names.index("density_scale")]
+        return self.probes.read(scale if ids is None else scale[ids], ids)
 
     def _info_after_reset(self) -> dict:
         return {**super()._info_after_reset(), "randomized": self.realism.info()}

@@ -133,3 +133,11 @@ def test_bad_samples_are_named(samples, body, match):
     sim = Simulator(Craft.load("paper_airplane"), World(), num_envs=2)
     with pytest.raises(ValueError, match=match):
         sim.sample_flows(samples, body=body)
+
+
+def test_some_environments_read_as_in_a_full_read():
+    sim = _flying(np.random.default_rng(4))
+    names = ["left_wing", "fin", "left_elevator"]
+    full = sim.sample_flows(names).copy()
+    ids = np.array([66, 3, 64])  # both blocks, out of order
+    np.testing.assert_array_equal(sim.sample_flows(names, env_ids=ids), full[ids])
