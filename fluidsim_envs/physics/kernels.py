@@ -317,12 +317,12 @@ def _first_sample(samples, b):
     return at + samples.buoy_at[b] + samples.thr_at[b]
 
 
-# A recording ``rec = (slot[N], out[P, R, E'], e0)`` of ``_evaluate`` (``out`` C-contiguous, so
-# that its loops vectorize): sample j (all bodies' samples in order) goes to
-# ``out[slot[j], :, e0 + i]`` for environment i of the block, or nowhere where ``slot[j] < 0``
-# (``_picked``). Rows: the world offset from the center of mass and the force
-# (``sample_forces``: R = R_FORCE), then, where R > R_FORCE, what the sample senses
-# (``sample_flows``), in SENSE_FIELDS' order.
+# A recording ``rec = (slot[N], out[P, R, E'], e0)`` of ``_evaluate`` (``out`` C-contiguous):
+# sample j (all bodies' samples in order) goes to ``out[slot[j], :, e0 + i]`` for environment
+# i of the block, or nowhere where ``slot[j] < 0`` (``_picked``). Rows: the world offset from
+# the center of mass and the force (``sample_forces``: R = R_FORCE); a fourth element
+# (``sample_flows``: ``(slot, out, e0, True)``, R = R_SENSE) also records what the sample
+# senses, in SENSE_FIELDS' order (the tuple's length is its type: no branch at run time).
 R_FORCE = 6
 SENSE_FIELDS = (
     "inflow_x_mps",  # the fluid's velocity relative to the sample, body frame
@@ -340,15 +340,16 @@ R_SENSE = R_FORCE + len(SENSE_FIELDS)
 @njit(**_INLINE)
 def _record(rec, j, i, S, got):
     """Sample j's world offset r and force F for body i of the block, and, where ``rec``
-    has the rows, what it senses: ``got = (rx, ry, rz, fx, fy, fz, flow, nx, ny, nz, area)``
-    as the ``_plate_at`` kind return, ``flow`` as ``_flow``'s (its velocity through the fluid
-    and the density), n its normal (world). Not on the step path: ``rec`` is None there."""
+    says so (its fourth element), what it senses. ``got = (rx, ry, rz, fx, fy, fz, flow, nx,
+    ny, nz, area)`` as the ``_plate_at`` kind return, ``flow`` as ``_flow``'s (its velocity
+    through the fluid and the density), n its normal (world). Not on the step path: ``rec``
+    is None there."""
     rx, ry, rz, fx, fy, fz, flow, nx, ny, nz, area = got
-    slot, out, e0 = rec
+    slot, out, e0 = rec[0], rec[1], rec[2]
     s, e = slot[j], e0 + i
     out[s, 0, e], out[s, 1, e], out[s, 2, e] = rx, ry, rz
     out[s, 3, e], out[s, 4, e], out[s, 5, e] = fx, fy, fz
-    if out.shape[1] > R_FORCE:
+    if len(rec) > 3:  # sample_flows' recording: a type, so no branch is compiled
         vx, vy, vz, rho = flow
         m = _matrix(S, i)  # body = M^T world; the inflow is the fluid's: -v
         out[s, 6, e] = -(m[0] * vx + m[3] * vy + m[6] * vz)
@@ -548,7 +549,7 @@ def _skin(pt, rx, ry, rz, nx, ny, nz, fluid, area, cf, ittc, length, vmax, fmax)
 def _record_add(rec, j, i, got):
     """Add a force to sample j's recorded one (its skin friction; the sensed pressure is the
     plate's normal force's only)."""
-    slot, out, e0 = rec
+    slot, out, e0 = rec[0], rec[1], rec[2]
     s, e = slot[j], e0 + i
     out[s, 3, e] += got[3]
     out[s, 4, e] += got[4]
@@ -1798,7 +1799,7 @@ def _sense_block(blk, model, samples, data, slot, bodies, out):
     samples that ``slot`` picks into the block's columns of ``out``."""
     prm, wprm, ctrl, flap_now, external = _forces(model, data)
     e0, n = _load_block(blk, model, samples, data)
-    rec = (slot, out, e0)
+    rec = (slot, out, e0, True)  # the fourth: record what the samples sense
     for b in bodies:
         S = data.scr[blk, b]
         if model.swell.shape[0] > 0:

@@ -530,10 +530,12 @@ class Simulator:
     def center_actuators(self, env_ids=None) -> None:
         """Put the actuators of environments ``env_ids`` (None: all) at rest at 0, with a
         command of 0 (what :meth:`reset` does; for a scene that writes its starts into
-        :meth:`start_arrays`). Nothing without actuators."""
+        :meth:`start_arrays`). Without actuators, the controls at 0: the surfaces centred
+        for what is evaluated before the next step sets them (a new episode's first
+        :meth:`sample_flows` must not depend on the last one's controls)."""
+        ids = self._env_ids("center_actuators", env_ids)
+        self._data.ctrl[:, ids] = 0.0
         if self.actuated:
-            ids = self._env_ids("center_actuators", env_ids)
-            self._data.ctrl[:, ids] = 0.0
             self._data.command[:, ids] = 0.0
 
     def set_actuators(self, time_constant_s=None, rate_limit_per_s=None) -> None:
@@ -728,7 +730,8 @@ class Simulator:
 
         Args:
             samples: sample names of the body's craft (``Craft.plates``, ``cylinders``,
-                ``buoyancy``, ``thrusters``), P of them, each at most once.
+                ``buoyancy``; not ``thrusters``: a point force meets no flow), P of them,
+                each at most once.
             body: the body slot.
             env_ids: the environments to read (None: all; only their blocks of environments
                 are evaluated).
@@ -736,21 +739,24 @@ class Simulator:
         Returns:
             ``[n, P, len(SENSE_FIELDS)]`` float64 for the n environments ``env_ids``,
             fields :data:`SENSE_FIELDS`: the inflow (the fluid's velocity relative to the
-            sample, body frame, m/s), its component
-            along the sample's normal (a plate's; a cylinder's axis; a thruster's line), the
+            sample, body frame, m/s; 0 at a buoyancy sample, at rest in the water it
+            displaces), its component along the sample's normal (a plate's; a cylinder's
+            axis), the
             density there (kg/m^3: the air's, the water's or their blend across the
             surface), the sample's height above the surface under it (m) and the pressure
             (a plate's or a buoyancy sample's force against its normal per area, Pa: onto a
             hull whose normals point out; 0 where it has no area). Each call evaluates the
             chosen bodies' forces once (a step's cost over its force evaluations); the state
-            is untouched.
+            is untouched. In float64 the array is a view of a buffer that the next call
+            with the same samples rewrites: copy it to keep it.
         """
         what = "sample_flows"
         ids, bd = self._env_ids(what, env_ids), self._body(what, body)
-        key = (tuple(samples), int(body)) if isinstance(samples, (list, tuple)) else None
+        listed = isinstance(samples, Sequence) and not isinstance(samples, str)
+        key = (tuple(samples), int(body)) if listed else None
         probe = self._probes.get(key)
         if probe is None:
-            probe = self._probe(what, samples, bd, int(body))
+            probe = self._probe(what, samples, bd, int(body))  # checked: raises if not listed
             self._probes[key] = probe
         slot, bodies, out = probe
         kernel = K.sample_flows_parallel if self.parallel else K.sample_flows_serial
@@ -758,7 +764,7 @@ class Simulator:
         blocks = self._all_blocks if every else np.unique(ids // BLOCK)
         kernel(self._model, self._samples, self._data, slot, bodies, blocks, out)
         sensed = out[:, K.R_FORCE :, :] if every else out[:, K.R_FORCE :, ids]
-        # a view: ``.transpose(1, 2, 0)`` of it is C-contiguous [P, fields, n] (ProbeArray's)
+        # in float64 a view of the buffer the next call rewrites (copy to keep it)
         return sensed.transpose(2, 0, 1).astype(np.float64, copy=False)
 
     def _probe(self, what: str, samples, bd: _Body, body: int):
@@ -773,6 +779,9 @@ class Simulator:
                              f"its samples are {sorted(where)}")  # fmt: skip
         if len(set(samples)) != len(samples):
             raise ValueError(f"{what}: samples named twice in {list(samples)}")
+        thrusters = [n for n in samples if where[n][0] == "thr"]
+        if thrusters:
+            raise ValueError(f"{what}: {thrusters} are thrusters: a point force meets no flow")
         slot = np.full(self._samples.factor_row.shape[1], -1, dtype=np.int64)
         slot[bd.numbers([where[n] for n in samples])] = np.arange(len(samples))
         out = np.zeros((len(samples), K.R_SENSE, self.num_envs), dtype=self._data.scr.dtype)

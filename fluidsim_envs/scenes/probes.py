@@ -99,7 +99,12 @@ class ProbeArray:
         at the current state. ``density_scale`` [n]: each one's fluid density factor (a v1
         episode's draw): the physics scales the samples' areas by it, so q and pressure are
         scaled here."""
-        flows = self.sim.sample_flows(self.samples, env_ids=env_ids)
+        with np.errstate(invalid="ignore", over="ignore"):  # diverged rows: masked after
+            return self._columns(self.sim.sample_flows(self.samples, env_ids=env_ids),
+                                 density_scale)  # fmt: skip
+
+    def _columns(self, flows: np.ndarray, density_scale: np.ndarray) -> np.ndarray:
+        """The probe columns from ``sample_flows``' [n, samples, fields]."""
         rows = flows.transpose(1, 2, 0)  # [samples, fields, n]
         out = np.empty((rows.shape[2], len(self.columns)))
         c = 0

@@ -127,10 +127,12 @@ def test_reading_leaves_the_trajectory_bit_identical_and_kernels_agree():
         ("left_wing", 0, "non-empty list of sample names, got 'left_wing'"),
         (["fin", "fin"], 0, "named twice"),
         (["fin"], 3, "body"),
+        (["hull_fore", "propeller"], 0, r"\['propeller'\] are thrusters"),
     ],
 )
 def test_bad_samples_are_named(samples, body, match):
-    sim = Simulator(Craft.load("paper_airplane"), World(), num_envs=2)
+    craft = "uuv" if "propeller" in samples else "paper_airplane"
+    sim = Simulator(Craft.load(craft), World(), num_envs=2)
     with pytest.raises(ValueError, match=match):
         sim.sample_flows(samples, body=body)
 

@@ -316,3 +316,15 @@ def test_the_uuvs_lateral_line_reads_the_wake_less_its_own_motion():
         expected = c[f"flow_{axis}"] - mine
         np.testing.assert_allclose(c[f"nose_flow_{axis}"], expected, rtol=0.0, atol=2e-5)
     assert np.abs(c["flow_y"]).max() > 1e-3  # the wake is there to be read
+
+
+@pytest.mark.parametrize("env_id", V1)
+def test_a_reset_reads_the_probes_as_a_fresh_env_does(env_id):
+    """Without actuators (easy) the surfaces are centred at a reset: the new episode's
+    first observation, probes included, does not depend on the last one's controls."""
+    fresh = make_vec(env_id, 2, difficulty="easy")
+    used = make_vec(env_id, 2, difficulty="easy")
+    used.reset(seed=1)
+    for _ in range(3):
+        used.step(np.ones((2, 3)))
+    np.testing.assert_array_equal(used.reset(seed=9)[0], fresh.reset(seed=9)[0])
