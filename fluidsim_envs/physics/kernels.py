@@ -328,7 +328,7 @@ SENSE_FIELDS = (
     "inflow_x_mps",  # the fluid's velocity relative to the sample, body frame
     "inflow_y_mps",
     "inflow_z_mps",
-    "inflow_normal_mps",  # along the plate's normal (the cylinder's axis, the thrust's line)
+    "inflow_normal_mps",  # along the plate's normal (the cylinder's axis)
     "density_kgm3",  # the fluid's there: the air's, the water's, or a blend at the surface
     "height_m",  # the sample's height above the surface under it (above z = 0 without one)
     "pressure_pa",  # the force against the normal per unit of area: onto a hull whose

@@ -741,9 +741,8 @@ class Simulator:
             fields :data:`SENSE_FIELDS`: the inflow (the fluid's velocity relative to the
             sample, body frame, m/s; 0 at a buoyancy sample, at rest in the water it
             displaces), its component along the sample's normal (a plate's; a cylinder's
-            axis), the
-            density there (kg/m^3: the air's, the water's or their blend across the
-            surface), the sample's height above the surface under it (m) and the pressure
+            axis), the density there (kg/m^3: the air's, the water's or their blend across
+            the surface), the sample's height above the surface under it (m) and the pressure
             (a plate's or a buoyancy sample's force against its normal per area, Pa: onto a
             hull whose normals point out; 0 where it has no area). Each call evaluates the
             chosen bodies' forces once (a step's cost over its force evaluations); the state

@@ -35,13 +35,14 @@ import numpy as np
 from ..physics.kernels import SENSE_FIELDS
 
 _F = {name: j for j, name in enumerate(SENSE_FIELDS)}
+_AXIS = {"flow_x": _F["inflow_x_mps"], "flow_y": _F["inflow_y_mps"], "flow_z": _F["inflow_z_mps"]}
 
 # what a probe can read: unit and description (``{}`` the probe's words)
 READS = {
     "aoa": ("rad", "angle of attack of the inflow at the {}"),
     "q": ("Pa", "dynamic pressure of the inflow at the {}"),
     "wetted": ("1", "wetted fraction of the {} (0 dry, 1 under water)"),
-    "pressure": ("kPa", "pressure on the {} along its normal"),
+    "pressure": ("kPa", "gauge pressure on the {} (the flow's and the water's weight)"),
     "flow_x": ("m/s", "inflow at the {} along body x"),
     "flow_y": ("m/s", "inflow at the {} along body y"),
     "flow_z": ("m/s", "inflow at the {} along body z"),
@@ -133,8 +134,7 @@ class ProbeArray:
             depth = np.maximum(-m[_F["height_m"]], 0.0)
             static = self.rho_water * self.gravity_mps2 * depth
             return 1e-3 * (m[_F["pressure_pa"]] + static) * density_scale
-        axis = {"flow_x": "inflow_x_mps", "flow_y": "inflow_y_mps", "flow_z": "inflow_z_mps"}
-        return m[_F[axis[read]]]
+        return m[_AXIS[read]]
 
 
 __all__ = ["READS", "Probe", "ProbeArray", "probe_columns"]

@@ -173,6 +173,7 @@ class Realism:
             "thrust_scale", "density_scale",
         )  # fmt: skip
         self.drawn = np.ones((E, len(self.drawn_names)))
+        self.density_column = self.drawn_names.index("density_scale")  # the probes read it
         self.drawn[:, 0] = self.mass_kg
         self.drawn[:, 2:5] = 0.0
         self.randomizes = (
@@ -341,7 +342,7 @@ class Version1:
     def _probe(self, ids=None) -> np.ndarray:
         """The probes' columns of sub-envs ``ids`` (None: all), in the episode's fluid
         density."""
-        scale = self.realism.drawn[:, self.realism.drawn_names.index("density_scale")]
+        scale = self.realism.drawn[:, self.realism.density_column]
         return self.probes.read(scale if ids is None else scale[ids], ids)
 
     def _info_after_reset(self) -> dict:

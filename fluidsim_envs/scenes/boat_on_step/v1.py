@@ -9,6 +9,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from ...craft.hull import HULLS
 from ...physics import World
 from ...physics.surface import irregular_sea
 from ..base import FluidEnv
@@ -29,13 +30,15 @@ from .kernel import OBSERVATION
 
 CONTROLS = ("throttle", "rudder", "trim_tabs")  # the craft's channels (speedboat.toml)
 
-# A hull pressure-tap array: at each of the hull's 8 stations (from the transom), the wetted
-# fraction and the mean pressure of its four bottom plates (speedboat.toml; craft/hull.py)
+# A hull pressure-tap array: at each of the hull's stations (from the transom), the wetted
+# fraction and the mean pressure of its bottom plates (the hull that speedboat.toml is
+# generated from: craft/hull.py names them bottom_{station}_{side}_{strip})
+HULL = HULLS["speedboat"]
 PROBES = tuple(
     Probe(f"station_{k}", tuple(f"bottom_{k}_{side}_{j}" for side in ("port", "starboard")
-                                for j in (0, 1)),
+                                for j in range(HULL.strips)),
           ("wetted", "pressure"), f"hull station {k} from the transom")
-    for k in range(8)
+    for k in range(HULL.stations)
 )  # fmt: skip
 
 # The instruments of a small sport boat with a navigation and motion package. Noise per
