@@ -24,7 +24,7 @@ from ..limits import (
     check_step,
 )
 from . import kernel as TK
-from .kernel import OBSERVATION, REWARD_TERMS
+from .kernel import OBSERVATION, REWARD_TERMS_V0
 from .view import BoatOnStepView
 
 GATES = 6  # per course (a fixed count, so that an episode's draws never depend on a limit)
@@ -146,7 +146,7 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
     Params = BoatOnStepParams
     View = BoatOnStepView
     obs_dim = len(OBSERVATION)
-    reward_terms = REWARD_TERMS
+    reward_terms = REWARD_TERMS_V0
     action_names = ("throttle", "rudder", "trim_tabs")
     state_fields = (
         ("_mooring", 0),
@@ -184,7 +184,7 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         self.draws_per_episode = 4 + 2 * GATES
         self._task = TK.task_parallel if self.sim.parallel else TK.task_serial
         self._ctrl = np.zeros((E, 3))
-        self._terms = np.zeros((len(REWARD_TERMS), E))
+        self._terms = np.zeros((TK.NTERMS, E))  # every version's; reward_terms' rows first
         self._flags = np.zeros((TK.NFLAGS, E), dtype=bool)
 
     def _world(self) -> World:
@@ -203,6 +203,10 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
             "bow_z_m": stem.offset_m[2],
             "hull_half_beam_m": max(abs(s.offset_m[1]) for s in self.craft.plates),
         }
+        if hasattr(self.params, "ride_limit_g"):  # v1 judges the ride
+            derived["ride_limit_mps2"] = self.params.ride_limit_g * self.world.gravity_mps2
+        else:  # v0 does not: no weight, any limit and window (never read)
+            derived.update(w_ride=0.0, ride_limit_mps2=1.0, ride_window_s=1.0)
         return derived[name] if name in derived else float(getattr(self.params, name))
 
     # ---- episode start --------------------------------------------------------------------
@@ -261,7 +265,8 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         else:
             self.sim.reset(pos=pos[:, None], quat=quat[:, None], env_ids=ids)
         st, _, _ = self.sim.kernel_arrays()
-        TK.start(st, self.course, self.task, np.asarray(ids, dtype=np.int64))
+        _, _, body = self.sim.kernel_arrays()
+        TK.start(st, body, self.course, self.task, self._cfg, np.asarray(ids, dtype=np.int64))
 
     # ---- step -----------------------------------------------------------------------------
 
@@ -304,7 +309,8 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
             # the course run through, every gate passed, nothing crashed
             "success": f[TK.F_FINISHED] & (self.task[TK.K_MISSED] == 0) & ~crashed & ~diverged,
         }
-        return crashed | f[TK.F_FINISHED], diverged, self._terms.copy(), info
+        terms = self._terms[: len(self.reward_terms)].copy()
+        return crashed | f[TK.F_FINISHED], diverged, terms, info
 
     def buoy_xy(self, env_index: int) -> np.ndarray:
         """Where sub-env ``env_index``'s buoys are, [2 GATES, 2] (m, world): the bodies'

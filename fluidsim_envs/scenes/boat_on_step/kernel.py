@@ -53,11 +53,13 @@ O_GATE_HEADING_SIN, O_GATE_HEADING_COS = OBS["gate_heading_sin"], OBS["gate_head
 O_TARGET_SPEED = OBS["target_speed"]
 O_PITCH_OSCILLATION = OBS["pitch_oscillation"]
 
-REWARD_TERMS = ("speed", "progress", "gate", "buoy", "porpoise", "fuel", "crash")
+# v0's terms; v1 adds the ride (seakeeping) term after them, so v0's rows are a prefix
+REWARD_TERMS_V0 = ("speed", "progress", "gate", "buoy", "porpoise", "fuel", "crash")
+REWARD_TERMS = REWARD_TERMS_V0 + ("ride",)
 TERMS = index(REWARD_TERMS)
 T_SPEED, T_PROGRESS, T_GATE = TERMS["speed"], TERMS["progress"], TERMS["gate"]
 T_BUOY, T_PORPOISE = TERMS["buoy"], TERMS["porpoise"]
-T_FUEL, T_CRASH = TERMS["fuel"], TERMS["crash"]
+T_FUEL, T_CRASH, T_RIDE = TERMS["fuel"], TERMS["crash"], TERMS["ride"]
 NTERMS = len(REWARD_TERMS)
 FLAG_NAMES = (
     "capsized",
@@ -88,6 +90,8 @@ TASK_ROWS = (
     "porpoising",  # steps porpoising this episode
     "planed",  # the time the boat first planed, -1 until it does
     "time",
+    "bow_vz",  # the stem's vertical velocity at the last step (m/s, world)
+    "ride_var",  # running mean square of the stem's vertical acceleration (m^2/s^4)
 )
 TASK = index(TASK_ROWS)
 K_GATE, K_TARGET, K_TRIM_MEAN = TASK["gate"], TASK["target_speed"], TASK["trim_mean"]
@@ -99,6 +103,7 @@ K_DEV_MEAN, K_PITCH_VAR, K_SIDE, K_DIST = (
 )
 K_PASSED, K_MISSED, K_PORPOISING = TASK["passed"], TASK["missed"], TASK["porpoising"]
 K_PLANED, K_TIME = TASK["planed"], TASK["time"]
+K_BOW_VZ, K_RIDE_VAR = TASK["bow_vz"], TASK["ride_var"]
 NTASK = len(TASK_ROWS)
 # porpoising is a pitch-heave oscillation of 0.5-2 s period: the trim is high-passed twice with
 # this time constant (a corner near 0.8 Hz) so that the slow trim changes of getting on plane
@@ -134,6 +139,9 @@ CFG_FIELDS = (
     "bow_x_m",
     "bow_z_m",
     "hull_half_beam_m",
+    "w_ride",
+    "ride_limit_mps2",
+    "ride_window_s",
 )
 CFG = index(CFG_FIELDS)  # field -> slot
 C_W_SPEED, C_W_PROGRESS, C_W_GATE = CFG["w_speed"], CFG["w_progress"], CFG["w_gate"]
@@ -148,6 +156,8 @@ C_POWER = CFG["engine_power_w"]
 C_MAX_THRUST, C_MIN_THRUST = CFG["max_thrust_n"], CFG["min_thrust_n"]
 C_STEP, C_REST = CFG["step_s"], CFG["rest_height_m"]
 C_BOW_X, C_BOW_Z, C_HALF_BEAM = CFG["bow_x_m"], CFG["bow_z_m"], CFG["hull_half_beam_m"]
+C_W_RIDE, C_RIDE_WINDOW = CFG["w_ride"], CFG["ride_window_s"]
+C_RIDE_LIMIT = CFG["ride_limit_mps2"]
 
 _JIT = dict(cache=True, error_model="numpy")
 TASK_BLOCK = 64  # sub-envs per call of a parallel task kernel (paper_airplane/kernel.py)
@@ -231,9 +241,21 @@ def observe(ids, skip, st, body, course, task, swell, clock, cfg, out):
 
 
 @njit(**_JIT)
-def start(st, course, task, ids):
+def bow_vertical_velocity(st, body, e, cfg):
+    """The stem's vertical velocity (m/s, world z) in sub-env e: the centre of gravity's plus
+    the rotation's, omega x r at the stem (``bow_x_m``, 0, ``bow_z_m`` in the body frame)."""
+    _, (_, _, vz), rot, w = body_state(st, 0, e, env_inv_inertia(body, e, 0))
+    rx = rot[0] * cfg[C_BOW_X] + rot[2] * cfg[C_BOW_Z]  # the stem's offset, world frame
+    ry = rot[3] * cfg[C_BOW_X] + rot[5] * cfg[C_BOW_Z]
+    return vz + w[0] * ry - w[1] * rx
+
+
+@njit(**_JIT)
+def start(st, body, course, task, cfg, ids):
     """Task state of the envs ``ids`` at the start of an episode (target speed already set)."""
     for e in ids:
+        task[K_BOW_VZ, e] = bow_vertical_velocity(st, body, e, cfg)
+        task[K_RIDE_VAR, e] = 0.0
         task[K_GATE, e] = 1.0
         task[K_PASSED, e] = 0.0
         task[K_MISSED, e] = 0.0
@@ -253,7 +275,7 @@ def start(st, course, task, ids):
 
 @njit(**_JIT)
 def score(
-    lo, hi, st, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms, flags
+    lo, hi, st, body, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms, flags
 ):
     """Gates, buoys, porpoising, capsize, bow stuffing and leaving the course, and the reward
     terms, of sub-envs ``lo`` to ``hi - 1`` after a step; writes ``terms`` [NTERMS, E] and
@@ -265,10 +287,18 @@ def score(
     square of what passes, over ``porpoise_window_s``, is A^2 / 8 for a sustained sinusoid
     of peak-to-peak amplitude A (times the filter's gain, 0.82 at 1.6 Hz), so the estimate
     2 sqrt(2 var) reads A.
+
+    The ride (v1) is judged at the stem, as a seakeeping criterion judges a craft in a seaway:
+    its vertical acceleration, averaged over each step (the change of its vertical velocity,
+    :func:`bow_vertical_velocity`), squared and averaged over ``ride_window_s``; above the
+    limit ``ride_limit_mps2`` its root costs ``w_ride`` per step per multiple of the limit.
+    Unlike the trim's oscillation it charges the sea's motion to the helm only as far as the
+    helm can ease it: by speed and trim.
     """
     last = course.shape[1] - 1  # the last gate's index (0 is the start point)
     k = 1.0 - math.exp(-cfg[C_STEP] / cfg[C_PORPOISE_WINDOW])
     hp = 1.0 - math.exp(-cfg[C_STEP] / HIGHPASS_S)
+    k_ride = 1.0 - math.exp(-cfg[C_STEP] / cfg[C_RIDE_WINDOW])
     capsize = math.radians(cfg[C_CAPSIZE])
     for e in range(lo, hi):
         for j in range(NTERMS):
@@ -301,6 +331,15 @@ def score(
             flags[F_PORPOISE, e] = True
             task[K_PORPOISING, e] += 1.0
             terms[T_PORPOISE, e] = -cfg[C_W_PORPOISE] * (amp / cfg[C_PORPOISE] - 1.0)
+
+        # the ride: the stem's vertical acceleration against the limit
+        bow_vz = bow_vertical_velocity(st, body, e, cfg)
+        acc = (bow_vz - task[K_BOW_VZ, e]) / cfg[C_STEP]
+        task[K_BOW_VZ, e] = bow_vz
+        task[K_RIDE_VAR, e] += k_ride * (acc * acc - task[K_RIDE_VAR, e])
+        rough = math.sqrt(task[K_RIDE_VAR, e]) / cfg[C_RIDE_LIMIT]
+        if rough > 1.0:
+            terms[T_RIDE, e] = -cfg[C_W_RIDE] * (rough - 1.0)
 
         # speed and fuel
         err = task[K_TARGET, e] - speed
@@ -369,7 +408,10 @@ def task_range(
     flags, out
 ):
     """Score and observe sub-envs ``lo`` to ``hi - 1`` after a physics step."""
-    score(lo, hi, st, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms, flags)
+    score(
+        lo, hi, st, body, diverged, actions, course, buoys, hits, task, swell, clock, cfg, terms,
+        flags
+    )
     observe(np.arange(lo, hi), diverged, st, body, course, task, swell, clock, cfg, out)
 
 

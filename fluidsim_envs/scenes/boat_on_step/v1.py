@@ -25,8 +25,9 @@ from ..realism import (
     v1_doc,
 )
 from ..sensors import Sensor
+from . import kernel as TK
 from .env import BoatOnStepEnv, BoatOnStepParams, BoatOnStepVectorEnv
-from .kernel import OBSERVATION
+from .kernel import OBSERVATION, REWARD_TERMS
 
 CONTROLS = ("throttle", "rudder", "trim_tabs")  # the craft's channels (speedboat.toml)
 
@@ -43,7 +44,7 @@ PROBES = tuple(
 
 # The instruments of a small sport boat with a navigation and motion package. Noise per
 # reading at the action rate (20 Hz), from the datasheets named; the task's own columns
-# (target speed, the trim oscillation estimate) are exact.
+# (target speed, the trim oscillation and ride estimates) are exact.
 SENSORS = (
     Sensor("gnss_velocity", ("u", "v", "w", "speed_error"), noise=0.05,
            hardware="GNSS velocity (u-blox ZED-F9P: 0.05 m/s)"),
@@ -90,7 +91,13 @@ KNOB_RANGES = {
 }
 KNOBS = BoatKnobs  # what docs/environments.md's level table lists
 PLAN = Plan(groups=("bottom", "friction", "topsides"), sensors=SENSORS, probes=PROBES)
-OBSERVATION_V1 = OBSERVATION + PLAN.columns(CONTROLS)
+# v1 judges the ride (kernel.score), so its running estimate is observed beside v0's columns
+RIDE_COLUMN = (
+    ("bow_acceleration_rms", "m/s^2",
+     "the stem's vertical acceleration, root mean square over ride_window_s (running)"),
+)  # fmt: skip
+O_RIDE = len(OBSERVATION)
+OBSERVATION_V1 = OBSERVATION + RIDE_COLUMN + PLAN.columns(CONTROLS)
 
 LEVELS: dict[str, dict] = {
     "easy": {},
@@ -146,6 +153,22 @@ class BoatOnStepV1Params(BoatOnStepParams, KnobParams):
     ``LEVELS``)."""
 
     NAME: ClassVar[str] = "BoatOnStep-v1"
+    RANGES: ClassVar[dict] = {
+        **BoatOnStepParams.RANGES,
+        "ride_limit_g": Bound(1e-3, 10.0),
+        "ride_window_s": Bound(0.05, 60.0),
+        "w_ride": BoatOnStepParams.RANGES["w_porpoise"],
+    }
+    # the ride, judged as a seakeeping criterion judges a craft in a seaway: the root mean
+    # square vertical acceleration at the bow against NORDFORSK's limit for craft under 100 m
+    # at the forward perpendicular (NORDFORSK 1987, "Assessment of ship performance in a
+    # seaway": 0.275 g). It replaces v0's porpoising term (w_porpoise 0, still reported in
+    # info): the trim's oscillation counts the sea's pitching as the helm's, a rough ride is
+    # what the helm can ease (by speed and trim), and a porpoising hull rides roughly too.
+    ride_limit_g: float = 0.275
+    ride_window_s: float = 2.0  # averaging time of the estimate (a few wave encounters)
+    w_ride: float = 0.01  # per step, times the rms acceleration over the limit, minus 1
+    w_porpoise: float = 0.0
     wind_mps: float | None = None
     sea_hs_m: float | None = None
     sea_tp_s: float | None = None
@@ -165,6 +188,7 @@ class BoatOnStepV1VectorEnv(Version1, BoatOnStepVectorEnv):
     """BoatOnStep-v1 for N boats at once; documented on :class:`BoatOnStepV1Env`."""
 
     Params = BoatOnStepV1Params
+    reward_terms = REWARD_TERMS
     obs_dim = len(OBSERVATION_V1)
     plan = PLAN
     state_fields = BoatOnStepVectorEnv.state_fields + V1_STATE
@@ -180,6 +204,15 @@ class BoatOnStepV1VectorEnv(Version1, BoatOnStepVectorEnv):
         if k.sea_hs_m > 0.0:  # the components straddle the peak: a fixed sea, a random moment
             swell = irregular_sea(k.sea_hs_m, k.sea_tp_s, k.sea_gamma, spread_deg=30.0)
         return World(water=True, swell=swell, wave_orbital_velocity=True)
+
+    def _advance(self, actions):
+        out = super()._advance(actions)
+        self._truth[:, O_RIDE] = np.sqrt(self.task[TK.K_RIDE_VAR])
+        return out
+
+    def _observe(self, out, ids) -> None:
+        super()._observe(out, ids)
+        out[ids, O_RIDE] = np.sqrt(self.task[TK.K_RIDE_VAR, ids])
 
     own_draws = 2  # the wind's speed and direction
 
@@ -204,6 +237,25 @@ BoatOnStepV1Env.__doc__ = v1_doc(
     spools.""",
     OBSERVATION_V1[len(OBSERVATION) :],
     replace={
+        "Rewards": """
+    v0's terms, with the hull's motion judged differently: ``porpoise`` weighs nothing
+    (``w_porpoise`` 0; ``info["porpoising"]`` still flags it) and a ``ride`` term takes its
+    place, a seakeeping criterion: ``-w_ride * (rms / limit - 1)`` every step the stem's
+    vertical acceleration, root mean square over ``ride_window_s`` (2 s; observed as
+    ``bow_acceleration_rms``), passes ``ride_limit_g`` (0.275 g: NORDFORSK 1987, at the
+    bow of craft under 100 m). v0's trim oscillation reads the sea's own pitching as
+    porpoising (the tuned pilot at standard: -132 a run for it, against +24 for the
+    gates), so a policy learned to crawl the course below planing speed; the ride charges
+    what the helm can ease, by speed and trim, and a porpoising hull in calm water fails it
+    too (tests/scenes/test_boat_ride.py). The other terms are v0's:
+
+    - ``speed``: ``w_speed * exp(-|speed error| / speed_scale_mps)`` every step;
+    - ``progress``: ``w_progress`` per meter closed on the next gate's center;
+    - ``gate``: ``+w_gate`` for a gate passed between its buoys, ``-w_gate`` for one missed;
+    - ``buoy``: ``-w_buoy`` every step the hull touches a buoy;
+    - ``fuel``: ``-w_fuel`` x the throttle ahead, every step;
+    - ``crash``: ``-w_crash`` on capsizing, stuffing the bow, leaving the course, or a
+      diverged state.""",
         "Description": """
     As v0: get the speedboat up on step and run the course of gates. Each run's boat
     is drawn anew (load: mass, inertia, centre of gravity; the bottom's, friction strips'
@@ -218,7 +270,8 @@ BoatOnStepV1Env.__doc__ = v1_doc(
     (``surface_time_constant_s``, ``surface_rate_dps``; the throttle:
     ``thrust_time_constant_s``, ``thrust_rate_per_s``).""",
         "Arguments": """
-    v0's, ``difficulty`` (``"easy"``, ``"standard"`` (default), ``"hard"``),
+    v0's, the ride's (``ride_limit_g``, ``ride_window_s``, ``w_ride``; ``w_porpoise``
+    defaults to 0), ``difficulty`` (``"easy"``, ``"standard"`` (default), ``"hard"``),
     ``observe_samples`` (default True: the probes' columns end the observation) and each
     knob of :class:`~fluidsim_envs.scenes.realism.Knobs` alone (given, it overrides its
     level's value; ``params.knobs`` holds them all). Levels (``LEVELS``):
@@ -231,8 +284,9 @@ BoatOnStepV1Env.__doc__ = v1_doc(
       steering (25 deg/s) and engine (1.5 s), a wind of up to 10 m/s and a 0.4 m sea of 3 s.""",
         "Version History": """
     - v1: randomized boat, sensors, actuators, wind, an irregular sea whose water moves,
-      difficulty levels, and a hull pressure-tap array in the observation
-      (``observe_samples``).
+      difficulty levels, a hull pressure-tap array in the observation
+      (``observe_samples``), and the ride (a seakeeping criterion at the bow) in place of
+      the porpoising term.
     - v0: first version.
 
     Examples:
@@ -241,7 +295,7 @@ BoatOnStepV1Env.__doc__ = v1_doc(
         >>> env = gym.make("fluidsim/BoatOnStep-v1", difficulty="hard")
         >>> obs, info = env.reset(seed=0)
         >>> obs.shape
-        (37,)
+        (38,)
         >>> float(info["randomized"]["mass_kg"]) > 0.0
         True""",
     },
@@ -249,12 +303,13 @@ BoatOnStepV1Env.__doc__ = v1_doc(
         "Observation Space": """
     The task's columns as the instruments read them (``SENSORS`` in
     ``scenes/boat_on_step/v1.py``: GNSS velocity, position and heading, gyro, motion
-    reference unit; ``target_speed`` and ``pitch_oscillation`` exact), ``sensor_latency_steps``
-    late; the positions are exact. The last 16 columns (``observe_samples=True``, the
-    default; without it the observation stops at the positions) are a hull pressure-tap
-    array (``PROBES``; ``scenes/probes.py``): at each of the 8 stations from the transom
-    the wetted fraction and the mean gauge pressure of its four bottom plates, read through
-    the ``wetness`` and ``hull_taps`` instruments.""",
+    reference unit; ``target_speed``, ``pitch_oscillation`` and ``bow_acceleration_rms``,
+    the task's own, exact), ``sensor_latency_steps`` late; the positions are exact. The
+    last 16 columns (``observe_samples=True``, the default; without it the observation
+    stops at the positions) are a hull pressure-tap array (``PROBES``;
+    ``scenes/probes.py``): at each of the 8 stations from the transom the wetted fraction
+    and the mean gauge pressure of its four bottom plates, read through the ``wetness``
+    and ``hull_taps`` instruments.""",
         "Starting State": """
     Before the boat is placed, its physics is drawn from the level's ranges; what
     was drawn is ``info["randomized"]`` at every reset (and at a step where sub-envs restarted,
