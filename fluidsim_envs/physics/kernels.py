@@ -151,7 +151,6 @@ from .state import (
     ROWS,
     SAMPLE_X,
     SAMPLE_Y,
-    SAMPLE_Z,
     SOURCE,
     STALE,
     START,
@@ -461,10 +460,32 @@ def _wake_rows(S, n, ox, oy, oz, wprm, tau):
 
 @njit(**_JIT)
 def _phase_rows(S, n, e0, swell, clock):
-    """Rows PHASE: each wave's time phase ``phase - omega t`` at each environment's clock."""
-    for j in range(swell.shape[0]):
+    """Rows PHASE: each wave's time phase ``phase - omega t`` at each environment's clock, 0
+    for the rows past the swell's waves (which the loops below add as waves of no height)."""
+    for j in range(MAX_WAVES):
         for i in range(n):
-            S[(PHASE + j) * BLOCK + i] = time_phase(clock[e0 + i], swell, j)
+            on = j < swell.shape[0]
+            S[(PHASE + j) * BLOCK + i] = time_phase(clock[e0 + i], swell, j) if on else ZERO
+
+
+# _swell_rows and _orbital_rows add every wave by name, w0 to w3
+assert MAX_WAVES == 4, "kernels: _swell_rows and _orbital_rows unroll four waves"
+
+
+@njit(**_INLINE)
+def _wave(prm, j, tau):
+    """Wave j's (a, kx, ky, omega tau) from ``prm``: zeros past the swell's waves."""
+    w = P_SWELL + 4 * j
+    return prm[w], prm[w + 1], prm[w + 2], prm[w + 3] * tau
+
+
+@njit(**_INLINE)
+def _wave_height(S, i, j, x, y, wave):
+    """Wave j's height at (x, y) in environment i of the block, ``a cos(kx x + ky y +
+    phase - omega tau)`` (:func:`surface.surface_height`'s term)."""
+    a, kx, ky, shift = wave
+    phase = kx * x + ky * y
+    return a * wave_cos(phase + (S[(PHASE + j) * BLOCK + i] - shift))
 
 
 @njit(**_JIT)
@@ -472,21 +493,47 @@ def _swell_rows(S, n, ox, oy, oz, prm, tau):
     """Row HEIGHT at one sample's point: the body's z minus the surface height under the sample,
     at the step's start plus ``tau``. Not inlined, like ``_wake_rows``: it runs only with
     swell, and the force loops keep their vectorized form. ``surface.surface_height`` with
-    the time phases of rows PHASE and the waves outside the loops over environments, so that
-    they vectorize (``wave_cos`` is branch-free); HEIGHT accumulates eta, then becomes z - eta."""
+    the time phases of rows PHASE and every wave (``MAX_WAVES``; past the swell's, waves of
+    no height, which add exact zeros) inside one loop over environments, each row at an
+    offset known when compiled, so that it vectorizes (``wave_cos`` is branch-free; a loop
+    per wave, reading a row that depends on the wave, ran scalar: 8 times slower)."""
+    w0, w1, w2, w3 = _wave(prm, 0, tau), _wave(prm, 1, tau), _wave(prm, 2, tau), _wave(prm, 3, tau)
     for i in range(n):
         rx, ry, _ = _arm(S, i, ox, oy, oz)
-        S[SAMPLE_X * BLOCK + i] = S[(STATE + OX) * BLOCK + i] + rx
-        S[SAMPLE_Y * BLOCK + i] = S[(STATE + OX + 1) * BLOCK + i] + ry
-        S[HEIGHT * BLOCK + i] = ZERO
-    for j in range(int(prm[P_NWAVES])):
-        w = P_SWELL + 4 * j
-        a, kx, ky, shift = prm[w], prm[w + 1], prm[w + 2], prm[w + 3] * tau  # omega tau
-        for i in range(n):
-            phase = kx * S[SAMPLE_X * BLOCK + i] + ky * S[SAMPLE_Y * BLOCK + i]
-            S[HEIGHT * BLOCK + i] += a * wave_cos(phase + (S[(PHASE + j) * BLOCK + i] - shift))
-    for i in range(n):
-        S[HEIGHT * BLOCK + i] = S[(STATE + OX + 2) * BLOCK + i] - S[HEIGHT * BLOCK + i]
+        x = S[(STATE + OX) * BLOCK + i] + rx
+        y = S[(STATE + OX + 1) * BLOCK + i] + ry
+        S[SAMPLE_X * BLOCK + i] = x
+        S[SAMPLE_Y * BLOCK + i] = y
+        eta = ZERO
+        eta += _wave_height(S, i, 0, x, y, w0)
+        eta += _wave_height(S, i, 1, x, y, w1)
+        eta += _wave_height(S, i, 2, x, y, w2)
+        eta += _wave_height(S, i, 3, x, y, w3)
+        S[HEIGHT * BLOCK + i] = S[(STATE + OX + 2) * BLOCK + i] - eta
+
+
+@njit(**_INLINE)
+def _orbital_wave(prm, j, tau):
+    """Wave j's (a omega, k, ux, uy, kx, ky, omega tau): its surface speed, wavenumber and
+    direction; zeros past the swell's waves."""
+    w = P_SWELL + 4 * j
+    a, kx, ky, omega = prm[w], prm[w + 1], prm[w + 2], prm[w + 3]
+    k = math.sqrt(kx * kx + ky * ky)
+    if k == ZERO:  # no wave
+        return ZERO, ZERO, ZERO, ZERO, ZERO, ZERO, ZERO
+    return a * omega, k, kx / k, ky / k, kx, ky, omega * tau
+
+
+@njit(**_INLINE)
+def _orbital_add(S, i, j, x, y, z, wave, u):
+    """``u`` (a velocity, world) plus wave j's orbital velocity at (x, y, depth z) in
+    environment i of the block (see :func:`_orbital_rows`)."""
+    a_omega, k, ux, uy, kx, ky, shift = wave
+    theta = kx * x + ky * y
+    theta += S[(PHASE + j) * BLOCK + i] - shift
+    speed = a_omega * wave_exp(k * z)
+    along = speed * wave_cos(theta)
+    return u[0] + along * ux, u[1] + along * uy, u[2] + speed * wave_cos(theta - HALF_PI)
 
 
 @njit(**_JIT)
@@ -496,26 +543,26 @@ def _orbital_rows(S, n, ox, oy, oz, wake, prm, tau):
     deep-water theory for ``eta = a cos(theta)``: ``a omega e^(k z') cos(theta)`` along the
     wave's direction and ``a omega e^(k z') sin(theta)`` up, at ``z' = min(z - eta, 0)``
     below the moving surface (Wheeler's stretching in deep water: the surface's own velocity
-    at the surface, decaying with depth below it)."""
-    for i in range(n):
-        if not wake:
-            for k in range(3):
-                S[(FLUID + 3 + k) * BLOCK + i] = S[(OWN_WATER + k) * BLOCK + i]
-        # the sample's depth below the surface: HEIGHT holds the body's z - eta
-        S[SAMPLE_Z * BLOCK + i] = min(S[HEIGHT * BLOCK + i] + _arm(S, i, ox, oy, oz)[2], ZERO)
-    for j in range(int(prm[P_NWAVES])):
-        w = P_SWELL + 4 * j
-        a, kx, ky, omega = prm[w], prm[w + 1], prm[w + 2], prm[w + 3]
-        k = math.sqrt(kx * kx + ky * ky)
-        ux, uy, shift = kx / k, ky / k, omega * tau
+    at the surface, decaying with depth below it). Every wave in one loop over environments,
+    as :func:`_swell_rows`."""
+    w0, w1 = _orbital_wave(prm, 0, tau), _orbital_wave(prm, 1, tau)
+    w2, w3 = _orbital_wave(prm, 2, tau), _orbital_wave(prm, 3, tau)
+    if not wake:  # the water's own velocity, then each wave's
         for i in range(n):
-            theta = kx * S[SAMPLE_X * BLOCK + i] + ky * S[SAMPLE_Y * BLOCK + i]
-            theta += S[(PHASE + j) * BLOCK + i] - shift
-            speed = a * omega * wave_exp(k * S[SAMPLE_Z * BLOCK + i])
-            along = speed * wave_cos(theta)
-            S[(FLUID + 3) * BLOCK + i] += along * ux
-            S[(FLUID + 4) * BLOCK + i] += along * uy
-            S[(FLUID + 5) * BLOCK + i] += speed * wave_cos(theta - HALF_PI)
+            S[(FLUID + 3) * BLOCK + i] = S[OWN_WATER * BLOCK + i]
+            S[(FLUID + 4) * BLOCK + i] = S[(OWN_WATER + 1) * BLOCK + i]
+            S[(FLUID + 5) * BLOCK + i] = S[(OWN_WATER + 2) * BLOCK + i]
+    for i in range(n):
+        # the sample's depth below the surface: HEIGHT holds the body's z - eta
+        z = min(S[HEIGHT * BLOCK + i] + _arm(S, i, ox, oy, oz)[2], ZERO)
+        x, y = S[SAMPLE_X * BLOCK + i], S[SAMPLE_Y * BLOCK + i]
+        u = S[(FLUID + 3) * BLOCK + i], S[(FLUID + 4) * BLOCK + i], S[(FLUID + 5) * BLOCK + i]
+        u = _orbital_add(S, i, 0, x, y, z, w0, u)
+        u = _orbital_add(S, i, 1, x, y, z, w1, u)
+        u = _orbital_add(S, i, 2, x, y, z, w2, u)
+        u = _orbital_add(S, i, 3, x, y, z, w3, u)
+        S[(FLUID + 3) * BLOCK + i], S[(FLUID + 4) * BLOCK + i] = u[0], u[1]
+        S[(FLUID + 5) * BLOCK + i] = u[2]
 
 
 @njit(**_JIT)

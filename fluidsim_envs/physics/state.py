@@ -73,7 +73,6 @@ SCRATCH_FIELDS = (
     ("height", 1),  # the body's z minus the surface height under the current sample
     ("sample_x", 1),  # with swell: the current sample's world x
     ("sample_y", 1),  # and y
-    ("sample_z", 1),  # with orbital velocities: its depth below the moving surface (<= 0)
     ("phase", MAX_WAVES),  # with swell: each wave's time phase at the step's start
     ("body", NBODY),  # the environment's body constants (BODY_FIELDS)
     ("memory", NMEMORY),  # a carrying integrator's memory (MEMORY_FIELDS), loaded per call
@@ -87,6 +86,5 @@ STATE, START, RK_SUM, DERIV, ROT, OMEGA = (
 )
 FLUID, OWN_WATER, SOURCE, HEIGHT = (_ROW[n] for n in ("fluid", "own_water", "source", "height"))
 SAMPLE_X, SAMPLE_Y, PHASE, BODY = (_ROW[n] for n in ("sample_x", "sample_y", "phase", "body"))
-SAMPLE_Z = _ROW["sample_z"]
 MEMORY, STALE, ITERATIONS, CHANGE = (_ROW[n] for n in ("memory", "stale", "iterations", "change"))
 END, CARRY = MEMORY + _MEMORY["end"], MEMORY + _MEMORY["carry"]
