@@ -74,6 +74,9 @@ SCRATCH_FIELDS = (
     ("sample_x", 1),  # with swell: the current sample's world x
     ("sample_y", 1),  # and y
     ("phase", MAX_WAVES),  # with swell: each wave's time phase at the step's start
+    # a recording (sample_forces, sample_flows): the current sample's rows (kernels.R_SENSE),
+    # copied out after its loop, so that the loop writes only rows of the scratch
+    ("record", 13),
     ("body", NBODY),  # the environment's body constants (BODY_FIELDS)
     ("memory", NMEMORY),  # a carrying integrator's memory (MEMORY_FIELDS), loaded per call
     ("stale", 1),  # 1 where the state changed outside the integrator since its last step
@@ -87,4 +90,5 @@ STATE, START, RK_SUM, DERIV, ROT, OMEGA = (
 FLUID, OWN_WATER, SOURCE, HEIGHT = (_ROW[n] for n in ("fluid", "own_water", "source", "height"))
 SAMPLE_X, SAMPLE_Y, PHASE, BODY = (_ROW[n] for n in ("sample_x", "sample_y", "phase", "body"))
 MEMORY, STALE, ITERATIONS, CHANGE = (_ROW[n] for n in ("memory", "stale", "iterations", "change"))
+RECORD, RECORD_ROWS = _ROW["record"], dict(SCRATCH_FIELDS)["record"]
 END, CARRY = MEMORY + _MEMORY["end"], MEMORY + _MEMORY["carry"]
