@@ -77,6 +77,7 @@ BLOCKS = (
     ),  # fmt: skip
     Block("docs/environments.md", "v1-pilots", "docs/study_levels.csv", "study_levels:markdown"),
     Block("docs/environments.md", "v1-ppo", "docs/study_v1_ppo.csv", "study_v1_ppo:markdown"),
+    Block("docs/environments.md", "v1-reward", "docs/reward_terms.csv", "reward_terms:markdown"),
     Block("docs/reliability.md", "fuzz-table", "docs/fuzz.csv", "report:fuzz_markdown"),
     Block("docs/reliability.md", "fuzz-v1-table", "docs/fuzz_v1.csv", "report:fuzz_v1_markdown"),
     Block("docs/reliability.md", "kill-table", "docs/kill_resume.csv", "report:kill_markdown"),
