@@ -9,8 +9,9 @@ holding each of ``--hold-speeds`` instead of the episode's target: whether the r
 more for crawling the course than for running it (what v0's porpoising term did in moving
 water, issue 23; v1's ride term does not, docs/environments.md).
 
-Writes ``docs/reward_terms.csv`` (a row per env, level and policy); :func:`markdown` renders
-the boat's for docs/environments.md (``benchmarks.report``).
+Writes ``docs/reward_terms.csv`` (a row per env, level, policy and term; ``--quick``: into
+build/); :func:`markdown` renders the boat's for docs/environments.md
+(``benchmarks.report``).
 
     python -m benchmarks.reward_terms [--env fluidsim/BoatOnStep-v1] [--episodes 64]
 """
@@ -21,7 +22,7 @@ import gymnasium as gym
 import numpy as np
 
 import fluidsim_envs  # noqa: F401  (registers the ids)
-from benchmarks.common import DOCS, arguments, describe, read_csv, write_csv
+from benchmarks.common import DOCS, ROOT, arguments, describe, read_csv, write_csv
 from benchmarks.study_float32 import wilson
 from fluidsim_envs.evaluation import EVAL_SEED
 from fluidsim_envs.scenes import SCENES
@@ -43,17 +44,19 @@ def held(pilot, names: list[str], speed: float):
         obs[:, target] = speed
         return pilot(obs)
 
+    policy.reset = pilot.reset
     return policy
 
 
 def policies(env_id: str, env) -> dict:
-    """The tuned pilot, and where it holds a speed, the same pilot at each held speed."""
-    pilot = SCENES[env_id].pilot(env)
-    out = {"tuned pilot": pilot}
-    names = [name for name, _, _ in SCENES[env_id].observation]
+    """The tuned pilot, and where it holds a speed, the same pilot at each held speed: each
+    a pilot of its own (a pilot keeps state between steps)."""
+    scene = SCENES[env_id]
+    out = {"tuned pilot": scene.pilot(env)}
+    names = [name for name, _, _ in scene.observation]
     if "speed_error" in names and "target_speed" in names:
         for speed in HOLD_SPEEDS:
-            out[f"tuned pilot at {speed:g} m/s"] = held(pilot, names, speed)
+            out[f"tuned pilot at {speed:g} m/s"] = held(scene.pilot(env), names, speed)
     return out
 
 
@@ -61,6 +64,7 @@ def fly(venv, policy, seed: int) -> tuple[dict[str, np.ndarray], np.ndarray]:
     """Each reward term's sum and success over the first episode of every sub-env."""
     n = venv.num_envs
     obs, _ = venv.reset(seed=seed)
+    getattr(policy, "reset", lambda: None)()
     done = np.zeros(n, dtype=bool)
     sums = {name: np.zeros(n) for name in venv.unwrapped.reward_terms}
     success = np.zeros(n, dtype=bool)
@@ -103,6 +107,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--episodes", type=int, default=64)
     args = parser.parse_args(argv)
     episodes = 16 if args.quick else args.episodes
+    if args.quick and args.out == parser.get_default("out"):
+        args.out = ROOT / "build" / "reward_terms.csv"  # a quick run never replaces the docs'
+        args.out.parent.mkdir(exist_ok=True)
     if episodes < 1:
         parser.error(f"--episodes must be at least 1, got {episodes}")
     out = []

@@ -153,6 +153,7 @@ from .state import (
     ROWS,
     SAMPLE_X,
     SAMPLE_Y,
+    SAMPLE_Z,
     SOURCE,
     STALE,
     START,
@@ -518,18 +519,19 @@ def _swell_rows(S, n, ox, oy, oz, prm, tau):
     offset known when compiled, so that it vectorizes (``wave_cos`` is branch-free; a loop
     per wave, reading a row that depends on the wave, ran scalar: 8 times slower)."""
     w0, w1, w2, w3 = _wave(prm, 0, tau), _wave(prm, 1, tau), _wave(prm, 2, tau), _wave(prm, 3, tau)
+    h = HEIGHT * BLOCK
     for i in range(n):
         rx, ry, _ = _arm(S, i, ox, oy, oz)
-        x = S[(STATE + OX) * BLOCK + i] + rx
-        y = S[(STATE + OX + 1) * BLOCK + i] + ry
-        S[SAMPLE_X * BLOCK + i] = x
-        S[SAMPLE_Y * BLOCK + i] = y
-        eta = ZERO
-        eta += _wave_height(S, i, 0, x, y, w0)
-        eta += _wave_height(S, i, 1, x, y, w1)
-        eta += _wave_height(S, i, 2, x, y, w2)
-        eta += _wave_height(S, i, 3, x, y, w3)
-        S[HEIGHT * BLOCK + i] = S[(STATE + OX + 2) * BLOCK + i] - eta
+        S[SAMPLE_X * BLOCK + i] = S[(STATE + OX) * BLOCK + i] + rx
+        S[SAMPLE_Y * BLOCK + i] = S[(STATE + OX + 1) * BLOCK + i] + ry
+        # read back, and each wave added into the row: in the scratch's precision (float32)
+        x, y = S[SAMPLE_X * BLOCK + i], S[SAMPLE_Y * BLOCK + i]
+        S[h + i] = ZERO
+        S[h + i] += _wave_height(S, i, 0, x, y, w0)
+        S[h + i] += _wave_height(S, i, 1, x, y, w1)
+        S[h + i] += _wave_height(S, i, 2, x, y, w2)
+        S[h + i] += _wave_height(S, i, 3, x, y, w3)
+        S[h + i] = S[(STATE + OX + 2) * BLOCK + i] - S[h + i]
 
 
 @njit(**_INLINE)
@@ -545,15 +547,17 @@ def _orbital_wave(prm, j, tau):
 
 
 @njit(**_INLINE)
-def _orbital_add(S, i, j, x, y, z, wave, u):
-    """``u`` (a velocity, world) plus wave j's orbital velocity at (x, y, depth z) in
-    environment i of the block (see :func:`_orbital_rows`)."""
+def _orbital_add(S, i, j, x, y, z, wave):
+    """Add wave j's orbital velocity at (x, y, depth z) in environment i of the block to rows
+    FLUID + 3.. (see :func:`_orbital_rows`), in the scratch's precision."""
     a_omega, k, ux, uy, kx, ky, shift = wave
     theta = kx * x + ky * y
     theta += S[(PHASE + j) * BLOCK + i] - shift
     speed = a_omega * wave_exp(k * z)
     along = speed * wave_cos(theta)
-    return u[0] + along * ux, u[1] + along * uy, u[2] + speed * wave_cos(theta - HALF_PI)
+    S[(FLUID + 3) * BLOCK + i] += along * ux
+    S[(FLUID + 4) * BLOCK + i] += along * uy
+    S[(FLUID + 5) * BLOCK + i] += speed * wave_cos(theta - HALF_PI)
 
 
 @njit(**_JIT)
@@ -573,16 +577,14 @@ def _orbital_rows(S, n, ox, oy, oz, wake, prm, tau):
             S[(FLUID + 4) * BLOCK + i] = S[(OWN_WATER + 1) * BLOCK + i]
             S[(FLUID + 5) * BLOCK + i] = S[(OWN_WATER + 2) * BLOCK + i]
     for i in range(n):
-        # the sample's depth below the surface: HEIGHT holds the body's z - eta
-        z = min(S[HEIGHT * BLOCK + i] + _arm(S, i, ox, oy, oz)[2], ZERO)
-        x, y = S[SAMPLE_X * BLOCK + i], S[SAMPLE_Y * BLOCK + i]
-        u = S[(FLUID + 3) * BLOCK + i], S[(FLUID + 4) * BLOCK + i], S[(FLUID + 5) * BLOCK + i]
-        u = _orbital_add(S, i, 0, x, y, z, w0, u)
-        u = _orbital_add(S, i, 1, x, y, z, w1, u)
-        u = _orbital_add(S, i, 2, x, y, z, w2, u)
-        u = _orbital_add(S, i, 3, x, y, z, w3, u)
-        S[(FLUID + 3) * BLOCK + i], S[(FLUID + 4) * BLOCK + i] = u[0], u[1]
-        S[(FLUID + 5) * BLOCK + i] = u[2]
+        # the sample's depth below the surface: HEIGHT holds the body's z - eta (stored and
+        # read back: in the scratch's precision)
+        S[SAMPLE_Z * BLOCK + i] = min(S[HEIGHT * BLOCK + i] + _arm(S, i, ox, oy, oz)[2], ZERO)
+        x, y, z = S[SAMPLE_X * BLOCK + i], S[SAMPLE_Y * BLOCK + i], S[SAMPLE_Z * BLOCK + i]
+        _orbital_add(S, i, 0, x, y, z, w0)
+        _orbital_add(S, i, 1, x, y, z, w1)
+        _orbital_add(S, i, 2, x, y, z, w2)
+        _orbital_add(S, i, 3, x, y, z, w3)
 
 
 @njit(**_JIT)

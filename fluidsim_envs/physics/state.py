@@ -73,6 +73,7 @@ SCRATCH_FIELDS = (
     ("height", 1),  # the body's z minus the surface height under the current sample
     ("sample_x", 1),  # with swell: the current sample's world x
     ("sample_y", 1),  # and y
+    ("sample_z", 1),  # with orbital velocities: its depth below the moving surface (<= 0)
     ("phase", MAX_WAVES),  # with swell: each wave's time phase at the step's start
     # a recording (sample_forces, sample_flows): the current sample's rows (kernels.R_SENSE),
     # copied out after its loop, so that the loop writes only rows of the scratch
@@ -89,6 +90,7 @@ STATE, START, RK_SUM, DERIV, ROT, OMEGA = (
 )
 FLUID, OWN_WATER, SOURCE, HEIGHT = (_ROW[n] for n in ("fluid", "own_water", "source", "height"))
 SAMPLE_X, SAMPLE_Y, PHASE, BODY = (_ROW[n] for n in ("sample_x", "sample_y", "phase", "body"))
+SAMPLE_Z = _ROW["sample_z"]
 MEMORY, STALE, ITERATIONS, CHANGE = (_ROW[n] for n in ("memory", "stale", "iterations", "change"))
 RECORD, RECORD_ROWS = _ROW["record"], dict(SCRATCH_FIELDS)["record"]
 END, CARRY = MEMORY + _MEMORY["end"], MEMORY + _MEMORY["carry"]

@@ -2,13 +2,14 @@
 root mean square vertical acceleration at the stem against NORDFORSK's limit (NORDFORSK
 1987, "Assessment of ship performance in a seaway": 0.275 g at the forward perpendicular
 for craft under 100 m), in place of v0's porpoising term, which counted the sea's pitching
-as the helm's (``python -m benchmarks.reward_terms fluidsim/BoatOnStep-v1``).
+as the helm's (``python -m benchmarks.reward_terms --env fluidsim/BoatOnStep-v1``).
 
 What is checked: the stem's velocity is the rigid body's at that point (the samples'
 kinematics), the estimate is the root mean square of a known acceleration, a porpoising
 hull in calm water fails the criterion and a steady one passes, and in a seaway the ride
 roughens with speed (the trend of every planing-craft seakeeping series, e.g. Savitsky and
-Brown 1976). v0 is untouched (its terms and golden trajectories)."""
+Brown 1976). v0 keeps its reward terms (here) and its trajectories (``benchmarks/golden.py``,
+run by hand against the previous commit)."""
 
 import math
 
@@ -50,12 +51,16 @@ def steady(level, throttle, tabs, seconds=35.0, settle_s=20.0, n=4):
     return dict(zip(("speed", "ride_g", "term", "porpoising"), np.mean(rows, axis=0), strict=True))
 
 
-def test_the_stem_moves_as_the_rigid_body_says():
+@pytest.mark.parametrize("shift_m", [0.0, 0.2])
+def test_the_stem_moves_as_the_rigid_body_says(shift_m):
     """The stem's vertical velocity (the ride's input) is the rigid body's at that point,
     v + omega x r: in calm, still water and air the stem sample's inflow is exactly minus
-    its velocity (Simulator.sample_flows, its own kinematics), to rounding."""
-    venv = make_vec(4, difficulty="easy")
-    venv.reset(seed=3)
+    its velocity (Simulator.sample_flows, its own kinematics), to rounding; also where the
+    episode's centre of mass is shifted (``com_shift_m``), which moves the stem's arm."""
+    venv = make_vec(4, difficulty="easy", com_shift_m=shift_m)
+    _, info = venv.reset(seed=3)
+    shifted = np.abs(info["randomized"]["com_shift_x_m"])
+    assert (shifted > 0.05).any() if shift_m else (shifted == 0.0).all()
     rng = np.random.default_rng(0)
     for _ in range(30):  # pitching and heaving
         venv.step(rng.uniform(-1, 1, (4, 3)))

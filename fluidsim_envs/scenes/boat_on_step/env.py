@@ -27,6 +27,7 @@ from . import kernel as TK
 from .kernel import OBSERVATION, REWARD_TERMS_V0
 from .view import BoatOnStepView
 
+REWARD_TERMS = REWARD_TERMS_V0  # this version's terms (envs/boat_on_step.py re-exports it)
 GATES = 6  # per course (a fixed count, so that an episode's draws never depend on a limit)
 
 
@@ -146,7 +147,7 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
     Params = BoatOnStepParams
     View = BoatOnStepView
     obs_dim = len(OBSERVATION)
-    reward_terms = REWARD_TERMS_V0
+    reward_terms = REWARD_TERMS
     action_names = ("throttle", "rudder", "trim_tabs")
     state_fields = (
         ("_mooring", 0),

@@ -16,7 +16,7 @@ from numba import njit, prange
 from ...physics.forces import thrust_control
 from ...physics.kernels import body_state
 from ...physics.rotation import env_inv_inertia, quat_to_matrix, to_body
-from ...physics.state import OQ, OV, OX
+from ...physics.state import B_COM_SHIFT, OQ, OV, OX
 from ...physics.surface import surface_height
 from ..layout import index
 
@@ -241,12 +241,25 @@ def observe(ids, skip, st, body, course, task, swell, clock, cfg, out):
 
 
 @njit(**_JIT)
+def stem_offset(rot, body, e, cfg):
+    """The stem's offset (m, world) from sub-env e's centre of mass: the craft's stem
+    (``bow_x_m``, 0, ``bow_z_m`` from the craft's centre of mass) less the episode's
+    centre-of-mass shift (v1's randomized physics; 0 in v0), rotated."""
+    c = body[e, 0, B_COM_SHIFT], body[e, 0, B_COM_SHIFT + 1], body[e, 0, B_COM_SHIFT + 2]
+    x, y, z = cfg[C_BOW_X] - c[0], -c[1], cfg[C_BOW_Z] - c[2]
+    return (
+        rot[0] * x + rot[1] * y + rot[2] * z,
+        rot[3] * x + rot[4] * y + rot[5] * z,
+        rot[6] * x + rot[7] * y + rot[8] * z,
+    )
+
+
+@njit(**_JIT)
 def bow_vertical_velocity(st, body, e, cfg):
-    """The stem's vertical velocity (m/s, world z) in sub-env e: the centre of gravity's plus
-    the rotation's, omega x r at the stem (``bow_x_m``, 0, ``bow_z_m`` in the body frame)."""
+    """The stem's vertical velocity (m/s, world z) in sub-env e: the centre of mass's plus
+    the rotation's, omega x r at the stem (:func:`stem_offset`)."""
     _, (_, _, vz), rot, w = body_state(st, 0, e, env_inv_inertia(body, e, 0))
-    rx = rot[0] * cfg[C_BOW_X] + rot[2] * cfg[C_BOW_Z]  # the stem's offset, world frame
-    ry = rot[3] * cfg[C_BOW_X] + rot[5] * cfg[C_BOW_Z]
+    rx, ry, _ = stem_offset(rot, body, e, cfg)
     return vz + w[0] * ry - w[1] * rx
 
 
@@ -389,6 +402,15 @@ def score(
         bx = px + rot[0] * cfg[C_BOW_X] + rot[2] * cfg[C_BOW_Z]
         by = py + rot[3] * cfg[C_BOW_X] + rot[5] * cfg[C_BOW_Z]
         bz = pz + rot[6] * cfg[C_BOW_X] + rot[8] * cfg[C_BOW_Z]
+        # less the episode's centre-of-mass shift (v1), subtracted apart: exact zeros in v0
+        cx, cy, cz = (
+            body[e, 0, B_COM_SHIFT],
+            body[e, 0, B_COM_SHIFT + 1],
+            body[e, 0, B_COM_SHIFT + 2],
+        )
+        bx -= rot[0] * cx + rot[1] * cy + rot[2] * cz
+        by -= rot[3] * cx + rot[4] * cy + rot[5] * cz
+        bz -= rot[6] * cx + rot[7] * cy + rot[8] * cz
         flags[F_STUFF, e] = bz < surface_height(bx, by, clock[e], swell) and speed > 3.0
         # off the course: farther than course_half_width_m from the leg to the current gate
         g = min(g, last)
