@@ -83,7 +83,7 @@ def _run(sim, rng, start, calls=10, steps=4):
 
 def physics_cases():
     from fluidsim_envs.physics import Craft, Ground, Shape, Simulator, WakeField, World
-    from fluidsim_envs.physics.surface import SwellWave
+    from fluidsim_envs.physics.surface import SwellWave, irregular_sea
 
     cases = {}
     for name, (water, z, speed) in CRAFTS.items():
@@ -184,6 +184,18 @@ def physics_cases():
         sim.set_external_force((0, 50.0, 0), (0, 0, 20.0), env_ids=np.arange(0, 65, 3))
         cases[f"swell/{integ}"] = _run(sim, rng, _random_start(rng, 65, 3, 0.1, 6.0))
         cases[f"swell/{integ}/clock"] = sim.clock.copy()
+
+    # an irregular sea whose water moves (BoatOnStep-v1's: orbital velocities), in both
+    # precisions: the sea's loops round each wave into the scratch in float32
+    sea = World(water=True, swell=irregular_sea(0.3, 2.5, spread_deg=30.0),
+                wave_orbital_velocity=True)  # fmt: skip
+    for dtype in (np.float64, np.float32):
+        sim = Simulator(boat, sea, num_envs=65, dt=1 / 100, integrator="rk2", dtype=dtype)
+        rng = np.random.default_rng(6)
+        sim.set_clock(rng.uniform(0, 30, 65))
+        cases[f"sea/orbital/{np.dtype(dtype).name}"] = _run(
+            sim, rng, _random_start(rng, 65, 1, 0.1, 6.0)
+        )
 
     # the wake: the uuv behind a moving submarine source
     wake = WakeField(length_m=20.0, radius_m=2.0, noise=0.3)

@@ -5,11 +5,11 @@ on ``--episodes`` seeded episodes at each level and reports the per-episode mean
 ``info["episode_terms"]`` (the first episode of each sub-env), so a term that swamps the
 others at some level shows at once. Where the scene's pilot holds a target speed (its
 observation has ``speed_error`` and ``target_speed``: the boat), the same pilot also flies
-holding each of ``--hold-speeds`` instead of the episode's target: whether the reward pays
-more for crawling the course than for running it (what v0's porpoising term did in moving
-water, issue 23; v1's ride term does not, docs/environments.md).
+holding each of :data:`HOLD_SPEEDS` instead of the episode's target, under the shipped
+reward and under what it replaced (:data:`REWARDS`): whether a reward pays more for crawling
+the course than for running it (v0's porpoising term did in moving water, issue 23).
 
-Writes ``docs/reward_terms.csv`` (a row per env, level, policy and term; ``--quick``: into
+Writes ``docs/reward_terms.csv`` (a row per env, level, reward, policy and term; ``--quick``: into
 build/); :func:`markdown` renders the boat's for docs/environments.md
 (``benchmarks.report``).
 
@@ -29,9 +29,13 @@ from fluidsim_envs.scenes import SCENES
 from fluidsim_envs.scenes.realism import LEVELS
 
 CSV = DOCS / "reward_terms.csv"
-COLUMNS = ("env", "level", "policy", "episodes", "success_rate", "success_low",
+COLUMNS = ("env", "level", "reward", "policy", "episodes", "success_rate", "success_low",
            "success_high", "return_mean", "term", "term_mean")  # fmt: skip
 HOLD_SPEEDS = (12.0, 9.0)  # m/s: below the boat's targets (13-19), and below planing (10)
+# each env's reward as shipped ("v1"), and what it replaced, as make kwargs
+REWARDS = {
+    "BoatOnStep-v1": {"v1": {}, "v0's porpoising term": {"w_porpoise": 0.05, "w_ride": 0.0}},
+}
 
 
 def held(pilot, names: list[str], speed: float):
@@ -80,23 +84,25 @@ def fly(venv, policy, seed: int) -> tuple[dict[str, np.ndarray], np.ndarray]:
 
 
 def rows(env_id: str, level: str, episodes: int, seed: int) -> list[dict]:
-    venv = gym.make_vec(env_id, num_envs=episodes, vectorization_mode="vector_entry_point",
-                        difficulty=level)  # fmt: skip
     out = []
-    for name, policy in policies(env_id, venv.unwrapped).items():
-        sums, success = fly(venv, policy, seed)
-        lo, hi = wilson(int(success.sum()), episodes)
-        ret = sum(sums.values()).mean()
-        for term, values in sums.items():
-            out.append({
-                "env": env_id.split("/")[1], "level": level, "policy": name,
-                "episodes": episodes, "success_rate": success.mean(), "success_low": lo,
-                "success_high": hi, "return_mean": ret, "term": term,
-                "term_mean": values.mean(),
-            })  # fmt: skip
-        print(f"{env_id} {level:9s} {name:24s} success {success.mean():.2f} return {ret:7.1f}  "
-              + "  ".join(f"{k} {v.mean():7.1f}" for k, v in sums.items()), flush=True)  # fmt: skip
-    venv.close()
+    for reward, kwargs in REWARDS.get(env_id.split("/")[1], {"v1": {}}).items():
+        venv = gym.make_vec(env_id, num_envs=episodes, vectorization_mode="vector_entry_point",
+                            difficulty=level, **kwargs)  # fmt: skip
+        for name, policy in policies(env_id, venv.unwrapped).items():
+            sums, success = fly(venv, policy, seed)
+            lo, hi = wilson(int(success.sum()), episodes)
+            ret = sum(sums.values()).mean()
+            for term, values in sums.items():
+                out.append({
+                    "env": env_id.split("/")[1], "level": level, "reward": reward,
+                    "policy": name, "episodes": episodes, "success_rate": success.mean(),
+                    "success_low": lo, "success_high": hi, "return_mean": ret, "term": term,
+                    "term_mean": values.mean(),
+                })  # fmt: skip
+            terms = "  ".join(f"{k} {v.mean():7.1f}" for k, v in sums.items())
+            print(f"{env_id} {level:9s} {reward:21s} {name:24s} success {success.mean():.2f} "
+                  f"return {ret:7.1f}  {terms}", flush=True)  # fmt: skip
+        venv.close()
     return out
 
 
@@ -129,16 +135,16 @@ def markdown(path=None, env: str = "BoatOnStep-v1") -> str:
     _, table = read_csv(path)
     table = [r for r in table if r["env"] == env]
     terms = list(dict.fromkeys(r["term"] for r in table))
-    runs = list(dict.fromkeys((r["level"], r["policy"]) for r in table))
-    by = {(r["level"], r["policy"], r["term"]): r for r in table}
+    runs = list(dict.fromkeys((r["level"], r["reward"], r["policy"]) for r in table))
+    by = {(r["level"], r["reward"], r["policy"], r["term"]): r for r in table}
     pct = lambda x: f"{100 * float(x):.0f}%"  # noqa: E731
-    lines = ["| level | policy | success [95%] | return | " + " | ".join(terms) + " |",
-             "|---|---|---:|---:|" + "---:|" * len(terms)]  # fmt: skip
-    for level, policy in runs:
-        r = by[(level, policy, terms[0])]
-        cells = " | ".join(f"{float(by[(level, policy, t)]['term_mean']):.1f}" for t in terms)
+    lines = ["| level | reward | policy | success [95%] | return | " + " | ".join(terms) + " |",
+             "|---|---|---|---:|---:|" + "---:|" * len(terms)]  # fmt: skip
+    for run in runs:
+        r = by[(*run, terms[0])]
+        cells = " | ".join(f"{float(by[(*run, t)]['term_mean']):.1f}" for t in terms)
         lines.append(
-            f"| {level} | {policy} | {pct(r['success_rate'])} [{pct(r['success_low'])}, "
+            f"| {' | '.join(run)} | {pct(r['success_rate'])} [{pct(r['success_low'])}, "
             f"{pct(r['success_high'])}] | {float(r['return_mean']):.1f} | {cells} |"
         )
     n = table[0]["episodes"] if table else "?"

@@ -1884,7 +1884,8 @@ def wrench(model, samples, data, out):
 def sample_forces(model, samples, data, env, out):
     """Each sample's world application point and force in environment ``env`` at its clock,
     ``out[N, 6]`` (point x, y, z, then force), N the samples of every body in ``_evaluate``'s
-    order: ``_evaluate`` records them as it adds them up, so they sum to :func:`wrench`."""
+    order: ``_evaluate``'s force loops, recorded instead of added up (the same code), so they
+    sum to :func:`wrench`."""
     st, scr = data.st, data.scr
     prm, wprm, ctrl, flap_now, external = _forces(model, data)
     blk = env // BLOCK

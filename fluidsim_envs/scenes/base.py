@@ -67,6 +67,17 @@ def check_choice(owner: str, key: str, value, choices: Sequence[str]) -> None:
 POOL_DRAWS = 128  # uniforms drawn ahead per sub-env: 1 KiB each (16 MiB at 16384 sub-envs)
 
 
+def sum_rows(terms: np.ndarray) -> np.ndarray:
+    """``terms[0] + terms[1] + ...`` in that order, for each sub-env: the same sums for any
+    number of sub-envs. (``terms.sum(axis=0)`` sums one sub-env's column of eight or more
+    terms pairwise, in another order than a batch's row by row: rewards that differ in the
+    last bit between a batch and a single env.)"""
+    out = terms[0].copy()
+    for row in terms[1:]:
+        out += row
+    return out
+
+
 class FluidVectorEnv(VectorEnv):
     """A batch of one scene, stepped by one compiled physics call per step.
 
@@ -201,7 +212,7 @@ class FluidVectorEnv(VectorEnv):
     def episode_return(self) -> np.ndarray:
         """The reward summed over each sub-env's current episode so far [E] (a copy; 0 right
         after a reset, the autoreset's included)."""
-        return self._sums.sum(axis=0)
+        return sum_rows(self._sums)
 
     @property
     def episodes(self) -> np.ndarray:
@@ -305,7 +316,7 @@ class FluidVectorEnv(VectorEnv):
         terminated, diverged, terms, info = self._advance(self._act)
         self._elapsed += 1
         self._read(self._all, start=False, skip=diverged)  # a diverged one keeps its last
-        reward = terms.sum(axis=0)
+        reward = sum_rows(terms)
         self._sums += terms
         terminated |= diverged
         truncated = (self._elapsed >= self.params.max_episode_steps) & ~terminated

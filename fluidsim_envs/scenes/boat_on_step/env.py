@@ -206,7 +206,7 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
         }
         if hasattr(self.params, "ride_limit_g"):  # v1 judges the ride
             derived["ride_limit_mps2"] = self.params.ride_limit_g * self.world.gravity_mps2
-        else:  # v0 does not: no weight, any limit and window (never read)
+        else:  # v0 does not: the kernel computes the term, weighs it 0 and drops its row
             derived.update(w_ride=0.0, ride_limit_mps2=1.0, ride_window_s=1.0)
         return derived[name] if name in derived else float(getattr(self.params, name))
 
@@ -265,8 +265,7 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
             self.sim.reset(pos=pos, quat=quat, env_ids=ids)
         else:
             self.sim.reset(pos=pos[:, None], quat=quat[:, None], env_ids=ids)
-        st, _, _ = self.sim.kernel_arrays()
-        _, _, body = self.sim.kernel_arrays()
+        st, _, body = self.sim.kernel_arrays()
         TK.start(st, body, self.course, self.task, self._cfg, np.asarray(ids, dtype=np.int64))
 
     # ---- step -----------------------------------------------------------------------------

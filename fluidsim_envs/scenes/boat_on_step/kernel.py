@@ -1,4 +1,4 @@
-"""BoatOnStep-v0's layouts (observation, reward terms, flags, task state, course, task config)
+"""BoatOnStep's layouts (observation, reward terms, flags, task state, course, task config)
 and its per-step task logic in compiled calls: the engine's power curve, the observation, the
 gates and buoys, porpoising and capsize detection and the reward terms, for all envs at once.
 
@@ -305,8 +305,8 @@ def score(
     its vertical acceleration, averaged over each step (the change of its vertical velocity,
     :func:`bow_vertical_velocity`), squared and averaged over ``ride_window_s``; above the
     limit ``ride_limit_mps2`` its root costs ``w_ride`` per step per multiple of the limit.
-    Unlike the trim's oscillation it charges the sea's motion to the helm only as far as the
-    helm can ease it: by speed and trim.
+    It charges the sea's motion too, but unlike the trim's oscillation (measured only at
+    planing speed) it grows with speed at every speed: a trade the helm makes.
     """
     last = course.shape[1] - 1  # the last gate's index (0 is the start point)
     k = 1.0 - math.exp(-cfg[C_STEP] / cfg[C_PORPOISE_WINDOW])

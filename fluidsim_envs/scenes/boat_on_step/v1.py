@@ -13,7 +13,7 @@ from ...craft.hull import HULLS
 from ...physics import World
 from ...physics.surface import irregular_sea
 from ..base import FluidEnv
-from ..limits import Bound
+from ..limits import WEIGHT, Bound
 from ..probes import Probe
 from ..realism import (
     V1_STATE,
@@ -157,7 +157,7 @@ class BoatOnStepV1Params(BoatOnStepParams, KnobParams):
         **BoatOnStepParams.RANGES,
         "ride_limit_g": Bound(1e-3, 10.0),
         "ride_window_s": Bound(0.05, 60.0),
-        "w_ride": BoatOnStepParams.RANGES["w_porpoise"],
+        "w_ride": WEIGHT,
     }
     # the ride, judged as a seakeeping criterion judges a craft in a seaway: the root mean
     # square vertical acceleration at the bow against NORDFORSK's limit for craft under 100 m
@@ -244,10 +244,13 @@ BoatOnStepV1Env.__doc__ = v1_doc(
     vertical acceleration, root mean square over ``ride_window_s`` (2 s; observed as
     ``bow_acceleration_rms``), passes ``ride_limit_g`` (0.275 g: NORDFORSK 1987, at the
     bow of craft under 100 m). v0's trim oscillation reads the sea's own pitching as
-    porpoising (the tuned pilot at standard: -132 a run for it, against +24 for the
-    gates), so a policy learned to crawl the course below planing speed; the ride charges
-    what the helm can ease, by speed and trim, and a porpoising hull in calm water fails it
-    too (tests/scenes/test_boat_ride.py). The other terms are v0's:
+    porpoising and is measured only at planing speed, so in moving water it paid more for
+    crawling the course below planing speed than for running it
+    (``python -m benchmarks.reward_terms``, docs/environments.md). The ride charges the
+    sea's motion too (at standard the stem passes the limit at any planing speed), but it
+    grows with speed at every speed, so it is a trade the helm makes, and a porpoising hull
+    in calm water fails it as well (tests/scenes/test_boat_ride.py). The other terms are
+    v0's:
 
     - ``speed``: ``w_speed * exp(-|speed error| / speed_scale_mps)`` every step;
     - ``progress``: ``w_progress`` per meter closed on the next gate's center;

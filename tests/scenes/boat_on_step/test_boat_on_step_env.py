@@ -86,8 +86,8 @@ def place(venv, e, gate, along, across, speed=0.0, heel_deg=0.0):
         lin_vel=(speed * math.cos(h), speed * math.sin(h), 0.0),
         env_ids=[e],
     )
-    st, _, _ = venv.sim.kernel_arrays()
-    TK.start(st, venv.course, venv.task, np.array([e]))
+    st, _, body = venv.sim.kernel_arrays()
+    TK.start(st, body, venv.course, venv.task, venv._cfg, np.array([e]))
     if gate != 1:
         venv.task[TK.K_GATE, e] = gate
         venv.task[TK.K_SIDE, e] = along
