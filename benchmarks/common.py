@@ -223,6 +223,17 @@ def prose(text: str, width: int = 96) -> str:
     return textwrap.fill(text, width, break_long_words=False, break_on_hyphens=False)
 
 
+def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
+    """The 95% Wilson score interval of k successes in n."""
+    if n == 0:
+        return (math.nan, math.nan)
+    p = k / n
+    d = 1 + z * z / n
+    c = (p + z * z / (2 * n)) / d
+    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return (max(0.0, c - h), min(1.0, c + h))
+
+
 def read_csv(path: str | Path) -> tuple[list[str], list[dict]]:
     """The ``#`` lines (without the ``# ``) and the rows (dicts of strings) of a CSV file."""
     lines = Path(path).read_text().splitlines()

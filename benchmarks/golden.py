@@ -14,8 +14,9 @@ sides of a change of internals. Covered: every shipped craft under every integra
 and float32 for two), a batch crossing a kernel block boundary (70 envs), contact (a 3-stack
 on a ground and a sphere on a height field), swell, the submarine's wake, several bodies per
 env, a held external force, ``wrench`` and ``sample_forces``, and the three envs' vector
-rollouts (observations, rewards, flags) with random actions. Float results are compared
-bit for bit: they are reproducible on one machine kind (the kernels compile for the host).
+rollouts (observations, rewards, flags) with random actions, v0 and v1 at each level. Float
+results are compared bit for bit: they are reproducible on one machine kind (the kernels
+compile for the host).
 """
 
 from __future__ import annotations
@@ -229,18 +230,25 @@ def physics_cases():
     return cases
 
 
+SCENE_NAMES = ("PaperAirplane", "BoatOnStep", "SubmarineWake")
+
+
 def env_cases():
     import gymnasium as gym
 
     import fluidsim_envs  # noqa: F401
 
     cases = {}
-    for env_id in (
-        "fluidsim/PaperAirplane-v0",
-        "fluidsim/BoatOnStep-v0",
-        "fluidsim/SubmarineWake-v0",
-    ):
-        venv = gym.make_vec(env_id, num_envs=9, vectorization_mode="vector_entry_point")
+    runs = [(f"fluidsim/{name}-v0", {}) for name in SCENE_NAMES]
+    # v1 at each level: every knob of hard (the sea's orbital velocities, turbulence,
+    # currents), the sensors' noise and the probes' columns
+    runs += [
+        (f"fluidsim/{name}-v1", {"difficulty": level})
+        for name in SCENE_NAMES
+        for level in ("easy", "standard", "hard")
+    ]
+    for env_id, kwargs in runs:
+        venv = gym.make_vec(env_id, num_envs=9, vectorization_mode="vector_entry_point", **kwargs)
         obs, _ = venv.reset(seed=123)
         rng = np.random.default_rng(9)
         rows = [np.concatenate([obs.astype(np.float64), np.zeros((9, 3))], 1)]
@@ -253,7 +261,8 @@ def env_cases():
                 )
             )
         venv.close()
-        cases[f"env/{env_id}"] = np.stack(rows)
+        level = f"/{kwargs['difficulty']}" if kwargs else ""
+        cases[f"env/{env_id}{level}"] = np.stack(rows)
     return cases
 
 

@@ -22,8 +22,7 @@ import gymnasium as gym
 import numpy as np
 
 import fluidsim_envs  # noqa: F401  (registers the ids)
-from benchmarks.common import DOCS, ROOT, arguments, describe, read_csv, write_csv
-from benchmarks.study_float32 import wilson
+from benchmarks.common import DOCS, ROOT, arguments, describe, read_csv, wilson, write_csv
 from fluidsim_envs.evaluation import EVAL_SEED
 from fluidsim_envs.scenes import SCENES
 from fluidsim_envs.scenes.realism import LEVELS

@@ -27,7 +27,7 @@ import time
 
 import numpy as np
 
-from benchmarks.common import DOCS, arguments, describe, out_dir, read_csv, write_csv
+from benchmarks.common import DOCS, arguments, describe, out_dir, read_csv, wilson, write_csv
 from benchmarks.study_env_integrators import (
     SCENES,
     Config,
@@ -37,17 +37,6 @@ from benchmarks.study_env_integrators import (
 
 SCENE_NAMES = ("paper_airplane", "submarine_wake", "boat_on_step", "boat_swell")
 HORIZONS = ("1s", "3s", "10s", "end")
-
-
-def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
-    """The 95% Wilson score interval of k successes in n."""
-    if n == 0:
-        return (math.nan, math.nan)
-    p = k / n
-    d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d
-    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return (max(0.0, c - h), min(1.0, c + h))
 
 
 def main() -> None:

@@ -22,8 +22,7 @@ import time
 import gymnasium as gym
 
 import fluidsim_envs  # noqa: F401  (registers the ids)
-from benchmarks.common import DOCS, arguments, describe, read_csv, write_csv
-from benchmarks.study_float32 import wilson
+from benchmarks.common import DOCS, arguments, describe, read_csv, wilson, write_csv
 from fluidsim_envs.evaluation import EVAL_SEED, first_episodes, random_policy
 from fluidsim_envs.rl.evaluate import summarize
 from fluidsim_envs.scenes import SCENES

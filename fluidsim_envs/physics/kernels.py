@@ -489,8 +489,8 @@ def _phase_rows(S, n, e0, swell, clock):
             S[(PHASE + j) * BLOCK + i] = time_phase(clock[e0 + i], swell, j) if on else ZERO
 
 
-# _swell_rows and _orbital_rows add every wave by name, w0 to w3
-assert MAX_WAVES == 4, "kernels: _swell_rows and _orbital_rows unroll four waves"
+# _swell_rows and _sea_rows add every wave by name, w0 to w3
+assert MAX_WAVES == 4, "kernels: _swell_rows and _sea_rows unroll four waves"
 
 
 @njit(**_INLINE)
@@ -501,12 +501,34 @@ def _wave(prm, j, tau):
 
 
 @njit(**_INLINE)
-def _wave_height(S, i, j, x, y, wave):
-    """Wave j's height at (x, y) in environment i of the block, ``a cos(kx x + ky y +
-    phase - omega tau)`` (:func:`surface.surface_height`'s term)."""
-    a, kx, ky, shift = wave
+def _wave_angle(S, i, j, x, y, wave):
+    """Wave j's angle at (x, y) in environment i of the block, ``kx x + ky y + phase - omega
+    tau`` (the argument of :func:`surface.surface_height`'s cosine)."""
+    _, kx, ky, shift = wave
     phase = kx * x + ky * y
-    return a * wave_cos(phase + (S[(PHASE + j) * BLOCK + i] - shift))
+    return phase + (S[(PHASE + j) * BLOCK + i] - shift)
+
+
+@njit(**_INLINE)
+def _surface_at(S, i, ox, oy, oz, w0, w1, w2, w3):
+    """Row HEIGHT of environment i at one sample's point (see :func:`_swell_rows`); returns
+    each wave's angle and cosine there (the orbital velocity's, :func:`_sea_rows`)."""
+    rx, ry, _ = _arm(S, i, ox, oy, oz)
+    S[SAMPLE_X * BLOCK + i] = S[(STATE + OX) * BLOCK + i] + rx
+    S[SAMPLE_Y * BLOCK + i] = S[(STATE + OX + 1) * BLOCK + i] + ry
+    # read back, and each wave added into the row: in the scratch's precision (float32)
+    x, y = S[SAMPLE_X * BLOCK + i], S[SAMPLE_Y * BLOCK + i]
+    t0, t1 = _wave_angle(S, i, 0, x, y, w0), _wave_angle(S, i, 1, x, y, w1)
+    t2, t3 = _wave_angle(S, i, 2, x, y, w2), _wave_angle(S, i, 3, x, y, w3)
+    c0, c1, c2, c3 = wave_cos(t0), wave_cos(t1), wave_cos(t2), wave_cos(t3)
+    h = HEIGHT * BLOCK
+    S[h + i] = ZERO
+    S[h + i] += w0[0] * c0
+    S[h + i] += w1[0] * c1
+    S[h + i] += w2[0] * c2
+    S[h + i] += w3[0] * c3
+    S[h + i] = S[(STATE + OX + 2) * BLOCK + i] - S[h + i]
+    return t0, t1, t2, t3, c0, c1, c2, c3
 
 
 @njit(**_JIT)
@@ -519,72 +541,62 @@ def _swell_rows(S, n, ox, oy, oz, prm, tau):
     offset known when compiled, so that it vectorizes (``wave_cos`` is branch-free; a loop
     per wave, reading a row that depends on the wave, ran scalar: 8 times slower)."""
     w0, w1, w2, w3 = _wave(prm, 0, tau), _wave(prm, 1, tau), _wave(prm, 2, tau), _wave(prm, 3, tau)
-    h = HEIGHT * BLOCK
     for i in range(n):
-        rx, ry, _ = _arm(S, i, ox, oy, oz)
-        S[SAMPLE_X * BLOCK + i] = S[(STATE + OX) * BLOCK + i] + rx
-        S[SAMPLE_Y * BLOCK + i] = S[(STATE + OX + 1) * BLOCK + i] + ry
-        # read back, and each wave added into the row: in the scratch's precision (float32)
-        x, y = S[SAMPLE_X * BLOCK + i], S[SAMPLE_Y * BLOCK + i]
-        S[h + i] = ZERO
-        S[h + i] += _wave_height(S, i, 0, x, y, w0)
-        S[h + i] += _wave_height(S, i, 1, x, y, w1)
-        S[h + i] += _wave_height(S, i, 2, x, y, w2)
-        S[h + i] += _wave_height(S, i, 3, x, y, w3)
-        S[h + i] = S[(STATE + OX + 2) * BLOCK + i] - S[h + i]
+        _surface_at(S, i, ox, oy, oz, w0, w1, w2, w3)
 
 
 @njit(**_INLINE)
-def _orbital_wave(prm, j, tau):
-    """Wave j's (a omega, k, ux, uy, kx, ky, omega tau): its surface speed, wavenumber and
+def _orbital_wave(wave, omega):
+    """Wave (a, kx, ky, omega tau) as (a omega, k, ux, uy): its surface speed, wavenumber and
     direction; zeros past the swell's waves."""
-    w = P_SWELL + 4 * j
-    a, kx, ky, omega = prm[w], prm[w + 1], prm[w + 2], prm[w + 3]
+    a, kx, ky, _ = wave
     k = math.sqrt(kx * kx + ky * ky)
     if k == ZERO:  # no wave
-        return ZERO, ZERO, ZERO, ZERO, ZERO, ZERO, ZERO
-    return a * omega, k, kx / k, ky / k, kx, ky, omega * tau
+        return ZERO, ZERO, ZERO, ZERO
+    return a * omega, k, kx / k, ky / k
 
 
 @njit(**_INLINE)
-def _orbital_add(S, i, j, x, y, z, wave):
-    """Add wave j's orbital velocity at (x, y, depth z) in environment i of the block to rows
-    FLUID + 3.. (see :func:`_orbital_rows`), in the scratch's precision."""
-    a_omega, k, ux, uy, kx, ky, shift = wave
-    theta = kx * x + ky * y
-    theta += S[(PHASE + j) * BLOCK + i] - shift
+def _orbital_add(S, i, z, wave, theta, cos_theta):
+    """Add one wave's orbital velocity at depth z in environment i of the block to rows
+    FLUID + 3.. (see :func:`_sea_rows`), in the scratch's precision; ``theta`` its angle
+    at the sample's point, ``cos_theta`` its cosine (the surface's)."""
+    a_omega, k, ux, uy = wave
     speed = a_omega * wave_exp(k * z)
-    along = speed * wave_cos(theta)
+    along = speed * cos_theta
     S[(FLUID + 3) * BLOCK + i] += along * ux
     S[(FLUID + 4) * BLOCK + i] += along * uy
     S[(FLUID + 5) * BLOCK + i] += speed * wave_cos(theta - HALF_PI)
 
 
 @njit(**_JIT)
-def _orbital_rows(S, n, ox, oy, oz, wake, prm, tau):
-    """Rows FLUID + 3.. at one sample's point, after ``_swell_rows``: the water's own velocity
-    (or, with a wake, the wake's rows) plus each wave's orbital velocity there. Linear
-    deep-water theory for ``eta = a cos(theta)``: ``a omega e^(k z') cos(theta)`` along the
-    wave's direction and ``a omega e^(k z') sin(theta)`` up, at ``z' = min(z - eta, 0)``
-    below the moving surface (Wheeler's stretching in deep water: the surface's own velocity
-    at the surface, decaying with depth below it). Every wave in one loop over environments,
-    as :func:`_swell_rows`."""
-    w0, w1 = _orbital_wave(prm, 0, tau), _orbital_wave(prm, 1, tau)
-    w2, w3 = _orbital_wave(prm, 2, tau), _orbital_wave(prm, 3, tau)
+def _sea_rows(S, n, ox, oy, oz, wake, prm, tau):
+    """:func:`_swell_rows`, and rows FLUID + 3.. at the sample's point: the water's own
+    velocity (or, with a wake, the wake's rows) plus each wave's orbital velocity there.
+    Linear deep-water theory for ``eta = a cos(theta)``: ``a omega e^(k z') cos(theta)``
+    along the wave's direction and ``a omega e^(k z') sin(theta)`` up, at ``z' = min(z -
+    eta, 0)`` below the moving surface (Wheeler's stretching in deep water: the surface's
+    own velocity at the surface, decaying with depth below it). The surface and the
+    velocity in one loop over environments, so the surface's cosines serve both."""
+    w0, w1, w2, w3 = _wave(prm, 0, tau), _wave(prm, 1, tau), _wave(prm, 2, tau), _wave(prm, 3, tau)
+    w = P_SWELL + 3  # each wave's omega: its row of prm
+    o0, o1 = _orbital_wave(w0, prm[w]), _orbital_wave(w1, prm[w + 4])
+    o2, o3 = _orbital_wave(w2, prm[w + 8]), _orbital_wave(w3, prm[w + 12])
     if not wake:  # the water's own velocity, then each wave's
         for i in range(n):
             S[(FLUID + 3) * BLOCK + i] = S[OWN_WATER * BLOCK + i]
             S[(FLUID + 4) * BLOCK + i] = S[(OWN_WATER + 1) * BLOCK + i]
             S[(FLUID + 5) * BLOCK + i] = S[(OWN_WATER + 2) * BLOCK + i]
     for i in range(n):
+        t0, t1, t2, t3, c0, c1, c2, c3 = _surface_at(S, i, ox, oy, oz, w0, w1, w2, w3)
         # the sample's depth below the surface: HEIGHT holds the body's z - eta (stored and
         # read back: in the scratch's precision)
         S[SAMPLE_Z * BLOCK + i] = min(S[HEIGHT * BLOCK + i] + _arm(S, i, ox, oy, oz)[2], ZERO)
-        x, y, z = S[SAMPLE_X * BLOCK + i], S[SAMPLE_Y * BLOCK + i], S[SAMPLE_Z * BLOCK + i]
-        _orbital_add(S, i, 0, x, y, z, w0)
-        _orbital_add(S, i, 1, x, y, z, w1)
-        _orbital_add(S, i, 2, x, y, z, w2)
-        _orbital_add(S, i, 3, x, y, z, w3)
+        z = S[SAMPLE_Z * BLOCK + i]
+        _orbital_add(S, i, z, o0, t0, c0)
+        _orbital_add(S, i, z, o1, t1, c1)
+        _orbital_add(S, i, z, o2, t2, c2)
+        _orbital_add(S, i, z, o3, t3, c3)
 
 
 @njit(**_JIT)
@@ -595,10 +607,10 @@ def _where_rows(S, n, ox, oy, oz, wake, sea, wprm, prm, tau):
     20%; so does an inlined helper with these branches)."""
     if wake:
         _wake_rows(S, n, ox, oy, oz, wprm, tau)
-    if sea:
+    if sea and prm[P_ORBITAL] != 0.0:
+        _sea_rows(S, n, ox, oy, oz, wake, prm, tau)
+    elif sea:
         _swell_rows(S, n, ox, oy, oz, prm, tau)
-        if prm[P_ORBITAL] != 0.0:
-            _orbital_rows(S, n, ox, oy, oz, wake, prm, tau)
 
 
 @njit(**_INLINE)

@@ -22,7 +22,7 @@ class World:
     buoyancy depth are taken from the surface height under it. By default the swell moves
     the surface only; with ``wave_orbital_velocity`` the water under it moves too, each
     wave's linear deep-water orbital velocity at every sample, decaying with depth below the
-    moving surface (``kernels._orbital_rows``).
+    moving surface (``kernels._sea_rows``).
 
     Args:
         gravity_mps2: magnitude of gravity (>= 0), acting along -z.

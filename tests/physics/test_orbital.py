@@ -1,4 +1,4 @@
-"""Orbital velocity of the swell (World(wave_orbital_velocity=True), kernels._orbital_rows)
+"""Orbital velocity of the swell (World(wave_orbital_velocity=True), kernels._sea_rows)
 against linear deep-water theory (Airy; e.g. Dean and Dalrymple, "Water wave mechanics for
 engineers and scientists", 1991, ch. 4): under eta = a cos(theta) the water moves at
 a omega e^(k z) (cos theta along the wave, sin theta up), a omega on the surface. Read from
