@@ -77,6 +77,12 @@ BLOCKS = (
     ),  # fmt: skip
     Block("docs/environments.md", "v1-pilots", "docs/study_levels.csv", "study_levels:markdown"),
     Block("docs/environments.md", "v1-ppo", "docs/study_v1_ppo.csv", "study_v1_ppo:markdown"),
+    Block(
+        "docs/training.md",
+        "v1-ppo-floor",
+        "docs/study_v1_ppo_easy.csv",
+        "study_v1_ppo:easy_markdown",
+    ),
     Block("docs/environments.md", "v1-reward", "docs/reward_terms.csv", "reward_terms:markdown"),
     Block("docs/reliability.md", "fuzz-table", "docs/fuzz.csv", "report:fuzz_markdown"),
     Block("docs/reliability.md", "fuzz-v1-table", "docs/fuzz_v1.csv", "report:fuzz_v1_markdown"),
