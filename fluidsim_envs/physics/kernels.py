@@ -1635,15 +1635,18 @@ def _actuate(e0, n, actuator, command, ctrl):
 
 
 @njit(**_INLINE)
-def _load_block(blk, model, samples, data):
-    """Copy a block's state, body constants and fluid (and wake source) into its scratch and
-    deflect its control surfaces; returns (first environment, environments in the block)."""
+def _load_block(blk, model, samples, data, deflect=True):
+    """Copy a block's state, body constants and fluid (and wake source) into its scratch and,
+    with ``deflect``, deflect its control surfaces (``_deflect``: a sine and a cosine from
+    libm per surface and environment, a large share of a light craft's step); returns (first
+    environment, environments in the block)."""
     st, flow, src, scr = data.st, data.flow, data.src, data.scr
     nb, ne = st.shape[1], st.shape[2]
     e0 = blk * BLOCK
     n = min(BLOCK, ne - e0)
     scr_blk = scr[blk]
-    _deflect(e0, n, samples, data.ctrl, data.flap_now)
+    if deflect:
+        _deflect(e0, n, samples, data.ctrl, data.flap_now)
     for b in range(nb):
         for k in range(st.shape[0]):
             for i in range(n):
@@ -1702,7 +1705,9 @@ def _contact(scr_blk, nb, e0, n, model, data, work, pairs):
 
 @njit(**_INLINE)
 def _advance_block(blk, model, samples, data, method, steps, contact, pairs):
-    e0, n = _load_block(blk, model, samples, data)
+    actuated = model.actuator.shape[0] > 0
+    # with actuators every step moves them and deflects the surfaces before its forces
+    e0, n = _load_block(blk, model, samples, data, not actuated)
     st, src, clock, diverged = data.st, data.src, data.clock, data.diverged
     nb = st.shape[1]
     scr_blk = data.scr[blk]
@@ -1723,7 +1728,6 @@ def _advance_block(blk, model, samples, data, method, steps, contact, pairs):
         for i in range(n):
             for c in range(touch.shape[1]):
                 touch[e0 + i, c] = 0.0
-    actuated = model.actuator.shape[0] > 0
     for _ in range(steps):
         if actuated:  # the actuators move at the step rate, the surfaces with them
             _actuate(e0, n, model.actuator, data.command, data.ctrl)
