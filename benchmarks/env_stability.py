@@ -10,23 +10,29 @@ away. For each scene and integrator
 scene's default dt / 8 and its largest accepted dt (``--halvings`` steps) runs
 ``fuzz.run_case`` (extreme parameters, ``--env-steps`` sub-env steps over ``--num-envs``
 sub-envs) and calls a dt *stable* when no episode ended ``physics_diverged``. The limit is
-the largest stable dt found, rounded down to two significant digits.
+the largest stable dt found, rounded down to two significant digits. A v1 is measured at
+``hard`` (``fuzz.EXTREMES``: v0's extremes, every knob at its hardest level), between its
+default dt / 8 and its v0's limit: at ``easy`` it flies v0's craft in v0's world, so its
+limit is at most v0's at any level.
 
 Writes ``docs/env_stability.csv``; ``scenes/limits.py``'s ``DT_LIMIT_S`` is that table
 (``tests/scenes/test_limits.py`` checks)::
 
-    python -m benchmarks.env_stability              # about 15 minutes on 2 cores, cold
+    python -m benchmarks.env_stability              # about 30 minutes on 2 cores, cold
     python -m benchmarks.env_stability --quick      # 2 halvings, fewer steps, into build/
+    python -m benchmarks.env_stability --env fluidsim/BoatOnStep-v1   # one env's rows
 """
 
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
-from benchmarks.common import arguments, describe, write_csv
+from benchmarks.common import arguments, describe, read_csv, write_csv
 from benchmarks.fuzz import Case, run_case
 from fluidsim_envs.physics.kernels import INTEGRATORS
-from fluidsim_envs.scenes import SCENES, V0_SCENES
+from fluidsim_envs.scenes import SCENES
+from fluidsim_envs.scenes import limits as LIM
 
 HEADER = (
     "env", "integrator", "default_dt_s", "dt_stable_s", "dt_unstable_s", "dt_limit_s",
@@ -53,6 +59,8 @@ def bisect(env_id: str, integrator: str, env_steps: int, num_envs: int, halvings
 
     cls = SCENES[env_id].params_cls
     lo, hi = cls().dt / 8, cls.RANGES["dt"].hi  # the largest dt the parameters accept
+    if env_id.endswith("-v1"):  # at most v0's: v1 at easy flies v0's craft in v0's world
+        hi = min(hi, LIM.DT_LIMIT_S[env_id.split("/")[1].replace("-v1", "-v0")][integrator])
     if not stable(lo):
         return math.nan, lo, runs
     if stable(hi):
@@ -63,16 +71,34 @@ def bisect(env_id: str, integrator: str, env_steps: int, num_envs: int, halvings
     return lo, hi, runs
 
 
+def write(out: Path, rows: list, measured: list[str]) -> None:
+    """``out``: ``rows`` (the envs ``measured``), and the other envs' rows kept from ``out``."""
+    cells = [[f"{x:.6g}" if isinstance(x, float) else x for x in row] for row in rows]
+    if out.is_file():  # the envs not measured keep their rows
+        _, kept = read_csv(out)
+        cells += [[r[k] for k in HEADER] for r in kept if r["env"] not in measured]
+    order = list(INTEGRATORS)
+    cells.sort(key=lambda r: (r[0][-2:], r[0], order.index(r[1])))
+    others = sorted({r[0] for r in cells} - set(measured))
+    notes = [f"rows of {', '.join(others)} kept from the previous file"] if others else []
+    write_csv(out, HEADER, cells, describe(False) + notes)
+
+
 def main() -> None:
     parser = arguments(__doc__, "2 halvings, 2e4 env-steps a run", "env_stability.csv")
     parser.add_argument("--env-steps", type=float, default=2e5, help="per run (default 2e5)")
     parser.add_argument("--num-envs", type=int, default=512)
     parser.add_argument("--halvings", type=int, default=7)
+    parser.add_argument("--env", nargs="+", choices=sorted(SCENES), default=sorted(SCENES),
+                        help="measure these (the others' rows are kept from --out)")  # fmt: skip
     args = parser.parse_args()
     steps, halvings = (2e4, 2) if args.quick else (args.env_steps, args.halvings)
-    rows = []
-    for env_id, scene in V0_SCENES.items():  # per craft: v1 flies v0's
-        default = scene.params_cls().dt
+    keep = not args.quick or args.out != parser.get_default("out")
+    rows, done = [], []
+    for env_id in sorted(SCENES, key=lambda i: (i[-2:], i)):  # v0's first: v1's bound
+        if env_id not in args.env:
+            continue
+        default = SCENES[env_id].params_cls().dt
         for integrator in INTEGRATORS:
             good, bad, runs = bisect(env_id, integrator, int(steps), args.num_envs, halvings)
             limit = round_down(good) if math.isfinite(good) else math.nan
@@ -84,9 +110,10 @@ def main() -> None:
                 f"limit {limit:.3g} s ({limit / default:.2f} x the default {default:.4g} s)",
                 flush=True,
             )
-    if not args.quick or args.out != parser.get_default("out"):
-        cells = [[f"{x:.6g}" if isinstance(x, float) else x for x in row] for row in rows]
-        write_csv(args.out, HEADER, cells, describe(False))
+        done.append(env_id)
+        if keep:  # after each env: a killed run keeps what it measured
+            write(Path(args.out), rows, done)
+    if keep:
         print(f"wrote {args.out}")
 
 

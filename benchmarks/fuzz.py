@@ -92,7 +92,7 @@ class Case:
 
 def dt_limit(env_id: str, integrator: str) -> float:
     """The scene's step limit for ``integrator`` (scenes/limits.py)."""
-    return LIM.DT_LIMIT_S[SCENES[env_id].first_id.split("/")[1]][integrator]
+    return LIM.DT_LIMIT_S[env_id.split("/")[1]][integrator]
 
 
 class Adversary:
@@ -193,7 +193,7 @@ def cases(quick: bool) -> list[Case]:
         for params in ("nominal", "extreme"):
             for dtype in ("float64", "float32"):
                 out.append(Case(env_id, params, dtype, default))
-        integrators = [default] if quick else sorted(LIM.DT_LIMIT_S[scene.first_id.split("/")[1]])
+        integrators = [default] if quick else sorted(LIM.DT_LIMIT_S[env_id.split("/")[1]])
         for integrator in integrators:
             for fraction in (0.5, 1.0):
                 dt = fraction * dt_limit(env_id, integrator)

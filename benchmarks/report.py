@@ -364,8 +364,7 @@ def params_markdown() -> str:
     for env_id, scene in SCENES.items():
         own = env_id.split("/")[1]
         cls = scene.params_cls
-        craft = scene.first_id.split("/")[1]  # the step limits are the craft's
-        steps = ", ".join(f"{m} {dt:g}" for m, dt in LIM.DT_LIMIT_S.get(craft, {}).items())
+        steps = ", ".join(f"{m} {dt:g}" for m, dt in LIM.DT_LIMIT_S.get(own, {}).items())
         lines += [f"**{own}** (`{cls.__name__}`)", "", "| parameter | default | allowed |"]
         lines.append("|---|---|---|")
         for f in dataclasses.fields(cls):

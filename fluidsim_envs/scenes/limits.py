@@ -13,7 +13,8 @@ The runaway check (``Simulator.diverged``) ends such an episode, but an env that
 a ``dt`` hands the learner mostly ended episodes. So each scene refuses a ``dt`` above the
 largest one at which none of the episodes of the bisection's fuzz runs diverged
 (``benchmarks/env_stability.py``: adversarial actions, parameters at the ends of their
-ranges, 2e5 env-steps a run), per integrator, in :data:`DT_LIMIT_S`;
+ranges, 2e5 env-steps a run), per integrator, in :data:`DT_LIMIT_S`: a v1 at ``hard`` (the
+level that moves the air and water most), at most its v0's, whichever level it flies;
 ``docs/env_stability.csv`` holds the measurement and ``tests/scenes/test_limits.py`` keeps
 this table equal to it. A limit, not a margin: a longer fuzz (docs/fuzz.csv) finds rare,
 flagged divergences at exactly the limit with the parameters at their extremes.
@@ -93,7 +94,8 @@ EPISODE_STEPS = Bound(1, 10**7, integer=True)
 # and an unbounded one makes every reward inf (1e308)
 WEIGHT = Bound(0.0, 1000.0)
 
-# The largest dt (s) with no diverged episode in the fuzz, by scene and integrator
+# The largest dt (s) with no diverged episode in the fuzz, by scene and integrator (a v1: at
+# hard, at most its v0's)
 # (python -m benchmarks.env_stability; docs/env_stability.csv).
 DT_LIMIT_S: dict[str, dict[str, float]] = {
     "PaperAirplane-v0": {
@@ -137,6 +139,48 @@ DT_LIMIT_S: dict[str, dict[str, float]] = {
         "velocity_verlet_cached": 0.05,
         "trapezoid_symplectic_euler": 0.05,
         "implicit_midpoint": 0.018,
+    },
+    "PaperAirplane-v1": {
+        "explicit_euler": 0.0072,
+        "symplectic_euler": 0.0085,
+        "velocity_verlet": 0.017,
+        "rk2": 0.011,
+        "rk4": 0.02,
+        "verlet_tetra": 0.0083,
+        "accurate_euler": 0.0093,
+        "position_verlet": 0.0085,
+        "prescaled_symplectic_euler": 0.0085,
+        "velocity_verlet_cached": 0.0098,
+        "trapezoid_symplectic_euler": 0.0083,
+        "implicit_midpoint": 0.0026,
+    },
+    "SubmarineWake-v1": {
+        "explicit_euler": 0.087,
+        "symplectic_euler": 0.073,
+        "velocity_verlet": 0.12,
+        "rk2": 0.09,
+        "rk4": 0.09,
+        "verlet_tetra": 0.073,
+        "accurate_euler": 0.077,
+        "position_verlet": 0.073,
+        "prescaled_symplectic_euler": 0.073,
+        "velocity_verlet_cached": 0.083,
+        "trapezoid_symplectic_euler": 0.067,
+        "implicit_midpoint": 0.025,
+    },
+    "BoatOnStep-v1": {
+        "explicit_euler": 0.04,
+        "symplectic_euler": 0.05,
+        "velocity_verlet": 0.05,
+        "rk2": 0.047,
+        "rk4": 0.05,
+        "verlet_tetra": 0.05,
+        "accurate_euler": 0.05,
+        "position_verlet": 0.05,
+        "prescaled_symplectic_euler": 0.05,
+        "velocity_verlet_cached": 0.05,
+        "trapezoid_symplectic_euler": 0.05,
+        "implicit_midpoint": 0.015,
     },
 }
 

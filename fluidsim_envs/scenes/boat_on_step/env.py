@@ -111,7 +111,7 @@ class BoatOnStepParams:
         own = self.NAME
         check_params(self, own, self.RANGES)
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
-        check_step(own, self.dt, self.integrator, "BoatOnStep-v0")  # v1 flies the same craft
+        check_step(own, self.dt, self.integrator, self.NAME)  # v1: its own, measured at hard
         check_choice(own, "dtype", self.dtype, ("float32", "float64"))
         CK.flag(own, "buoy_bodies", self.buoy_bodies)
         try:

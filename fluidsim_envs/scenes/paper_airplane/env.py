@@ -89,7 +89,7 @@ class PaperAirplaneParams:
         own = self.NAME
         check_params(self, own, self.RANGES)
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
-        check_step(own, self.dt, self.integrator, "PaperAirplane-v0")  # v1 flies the same craft
+        check_step(own, self.dt, self.integrator, self.NAME)  # v1: its own, measured at hard
         check_choice(own, "dtype", self.dtype, ("float32", "float64"))
         if self.ceiling_m <= self.launch_height_m[1]:
             raise ValueError(

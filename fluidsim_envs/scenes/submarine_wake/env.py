@@ -125,7 +125,7 @@ class SubmarineWakeParams:
         own = self.NAME
         check_params(self, own, self.RANGES)
         check_choice(own, "integrator", self.integrator, sorted(INTEGRATORS))
-        check_step(own, self.dt, self.integrator, "SubmarineWake-v0")  # v1 flies the same craft
+        check_step(own, self.dt, self.integrator, self.NAME)  # v1: its own, measured at hard
         check_choice(own, "dtype", self.dtype, ("float32", "float64"))
         for key, choices in self.CHOICES.items():
             check_choice(own, key, getattr(self, key), choices)
