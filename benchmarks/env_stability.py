@@ -13,7 +13,8 @@ sub-envs) and calls a dt *stable* when no episode ended ``physics_diverged``. Th
 the largest stable dt found, rounded down to two significant digits. A v1 is measured at
 ``hard`` (``fuzz.EXTREMES``: v0's extremes, every knob at its hardest level), between its
 default dt / 8 and its v0's limit: at ``easy`` it flies v0's craft in v0's world, so its
-limit is at most v0's at any level.
+limit is at most v0's at any level (its ``dt_unstable_s`` is inf where it was stable up to
+v0's limit: nothing above was tried).
 
 Writes ``docs/env_stability.csv``; ``scenes/limits.py``'s ``DT_LIMIT_S`` is that table
 (``tests/scenes/test_limits.py`` checks)::
@@ -46,9 +47,13 @@ def round_down(x: float, digits: int = 2) -> float:
     return math.floor(x / scale + 1e-9) * scale
 
 
-def bisect(env_id: str, integrator: str, env_steps: int, num_envs: int, halvings: int):
-    """(largest stable dt, smallest unstable dt (inf if none), runs) for one scene and
-    integrator; the stable one is nan where even the lowest dt diverged."""
+def bisect(
+    env_id: str, integrator: str, env_steps: int, num_envs: int, halvings: int, bound=math.inf
+):
+    """(largest stable dt, smallest unstable dt (inf if none up to the top), runs) for one
+    scene and integrator, between its default dt / 8 and the smaller of its largest
+    accepted dt and ``bound`` (a later version: its v0's limit); the stable one is nan where
+    even the lowest dt diverged."""
     runs = 0
 
     def stable(dt: float) -> bool:
@@ -58,9 +63,7 @@ def bisect(env_id: str, integrator: str, env_steps: int, num_envs: int, halvings
         return run_case(case, env_steps, num_envs)["diverged"] == 0
 
     cls = SCENES[env_id].params_cls
-    lo, hi = cls().dt / 8, cls.RANGES["dt"].hi  # the largest dt the parameters accept
-    if env_id.endswith("-v1"):  # at most v0's: v1 at easy flies v0's craft in v0's world
-        hi = min(hi, LIM.DT_LIMIT_S[env_id.split("/")[1].replace("-v1", "-v0")][integrator])
+    lo, hi = cls().dt / 8, min(cls.RANGES["dt"].hi, bound)
     if not stable(lo):
         return math.nan, lo, runs
     if stable(hi):
@@ -80,7 +83,11 @@ def write(out: Path, rows: list, measured: list[str]) -> None:
     order = list(INTEGRATORS)
     cells.sort(key=lambda r: (r[0][-2:], r[0], order.index(r[1])))
     others = sorted({r[0] for r in cells} - set(measured))
-    notes = [f"rows of {', '.join(others)} kept from the previous file"] if others else []
+    notes = []
+    if others:  # and where they came from: the previous file's command
+        before = next((ln[2:].strip() for ln in out.read_text().splitlines()
+                       if ln.startswith("# command:")), "?")  # fmt: skip
+        notes = [f"rows of {', '.join(others)} kept from the previous file ({before})"]
     write_csv(out, HEADER, cells, describe(False) + notes)
 
 
@@ -95,16 +102,22 @@ def main() -> None:
     steps, halvings = (2e4, 2) if args.quick else (args.env_steps, args.halvings)
     keep = not args.quick or args.out != parser.get_default("out")
     rows, done = [], []
-    for env_id in sorted(SCENES, key=lambda i: (i[-2:], i)):  # v0's first: v1's bound
+    limits = {k: dict(v) for k, v in LIM.DT_LIMIT_S.items()}  # v0's as measured, once it is
+    for env_id in sorted(SCENES, key=lambda i: (SCENES[i].version, i)):  # v0's first
         if env_id not in args.env:
             continue
-        default = SCENES[env_id].params_cls().dt
+        scene = SCENES[env_id]
+        default = scene.params_cls().dt
+        first = scene.first_id.split("/")[1]
         for integrator in INTEGRATORS:
-            good, bad, runs = bisect(env_id, integrator, int(steps), args.num_envs, halvings)
+            # a later version at easy flies v0's craft in v0's world: at most v0's limit
+            bound = limits[first][integrator] if scene.version > 0 else math.inf
+            good, bad, runs = bisect(env_id, integrator, int(steps), args.num_envs, halvings, bound)
             limit = round_down(good) if math.isfinite(good) else math.nan
             rows.append(
                 (env_id, integrator, default, good, bad, limit, limit / default, int(steps), runs)
             )
+            limits.setdefault(env_id.split("/")[1], {})[integrator] = limit
             print(
                 f"{env_id:28s} {integrator:17s} stable {good:.4g} s, unstable {bad:.4g} s: "
                 f"limit {limit:.3g} s ({limit / default:.2f} x the default {default:.4g} s)",

@@ -17,7 +17,8 @@ SCENES: MappingProxyType[str, Scene] = MappingProxyType(
     {s.id: s for m in (paper_airplane, submarine_wake, boat_on_step) for s in (m.SCENE, m.SCENE_V1)}
 )
 
-# each scene's first version: what is measured per craft (step limits, tuned pilots, pictures)
+# each scene's first version: what is measured per craft (tuned pilots, pictures; a later
+# version's step limits are its own, at most its v0's)
 V0_SCENES: MappingProxyType[str, Scene] = MappingProxyType(
     {i: s for i, s in SCENES.items() if s.version == 0}
 )

@@ -206,5 +206,5 @@ def check_step(own: str, dt: float, integrator: str, scene: str) -> None:
         return
     raise ValueError(
         f"{own}: dt must be <= {limit:g} s with integrator {integrator!r} (its stability "
-        f"limit on this craft, measured by fuzzing: docs/env_stability.csv), got {dt!r}"
+        f"limit in this env, measured by fuzzing: docs/env_stability.csv), got {dt!r}"
     )

@@ -99,7 +99,8 @@ class Scene:
     @property
     def first_id(self) -> str:
         """The id of this scene's v0: the same craft and task, whose per-craft measurements
-        (step limits, tuned pilot gains, pictures) a later version starts from."""
+        (tuned pilot gains, pictures) a later version starts from; its step limits bound
+        the later version's own (``scenes/limits.py``)."""
         return self.id.rsplit("-v", 1)[0] + "-v0"
 
     @property
