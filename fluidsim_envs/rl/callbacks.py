@@ -42,16 +42,17 @@ class Checkpoints(BaseCallback):
 
 
 #: what :class:`Evaluations` tells after each evaluation: timesteps, the episodes' returns,
-#: their successes, whether the model became the new best
-Report = Callable[[int, Sequence[float], Sequence[float], bool], None]
+#: their successes, whether the model became the new best; False back ends the training (as
+#: an SB3 callback's False does: the run then finishes as at its end)
+Report = Callable[[int, Sequence[float], Sequence[float], bool], bool | None]
 
 
 class Evaluations(BaseCallback):
     """Every ``period`` timesteps: ``n_episodes`` deterministic episodes on ``eval_env``
     (reseeded with ``seed`` first, so each evaluation flies the same ones; normalized with the
     training env's statistics of the moment). Then, in this order: the best model when the
-    mean return beats ``best``'s score, the evaluation into ``log`` (saved), TensorBoard's
-    ``eval/`` scalars, and ``report``.
+    mean return beats ``best``'s score, the evaluation into ``log`` (saved, with the run's
+    wall-clock seconds that ``clock`` tells), TensorBoard's ``eval/`` scalars, and ``report``.
 
     Put it before :class:`Checkpoints` in the callback list: a checkpoint at the same step
     then comes after the evaluation is saved, so a resume from it never lacks it, and a kill
@@ -66,10 +67,11 @@ class Evaluations(BaseCallback):
         log: EvalLog,
         best: BestModel,
         report: Report,
+        clock: Callable[[], float] = lambda: float("nan"),
     ) -> None:
         super().__init__()
         self.eval_env, self.period, self.n_episodes, self.seed = eval_env, period, n_episodes, seed
-        self.log, self.best, self.report = log, best, report
+        self.log, self.best, self.report, self.clock = log, best, report, clock
 
     def _on_training_start(self) -> None:
         # Ctrl-C during the evaluation at step S saves the interrupt checkpoint at S without
@@ -81,19 +83,19 @@ class Evaluations(BaseCallback):
 
     def _on_step(self) -> bool:
         if self.num_timesteps % self.period == 0:
-            self._evaluate()
+            return self._evaluate() is not False
         return True
 
-    def _evaluate(self) -> None:
+    def _evaluate(self) -> bool | None:
         returns, lengths, successes = self._episodes()
         mean = float(np.mean(returns))
         new_best = mean > self.best.score
         if new_best:
             self.best.save(self.model, self._record(returns, successes))
-        self.log.add(self.num_timesteps, returns, lengths, successes)
+        self.log.add(self.num_timesteps, returns, lengths, successes, self.clock())
         self.log.save()
         self._to_logger(returns, lengths, successes)
-        self.report(self.num_timesteps, returns, successes, new_best)
+        return self.report(self.num_timesteps, returns, successes, new_best)
 
     def _episodes(self) -> tuple[list[float], list[int], list[float]]:
         """Returns, lengths and (where the env reports ``is_success``) successes."""

@@ -1,6 +1,6 @@
-"""The console scripts (``fluidsim-train``, ``fluidsim-evaluate``; pyproject's
-``[project.scripts]``). They check the ``train`` extra before importing anything from it, so a
-missing one is an error that says which ``pip install`` fixes it."""
+"""The console scripts (``fluidsim-train``, ``fluidsim-evaluate``, ``fluidsim-sweep``;
+pyproject's ``[project.scripts]``). They check the extras they need before importing anything
+from them, so a missing one is an error that says which ``pip install`` fixes it."""
 
 from __future__ import annotations
 
@@ -20,13 +20,19 @@ def evaluate(argv: list[str] | None = None) -> int:
     return _run("fluidsim-evaluate", "evaluate", argv)
 
 
-def _run(prog: str, module: str, argv: list[str] | None) -> int:
+def sweep(argv: list[str] | None = None) -> int:
+    """``fluidsim-sweep``: :func:`fluidsim_envs.rl.sweep.main` (needs the ``sweep`` extra)."""
+    return _run("fluidsim-sweep", "sweep", argv, extras=("train", "sweep"))
+
+
+def _run(prog: str, module: str, argv: list[str] | None, extras=("train",)) -> int:
     try:
-        require("train", prog)
+        for extra in extras:
+            require(extra, prog)
     except MissingExtra as e:
         print(f"{prog}: error: {e}", file=sys.stderr)
         return 2
     return importlib.import_module(f"{__package__}.{module}").main(argv, prog=prog)
 
 
-__all__ = ["evaluate", "train"]
+__all__ = ["evaluate", "sweep", "train"]

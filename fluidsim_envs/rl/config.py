@@ -430,21 +430,30 @@ def apply_overrides(raw: dict[str, Any], overrides: typing.Sequence[str]) -> dic
     out = copy.deepcopy(raw)
     for item in overrides:
         key, value = parse_assignment(item, "--set")
-        *parents, last = key.split(".")
-        node = out
-        for depth, part in enumerate(parents):
-            node = node.setdefault(part, {})
-            if not isinstance(node, dict):
-                where = ".".join(parents[: depth + 1])
-                raise ConfigError(f"--set {item!r}: {where} is {node!r}, not a mapping")
-        node[last] = value
+        set_key(out, key, value, f"--set {item!r}")
     return out
 
 
-def config_from_dict(raw: dict[str, Any]) -> TrainConfig:
-    """Build and check a :class:`TrainConfig` from plain data."""
+def set_key(raw: dict[str, Any], key: str, value: Any, what: str) -> None:
+    """Set the dotted ``key`` (``algorithm.learning_rate``) of ``raw`` to ``value`` in place,
+    making the mappings on the way; ``what`` names the setting in the error where a part of the
+    way is not a mapping."""
+    *parents, last = key.split(".")
+    node = raw
+    for depth, part in enumerate(parents):
+        node = node.setdefault(part, {})
+        if not isinstance(node, dict):
+            where = ".".join(parents[: depth + 1])
+            raise ConfigError(f"{what}: {where} is {node!r}, not a mapping")
+    node[last] = value
+
+
+def config_from_dict(raw: dict[str, Any], joint: bool = True) -> TrainConfig:
+    """Build and check a :class:`TrainConfig` from plain data. ``joint=False`` leaves out
+    the checks that tie one key to another (a batch no larger than a rollout): a search
+    space's values are checked one at a time, where such a pair is not yet decided."""
     cfg = _build(TrainConfig, raw, "")
-    _check(cfg)
+    _check(cfg, joint)
     return cfg
 
 
@@ -611,9 +620,10 @@ def _type_error(value: Any, tp: Any, where: str) -> ConfigError:
 # checks across fields
 
 
-def _check(cfg: TrainConfig) -> None:
+def _check(cfg: TrainConfig, joint: bool = True) -> None:
     _check_numbers(cfg, "")
-    cfg.algorithm.check(cfg.n_envs)
+    if joint:
+        cfg.algorithm.check(cfg.n_envs)
     _check_policy(cfg.policy, cfg.algorithm.name)
     check_device(cfg.device)
     _check_env(cfg.env_id, cfg.env_kwargs)

@@ -10,6 +10,8 @@ EXTRAS = {
     "train": ("stable_baselines3", "torch", "yaml", "tensorboard", "tqdm", "rich", "scipy"),
     "rerun": ("rerun",),
     "tune": ("optuna",),
+    "sweep": ("ray", "optuna", "pandas", "pyarrow"),
+    "play": ("pygame", "yaml"),
 }
 
 

@@ -40,7 +40,14 @@ from .config import ConfigError, read_yaml
 from .files import RunError
 
 CHECKPOINT_PREFIX = "model"
-EVAL_HISTORY_COLUMNS = ("timesteps", "mean_return", "std_return", "mean_length", "success_rate")
+EVAL_HISTORY_COLUMNS = (
+    "timesteps",
+    "mean_return",
+    "std_return",
+    "mean_length",
+    "success_rate",
+    "wall_s",  # the run's wall-clock seconds at the evaluation's end, resumes included
+)
 MONITOR_STEPS = "timesteps"  # monitor.csv's column: the run's timesteps at the episode's end
 
 
@@ -181,8 +188,9 @@ def restart_point(
 
 @dataclass
 class EvalLog:
-    """The run's evaluations: per evaluation its timesteps, and each episode's return, length
-    and success (NaN where an evaluation had fewer episodes or no success flag).
+    """The run's evaluations: per evaluation its timesteps, the run's wall-clock seconds at its
+    end (NaN: not recorded, an older version's file), and each episode's return, length and
+    success (NaN where an evaluation had fewer episodes or no success flag).
     :meth:`save` writes ``evaluations.npz`` (SB3's keys) and ``history.csv`` from them."""
 
     folder: Path
@@ -190,6 +198,7 @@ class EvalLog:
     results: list[list[float]] = field(default_factory=list)
     lengths: list[list[float]] = field(default_factory=list)
     successes: list[list[float]] = field(default_factory=list)
+    wall_s: list[float] = field(default_factory=list)
 
     @property
     def npz(self) -> Path:
@@ -214,6 +223,8 @@ class EvalLog:
             ok = "successes" in arrays and len(arrays["successes"]) == len(log.timesteps)
             rows = arrays["successes"] if ok else [[] for _ in log.timesteps]
             log.successes = [list(map(float, r)) for r in rows]
+            timed = "wall_s" in arrays and len(arrays["wall_s"]) == len(log.timesteps)
+            log.wall_s = [float(t) for t in arrays["wall_s"]] if timed else [math.nan] * len(rows)
         except Exception as e:  # a damaged file (not one of ours: ours are written whole)
             say(f"--resume: {log.npz} does not load ({type(e).__name__}: {e}); history restarts")
             return cls(folder)
@@ -222,12 +233,13 @@ class EvalLog:
     def trim(self, steps: int) -> None:
         """Drop the evaluations made after ``steps`` (a restart point's timesteps)."""
         keep = [i for i, t in enumerate(self.timesteps) if t <= steps]
-        for name in ("timesteps", "results", "lengths", "successes"):
+        for name in ("timesteps", "results", "lengths", "successes", "wall_s"):
             values = getattr(self, name)
             setattr(self, name, [values[i] for i in keep])
 
-    def add(self, steps: int, returns, lengths, successes) -> None:
+    def add(self, steps: int, returns, lengths, successes, wall_s: float = math.nan) -> None:
         self.timesteps.append(int(steps))
+        self.wall_s.append(float(wall_s))
         self.results.append([float(r) for r in returns])
         self.lengths.append([float(n) for n in lengths])
         self.successes.append([float(s) for s in successes])
@@ -240,10 +252,10 @@ class EvalLog:
     def rows(self) -> list[list[float]]:
         """``history.csv``'s rows (:data:`EVAL_HISTORY_COLUMNS`)."""
         out = []
-        for t, r, n, s in zip(
-            self.timesteps, self.results, self.lengths, self.successes, strict=True
+        for t, r, n, s, w in zip(
+            self.timesteps, self.results, self.lengths, self.successes, self.wall_s, strict=True
         ):
-            out.append([t, _mean(r), _std(r), _mean(n), _mean(s)])
+            out.append([t, _mean(r), _std(r), _mean(n), _mean(s), round(w, 2)])
         return out
 
     def save(self) -> None:
@@ -253,6 +265,7 @@ class EvalLog:
             "timesteps": np.asarray(self.timesteps, dtype=np.int64),
             "results": _padded(self.results),
             "ep_lengths": _padded(self.lengths),
+            "wall_s": np.asarray(self.wall_s, dtype=np.float64),
         }
         if any(self.successes):
             arrays["successes"] = _padded(self.successes)

@@ -44,6 +44,7 @@ import shutil
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -271,25 +272,61 @@ def _eval_line(timesteps: int, returns, success, steps_per_s: float) -> str:
     )
 
 
-def _callbacks(cfg: TrainConfig, run_dir: Path, venv, eval_env, say, resumed: bool) -> list:
+#: what ``train(on_eval=...)`` gets after each evaluation (:func:`eval_record`'s keys); False
+#: back ends the training there (the run finishes as at its end: final model, run.yaml)
+EvalHook = Callable[[dict[str, Any]], bool | None]
+
+
+def eval_record(timesteps: int, returns, success, wall_s: float, best: float) -> dict[str, Any]:
+    """One evaluation as plain numbers: what ``on_eval`` hooks (the sweep's reports) get."""
+    return {
+        "timesteps": int(timesteps),
+        "eval_return": float(np.mean(returns)),
+        "eval_return_std": float(np.std(returns)),
+        "success_rate": float(np.mean(success)) if len(success) else float("nan"),
+        "best_return": float(best),
+        "wall_s": round(float(wall_s), 2),
+        "peak_rss_mb": peak_rss_mb(),
+    }
+
+
+def _callbacks(
+    cfg: TrainConfig,
+    run_dir: Path,
+    venv,
+    eval_env,
+    say,
+    resumed: bool,
+    time_offset_s: float = 0.0,
+    on_eval: EvalHook | None = None,
+) -> list:
     """The evaluations (first: see :class:`~.callbacks.Evaluations`) and the checkpoints. A
-    resumed run goes on with its evaluation history and best score; a new one starts them
-    afresh, even in a folder that held such files."""
+    resumed run goes on with its evaluation history and best score, and its clock from
+    ``time_offset_s``; a new one starts them afresh, even in a folder that held such files."""
     from .callbacks import Checkpoints, Evaluations
 
     started = time.perf_counter()
 
-    def report(timesteps: int, returns, success, new_best: bool) -> None:
-        rate = venv.unwrapped.env_steps / (time.perf_counter() - started)
-        say(_eval_line(timesteps, returns, success, rate) + ("   new best" if new_best else ""))
+    def clock() -> float:  # the run's wall-clock seconds, earlier sessions included
+        return time_offset_s + time.perf_counter() - started
 
     callbacks: list = []
     if cfg.eval.freq > 0:
         log = EvalLog.load(run_dir / "eval") if resumed else EvalLog(run_dir / "eval")
         best = BestModel.open(run_dir / "best") if resumed else BestModel(run_dir / "best")
+
+        def report(timesteps: int, returns, success, new_best: bool) -> bool | None:
+            rate = venv.unwrapped.env_steps / (time.perf_counter() - started)
+            say(_eval_line(timesteps, returns, success, rate) + ("   new best" * new_best))
+            if on_eval is None:
+                return None
+            return on_eval(eval_record(timesteps, returns, success, log.wall_s[-1], best.score))
+
         period = _every(cfg.eval.freq, cfg.n_envs) * cfg.n_envs
         callbacks.append(
-            Evaluations(eval_env, period, cfg.eval.n_episodes, cfg.eval.seed, log, best, report)
+            Evaluations(
+                eval_env, period, cfg.eval.n_episodes, cfg.eval.seed, log, best, report, clock
+            )
         )
     if cfg.checkpoint.freq > 0:
         period = _every(cfg.checkpoint.freq, cfg.n_envs) * cfg.n_envs
@@ -310,7 +347,16 @@ def _timing(venv, eval_env, wall: float) -> dict[str, float]:
         "train_env_s": round(train_env.env_seconds, 1),
         "eval_env_s": round(eval_s, 1),
         "env_share": round((train_env.env_seconds + eval_s) / max(wall, 1e-9), 4),
+        "peak_rss_mb": peak_rss_mb(),
     }
+
+
+def peak_rss_mb() -> float:
+    """This process's peak resident memory so far, in MiB (``getrusage``; Linux counts KiB)."""
+    import resource
+
+    kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return round(kib / (1024.0 if sys.platform != "darwin" else 1024.0**2), 1)
 
 
 def plot_learning_curve(run_dir: Path) -> Path | None:
@@ -373,10 +419,13 @@ def train(
     resume: bool = False,
     progress_bar: bool = True,
     say=print,
+    on_eval: EvalHook | None = None,
 ) -> Path:
     """Train ``cfg`` into ``run_dir`` (or, with ``resume``, continue the run there from its
     newest saved state that loads) and return the final model's path. ``say`` gets the lines
-    that tell the user what happens (the plan, each evaluation, what to do next).
+    that tell the user what happens (the plan, each evaluation, what to do next); ``on_eval``
+    gets each evaluation as numbers (:func:`eval_record`: the sweep reports them to Ray Tune)
+    and ends the training by returning False.
 
     Nothing is written before the config and the folder are checked, and a new folder whose
     envs or model cannot be built is removed again: a start that failed leaves nothing that
@@ -386,13 +435,19 @@ def train(
     before = set_torch_threads(None)
     set_torch_threads(cfg.torch_threads)
     try:
-        return _train(cfg, run_dir, command, resume, progress_bar, say)
+        return _train(cfg, run_dir, command, resume, progress_bar, say, on_eval)
     finally:
         set_torch_threads(before)
 
 
 def _train(
-    cfg: TrainConfig, run_dir: Path, command: list[str], resume: bool, progress_bar: bool, say
+    cfg: TrainConfig,
+    run_dir: Path,
+    command: list[str],
+    resume: bool,
+    progress_bar: bool,
+    say,
+    on_eval: EvalHook | None,
 ) -> Path:
     cfg = resolved(cfg)  # every env parameter written down: the run replays whatever changes
     files.check_writable_folder(run_dir, "--resume" if resume else "--run-dir")
@@ -425,7 +480,9 @@ def _train(
         if planned > 0:
             model.learn(
                 total_timesteps=planned,
-                callback=_callbacks(cfg, run_dir, venv, eval_env, say, resumed=resume),
+                callback=_callbacks(
+                    cfg, run_dir, venv, eval_env, say, resume, time_offset, on_eval
+                ),
                 tb_log_name=cfg.algorithm.name.upper(),
                 reset_num_timesteps=restart is None,
                 progress_bar=progress_bar,

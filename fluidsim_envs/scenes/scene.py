@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from .base import FluidEnv, FluidVectorEnv
+from .keys import Axis
 from .mesh import craft_meshes
 from .planner import Planner, PlannerConfig
 
@@ -57,6 +58,8 @@ class Scene:
     # the planner's default budget for this scene (docs/study_planner.csv): how far ahead
     # the reward tells plans apart sets the look-ahead
     planner_config: PlannerConfig = PlannerConfig()
+    # the keyboard controls of python -m fluidsim_envs.play: an Axis per action, in order
+    keys: tuple[Axis, ...] = ()
 
     def __post_init__(self) -> None:
         own = f"Scene {self.id!r}"
@@ -71,6 +74,8 @@ class Scene:
             raise ValueError(
                 f"{own}: obs_dim {self.vector_cls.obs_dim} != {len(self.observation)} columns"
             )
+        if self.keys and tuple(a.action for a in self.keys) != tuple(self.vector_cls.action_names):
+            raise ValueError(f"{own}: keys {self.keys} are not the actions, in order")
         try:
             self.success_text()
         except (KeyError, IndexError, ValueError) as e:

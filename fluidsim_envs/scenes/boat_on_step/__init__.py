@@ -9,6 +9,7 @@
 
 import dataclasses
 
+from ..keys import Axis
 from ..planner import PlannerConfig
 from ..scene import Scene
 from .env import GATES, BoatOnStepEnv, BoatOnStepParams, BoatOnStepVectorEnv
@@ -35,6 +36,12 @@ SCENE = Scene(
     demo=demo,
     short_episodes={"max_episode_steps": 40},
     meshes=meshes,
+    # the throttle on W/S and the trim tabs on Up/Down stay where left; the wheel on the arrows
+    keys=(
+        Axis("throttle", "s", "w", spring=False),
+        Axis("rudder", "left", "right"),
+        Axis("trim_tabs", "up", "down", spring=False),
+    ),
 )
 
 # v1: the same task with a randomized craft, sensors and actuators (v1.py)

@@ -10,6 +10,7 @@ import dataclasses
 
 import numpy as np
 
+from ..keys import Axis
 from ..planner import PlannerConfig
 from ..scene import Scene
 from .env import PaperAirplaneEnv, PaperAirplaneParams, PaperAirplaneVectorEnv
@@ -45,6 +46,12 @@ SCENE = Scene(
     short_episodes={"launch_height_m": (1.5, 2.5), "max_episode_steps": 40},
     diverge=_blow_up,
     meshes=meshes,
+    # a flight sim's stick: the arrows, pulled back (Down) for nose up; the rudder on A/D
+    keys=(
+        Axis("aileron", "left", "right"),
+        Axis("elevator", "up", "down"),
+        Axis("rudder", "a", "d"),
+    ),
 )
 
 # v1: the same task with a randomized craft, sensors and actuators (v1.py)

@@ -10,6 +10,7 @@
 
 import dataclasses
 
+from ..keys import Axis
 from ..planner import PlannerConfig
 from ..scene import Scene
 from .env import SubmarineWakeEnv, SubmarineWakeParams, SubmarineWakeVectorEnv
@@ -37,6 +38,13 @@ SCENE = Scene(
     demo=demo,
     short_episodes={"max_episode_steps": 40, "lost_distance_m": 5.0},
     meshes=meshes,
+    # the thrust on W/S stays where left; the rudder on the arrows, the planes pulled back
+    # (Down) for nose up
+    keys=(
+        Axis("thrust", "s", "w", spring=False),
+        Axis("rudder", "left", "right"),
+        Axis("dive_planes", "up", "down"),
+    ),
 )
 
 # v1: the same task with a randomized craft, sensors and actuators (v1.py)

@@ -1,0 +1,104 @@
+"""A wall-clock race per v1 env: the shipped PPO config on its scene's v1 at ``standard``,
+searched over the shipped PPO space (``--search ppo``) for the config that reaches the tuned
+pilot's return soonest on this machine's cores.
+
+    python -m benchmarks.sweep_envs                                  # all three (hours)
+    python -m benchmarks.sweep_envs --configs paper_airplane_ppo --trials 12 --wall-budget-s 240
+    python -m benchmarks.sweep_envs --csv-only                       # docs from the sweeps
+
+The target is the tuned pilot's mean return at ``standard`` over 256 seeded episodes
+(``docs/study_v1_ppo.csv``, the ``probes`` rows: the pilot flies v1 with the probes on, as
+PPO does). Each sweep is the real CLI in a subprocess: ``fluidsim-sweep CONFIG --set
+env_id=<v1> total_timesteps=<far> --search ppo --trials K --cpus-per-trial 2 --target T
+--wall-budget-s B`` (one trial at a time, so every trial's clock runs on the same two
+cores; ``total_timesteps`` far beyond what the budget allows, so only the target and the
+budget end a trial). A sweep folder that holds a sweep is resumed, not started again.
+
+The in-training evaluations that decide "reached" fly the config's ``eval.n_episodes``
+episodes (32), not the pilot's 256: a trial's first evaluation at the target is a claim the
+multi-seed results check on the full episodes. Writes ``docs/sweep_<config>.csv`` and
+``.md``: the sweep's results table, with the command and the target in its header.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import subprocess
+import sys
+
+from benchmarks.common import DOCS, ROOT, read_csv
+from benchmarks.study_v1_ppo import CONFIGS
+
+SWEEPS = ROOT / "sweeps" / "v1"
+PILOT_CSV = DOCS / "study_v1_ppo.csv"
+BUDGET_S = {  # a trial's wall-clock budget: a few times the shipped config's time to 3-5 M steps
+    "paper_airplane_ppo": 240.0,
+    "submarine_wake_ppo": 480.0,
+    "boat_on_step_ppo": 1500.0,
+}
+FAR = 1_000_000_000  # total_timesteps: never reached within a budget
+
+
+def pilot_return(env_id: str) -> float:
+    """The tuned pilot's mean return on ``env_id`` at ``standard`` (docs/study_v1_ppo.csv)."""
+    name = env_id.split("/")[1]
+    _, rows = read_csv(PILOT_CSV)
+    for row in rows:
+        if row["env"] == name and row["variant"] == "probes" and row["policy"] == "tuned pilot":
+            return round(float(row["return_mean"]), 2)
+    raise SystemExit(f"{PILOT_CSV}: no tuned pilot row for {name}")
+
+
+def sweep_command(config: str, trials: int, budget_s: float) -> list[str]:
+    env_id = CONFIGS[config]
+    folder = SWEEPS / config
+    if (folder / "sweep.yaml").is_file():
+        return [sys.executable, "-m", "fluidsim_envs.rl.sweep", "--resume", str(folder)]
+    return [
+        sys.executable, "-m", "fluidsim_envs.rl.sweep", config,
+        "--set", f"env_id={env_id}", f"total_timesteps={FAR}",
+        "--search", "ppo", "--trials", str(trials), "--cpus-per-trial", "2",
+        "--target", str(pilot_return(env_id)), "--wall-budget-s", str(budget_s),
+        "--sweep-dir", str(folder),
+    ]  # fmt: skip
+
+
+def publish(config: str, command: str) -> None:
+    """The sweep's table into docs/, its header naming this command and the target."""
+    folder = SWEEPS / config
+    if not (folder / "results.csv").is_file():
+        print(f"{config}: no results yet in {folder}")
+        return
+    target = pilot_return(CONFIGS[config])
+    head = [
+        f"# command: {command}",
+        f"# target: the tuned pilot's mean return at standard, {target} (docs/study_v1_ppo.csv)",
+        f"# sweep: {folder.relative_to(ROOT)}",
+    ]
+    body = (folder / "results.csv").read_text()
+    (DOCS / f"sweep_{config}.csv").write_text("\n".join(head) + "\n" + body)
+    shutil.copyfile(folder / "results.md", DOCS / f"sweep_{config}.md")
+    print(f"wrote docs/sweep_{config}.csv and .md")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--configs", nargs="+", choices=list(CONFIGS), default=list(CONFIGS))
+    parser.add_argument("--trials", type=int, default=12)
+    parser.add_argument("--wall-budget-s", type=float, help="default: BUDGET_S per config")
+    parser.add_argument("--csv-only", action="store_true", help="publish the sweeps as they are")
+    args = parser.parse_args(argv)
+    command = "python -m benchmarks.sweep_envs " + " ".join(argv or sys.argv[1:])
+    for config in args.configs:
+        if not args.csv_only:
+            budget = args.wall_budget_s or BUDGET_S[config]
+            cmd = sweep_command(config, args.trials, budget)
+            print("$", " ".join(cmd), flush=True)
+            subprocess.run(cmd, check=True, cwd=ROOT)
+        publish(config, command.strip())
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

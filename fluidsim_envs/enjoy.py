@@ -1,0 +1,218 @@
+"""Watch a trained policy fly: a zoo entry (``zoo/<env>-<algo>/``) or any run folder.
+
+    python -m fluidsim_envs.enjoy zoo/PaperAirplane-v1-ppo [--episodes N] [--seed S]
+                                  [--env KEY=VALUE ...] [--rerun FILE.rrd] [--video FILE.mp4]
+
+The policy acts deterministically on observations normalized with the statistics saved
+beside it (``fluidsim-evaluate``'s rule), in one env, episode after episode from ``--seed``;
+each episode's return, length and success are printed. ``--video`` writes the episodes'
+``rgb_array`` frames at the env's action rate as an MP4 (moviepy, the ``play`` extra) or,
+for a name ending ``.gif``, a GIF (Pillow); ``--rerun`` records them for the Rerun viewer.
+With neither, the episodes play in a window (pygame, the ``play`` extra); where no display
+exists that is an error that names ``--video`` and ``--rerun``.
+
+A zoo entry is a run folder cut to what flying and checking it needs: ``config.yaml``,
+``model.zip``, ``vecnormalize.pkl``, and ``evaluation.csv`` (the row the README shows, which
+``fluidsim-evaluate zoo/<name>`` writes again).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+
+class EnjoyError(RuntimeError):
+    """A folder or an option that cannot be used; the message names it."""
+
+
+def load_policy(folder: Path, venv):
+    """The folder's final model as a policy of ``venv`` (checked: config, model, statistics)."""
+    from fluidsim_envs.rl.evaluate import load_run, model_policy
+
+    if not folder.is_dir():
+        raise EnjoyError(f"{folder}: no such folder")
+    if not (folder / "model.zip").is_file():
+        raise EnjoyError(
+            f"{folder}: no model.zip; a zoo entry (or a finished run folder) holds model.zip, "
+            "vecnormalize.pkl and config.yaml"
+        )
+    cfg, model = load_run(folder, "final")
+    return cfg, model_policy(cfg, model, folder, venv)
+
+
+def make_env(folder: Path, overrides: dict, frames: bool, rerun: str | None):
+    """One sub-env of the folder's env with its parameters (and ``overrides``)."""
+    import gymnasium as gym
+
+    import fluidsim_envs  # noqa: F401  (registers the ids)
+    from fluidsim_envs.rl.config import load_config
+    from fluidsim_envs.rl.evaluate import env_kwargs_with
+
+    if not (folder / "config.yaml").is_file():
+        raise EnjoyError(f"{folder}: no config.yaml (not a zoo entry or run folder)")
+    cfg = load_config(folder / "config.yaml")
+    kwargs = env_kwargs_with(cfg.env_id, cfg.env_kwargs, overrides)
+    venv = gym.make_vec(
+        cfg.env_id,
+        num_envs=1,
+        vectorization_mode="vector_entry_point",
+        render_mode="rgb_array" if frames else None,
+        **kwargs,
+    )
+    if rerun is not None:
+        from fluidsim_envs.wrappers import RerunLogger
+
+        venv = RerunLogger(venv, path=rerun, name=folder.name)
+    return cfg.env_id, venv
+
+
+def fly(venv, policy, episodes: int, seed: int, on_frame=None, say=print) -> list[dict]:
+    """``episodes`` episodes one after another (the first reset seeded), each frame to
+    ``on_frame`` (returning False stops); returns each episode's return, length, success."""
+    obs, _ = venv.reset(seed=seed)
+    results, running, steps = [], 0.0, 0
+    if on_frame is not None and on_frame(venv.render()[0]) is False:
+        return results
+    while len(results) < episodes:
+        obs, reward, terminated, truncated, info = venv.step(policy(obs))
+        running += float(reward[0])
+        steps += 1
+        if on_frame is not None and on_frame(venv.render()[0]) is False:
+            break
+        if terminated[0] or truncated[0]:
+            success = info.get("final_info", {}).get("success")
+            row = {"return": running, "length": steps}
+            if success is not None:
+                row["success"] = bool(success[0])
+            results.append(row)
+            won = "" if success is None else ("  success" if success[0] else "  no success")
+            say(f"episode {len(results)}: return {running:.3f}, {steps} steps{won}")
+            running, steps = 0.0, 0
+    return results
+
+
+def write_video(frames: list[np.ndarray], path: str, fps: float) -> None:
+    """An MP4 (moviepy) or, for ``.gif``, an animated GIF (Pillow) of ``frames``."""
+    if path.lower().endswith(".gif"):
+        from PIL import Image
+
+        images = [Image.fromarray(np.asarray(f[:, :, :3], dtype=np.uint8)) for f in frames]
+        images[0].save(
+            path,
+            save_all=True,
+            append_images=images[1:],
+            duration=round(1000.0 / fps),
+            loop=0,
+            optimize=True,
+        )
+        return
+    try:
+        from moviepy import ImageSequenceClip
+    except ImportError as e:
+        raise EnjoyError(
+            f"--video {path}: needs moviepy (the play extra): pip install "
+            '"fluidsim-envs[play]" (or write a .gif)'
+        ) from e
+    clip = ImageSequenceClip([np.asarray(f[:, :, :3]) for f in frames], fps=fps)
+    clip.write_videofile(path, logger=None)
+
+
+def window(env_id: str, fps: float):
+    """An ``on_frame`` that shows frames in a pygame window at ``fps`` (Esc or closing stops)."""
+    from fluidsim_envs.play import check_display
+
+    check_display()
+    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+    import pygame
+
+    pygame.init()
+    state: dict = {}
+    clock = pygame.time.Clock()
+
+    def show(frame: np.ndarray) -> bool:
+        if "screen" not in state:
+            state["screen"] = pygame.display.set_mode((frame.shape[1], frame.shape[0]))
+            pygame.display.set_caption(f"{env_id}: Esc quits")
+        for event in pygame.event.get():
+            if event.type == pygame.QUIT or (
+                event.type == pygame.KEYDOWN and event.key == pygame.K_ESCAPE
+            ):
+                return False
+        surface = pygame.surfarray.make_surface(
+            np.ascontiguousarray(frame[:, :, :3]).swapaxes(0, 1)
+        )
+        state["screen"].blit(surface, (0, 0))
+        pygame.display.flip()
+        clock.tick(fps)
+        return True
+
+    return show
+
+
+def enjoy(
+    folder: Path,
+    episodes: int = 1,
+    seed: int = 0,
+    overrides: dict | None = None,
+    rerun: str | None = None,
+    video: str | None = None,
+    say=print,
+) -> list[dict]:
+    """Fly the folder's policy (see the module docstring); returns the episodes' results."""
+    if episodes < 1:
+        raise EnjoyError(f"--episodes must be at least 1, got {episodes}")
+    shown = video is None and rerun is None
+    env_id, venv = make_env(folder, overrides or {}, frames=video is not None or shown, rerun=rerun)
+    try:
+        _, policy = load_policy(folder, venv.unwrapped if rerun else venv)
+        fps = venv.metadata["render_fps"]
+        frames: list[np.ndarray] = []
+        on_frame = None
+        if video is not None:
+            on_frame = frames.append
+        elif shown:
+            on_frame = window(env_id, fps)
+        results = fly(venv, policy, episodes, seed, on_frame, say)
+        if video is not None:
+            write_video(frames, video, fps)
+            say(f"wrote {video} ({len(frames)} frames at {fps:g} per second)")
+        if rerun is not None:
+            say(f"recorded: rerun {rerun}")
+    finally:
+        venv.close()
+    return results
+
+
+def main(argv: list[str] | None = None) -> int:
+    from fluidsim_envs.play import NoDisplay
+    from fluidsim_envs.rl.config import ConfigError
+    from fluidsim_envs.rl.evaluate import parse_env_overrides
+    from fluidsim_envs.rl.extras import MissingExtra, require
+    from fluidsim_envs.rl.files import RunError
+
+    prog = "python -m fluidsim_envs.enjoy"
+    parser = argparse.ArgumentParser(prog=prog, description="Watch a trained policy fly.")
+    parser.add_argument("folder", type=Path, help="a zoo entry (zoo/<env>-<algo>) or run folder")
+    parser.add_argument("--episodes", type=int, default=1)
+    parser.add_argument("--seed", type=int, default=0, help="the first episode's seed")
+    parser.add_argument("--env", metavar="KEY=VALUE", nargs="+", default=[], help="env parameters")
+    parser.add_argument("--rerun", metavar="FILE.rrd", help="record the episodes for Rerun")
+    parser.add_argument("--video", metavar="FILE.mp4", help="write the episodes as MP4 or .gif")
+    args = parser.parse_args(argv)
+    try:
+        require("train", prog)
+        overrides = parse_env_overrides(args.env)
+        enjoy(args.folder, args.episodes, args.seed, overrides, args.rerun, args.video)
+    except (EnjoyError, NoDisplay, RunError, ConfigError, MissingExtra, ValueError) as e:
+        print(f"{prog}: error: {e}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

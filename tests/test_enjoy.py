@@ -1,0 +1,63 @@
+"""python -m fluidsim_envs.enjoy: a trained policy flown to a GIF and to a Rerun recording,
+with its episodes printed; a folder without a model, and no display without --video or
+--rerun, are clear errors."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+from PIL import Image
+
+from fluidsim_envs import enjoy
+from fluidsim_envs.rl import train as train_cli
+
+TINY = [
+    "env_id=fluidsim/PaperAirplane-v1",
+    "total_timesteps=512",
+    "n_envs=8",
+    "algorithm.n_steps=64",
+    "algorithm.batch_size=64",
+    "eval.freq=0",
+    "checkpoint.freq=0",
+]
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("enjoy") / "run"
+    argv = ["paper_airplane_ppo", "--set", *TINY, "--run-dir", str(folder), "--no-progress-bar"]
+    assert train_cli.main(argv) == 0
+    return folder
+
+
+def test_a_policy_flies_to_a_gif_and_a_recording(run, tmp_path, capsys):
+    gif, rrd = tmp_path / "flight.gif", tmp_path / "flight.rrd"
+    assert enjoy.main([str(run), "--video", str(gif), "--seed", "4"]) == 0
+    out = capsys.readouterr().out
+    assert "episode 1: return" in out and f"wrote {gif}" in out
+    with Image.open(gif) as image:
+        length = int(out.split("episode 1: return ")[1].split(", ")[1].split()[0])
+        assert image.n_frames == length + 1  # the reset's frame and one per action
+    assert enjoy.main([str(run), "--rerun", str(rrd), "--episodes", "2"]) == 0
+    assert "episode 2: return" in capsys.readouterr().out and rrd.stat().st_size > 0
+
+
+def test_a_folder_without_a_model_is_named(run, tmp_path, capsys):
+    bare = tmp_path / "zoo_entry"
+    bare.mkdir()
+    shutil.copy(run / "config.yaml", bare)
+    assert enjoy.main([str(bare), "--video", str(tmp_path / "x.gif")]) == 2
+    assert f"{bare}: no model.zip" in capsys.readouterr().err
+    assert enjoy.main([str(tmp_path / "missing")]) == 2
+    assert "no config.yaml" in capsys.readouterr().err
+
+
+def test_no_display_names_the_other_ways(run, monkeypatch, capsys):
+    monkeypatch.setattr("fluidsim_envs.play.sys.platform", "linux")
+    for var in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER"):
+        monkeypatch.delenv(var, raising=False)
+    assert enjoy.main([str(run)]) == 2
+    err = capsys.readouterr().err
+    assert "no display here" in err and "--video" in err
