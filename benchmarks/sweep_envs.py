@@ -23,6 +23,7 @@ multi-seed results check on the full episodes. Writes ``docs/sweep_<config>.csv`
 from __future__ import annotations
 
 import argparse
+import math
 import shutil
 import subprocess
 import sys
@@ -70,16 +71,93 @@ def publish(config: str, command: str) -> None:
     if not (folder / "results.csv").is_file():
         print(f"{config}: no results yet in {folder}")
         return
+    import yaml
+
     target = pilot_return(CONFIGS[config])
+    budget = yaml.safe_load((folder / "sweep.yaml").read_text())["wall_budget_s"]
     head = [
         f"# command: {command}",
         f"# target: the tuned pilot's mean return at standard, {target} (docs/study_v1_ppo.csv)",
+        f"# budget: a trial's wall-clock limit, {budget:g} s",
         f"# sweep: {folder.relative_to(ROOT)}",
     ]
     body = (folder / "results.csv").read_text()
     (DOCS / f"sweep_{config}.csv").write_text("\n".join(head) + "\n" + body)
     shutil.copyfile(folder / "results.md", DOCS / f"sweep_{config}.md")
     print(f"wrote docs/sweep_{config}.csv and .md")
+
+
+def _base_values(config: str) -> dict[str, object]:
+    """The shipped config's values of the searched keys (the sweep's first trial)."""
+    import yaml
+
+    from fluidsim_envs.rl.config import config_to_dict, load_config
+    from fluidsim_envs.rl.space import base_point, find_space, parse_space
+
+    path = find_space("ppo")
+    space = parse_space(yaml.safe_load(path.read_text()), str(path))
+    cfg = load_config(config, [f"env_id={CONFIGS[config]}"])
+    return base_point(space, config_to_dict(cfg))[0]
+
+
+def _same(row: dict, values: dict) -> bool:
+    return all(math.isclose(float(row[k]), float(v), rel_tol=1e-9) for k, v in values.items())
+
+
+def markdown() -> str:
+    """Each env's race: the trials, how many reached the tuned pilot's return, the shipped
+    config's time to it (the sweep's first trial) and the fastest config's, with what that
+    config changes (docs/sweep_<config>.csv)."""
+    lines = [
+        "| env | target (tuned pilot) | trials | reached | shipped config | fastest | "
+        "what the fastest changes |",
+        "|---|--:|--:|--:|--:|--:|---|",
+    ]
+    found = False
+    for config, env_id in CONFIGS.items():
+        path = DOCS / f"sweep_{config}.csv"
+        if not path.is_file():
+            continue
+        found = True
+        comments, rows = read_csv(path)
+        target = next(c for c in comments if c.startswith("target:")).rsplit(", ", 1)[1]
+        base = _base_values(config)
+        budget = float(next(c for c in comments if c.startswith("budget:")).split(", ")[1][:-2])
+        reached = [
+            r for r in rows if r["time_to_target_s"] and float(r["time_to_target_s"]) <= budget
+        ]
+        shipped = next((r for r in rows if _same(r, base)), None)
+
+        best = reached[0] if reached else None
+        change = (
+            ", ".join(
+                f"{k.split('.')[-1]} {_fmt(best[k])}"
+                for k, v in base.items()
+                if not math.isclose(float(best[k]), float(v), rel_tol=1e-9)
+            )
+            if best is not None
+            else ""
+        )
+        lines.append(
+            f"| {env_id.split('/')[1]} | {target.split(' ')[0]} | {len(rows)} | {len(reached)} | "
+            f"{_when(shipped, budget)} | {_when(best, budget)} | {change} |"
+        )
+    if not found:
+        return "(no docs/sweep_*.csv yet: `python -m benchmarks.sweep_envs`)\n"
+    return "\n".join(lines) + "\n"
+
+
+def _when(row: dict | None, budget: float) -> str:
+    """A trial's time to the target, or that it did not reach it within its budget."""
+    if row is None:
+        return "not run"
+    t = row["time_to_target_s"]
+    return f"{float(t):.0f} s" if t and float(t) <= budget else f"not in {budget:.0f} s"
+
+
+def _fmt(text: str) -> str:
+    x = float(text)
+    return f"{x:.3g}" if x != int(x) else str(int(x))
 
 
 def main(argv: list[str] | None = None) -> int:

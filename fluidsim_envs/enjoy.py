@@ -2,6 +2,7 @@
 
     python -m fluidsim_envs.enjoy zoo/PaperAirplane-v1-ppo [--episodes N] [--seed S]
                                   [--env KEY=VALUE ...] [--rerun FILE.rrd] [--video FILE.mp4]
+                                  [--stride N] [--width PIXELS]
 
 The policy acts deterministically on observations normalized with the statistics saved
 beside it (``fluidsim-evaluate``'s rule), in one env, episode after episode from ``--seed``;
@@ -96,11 +97,23 @@ def fly(venv, policy, episodes: int, seed: int, on_frame=None, say=print) -> lis
     return results
 
 
-def write_video(frames: list[np.ndarray], path: str, fps: float) -> None:
-    """An MP4 (moviepy) or, for ``.gif``, an animated GIF (Pillow) of ``frames``."""
-    if path.lower().endswith(".gif"):
-        from PIL import Image
+def write_video(
+    frames: list[np.ndarray], path: str, fps: float, stride: int = 1, width: int | None = None
+) -> None:
+    """An MP4 (moviepy) or, for ``.gif``, an animated GIF (Pillow) of every ``stride``-th
+    frame (played at ``fps / stride``: real time), scaled to ``width`` pixels when given."""
+    from PIL import Image
 
+    frames = frames[::stride]
+    fps = fps / stride
+    if width is not None:
+        h, w = frames[0].shape[:2]
+        size = (width, max(round(h * width / w), 1))
+        frames = [
+            np.asarray(Image.fromarray(np.asarray(f[:, :, :3])).resize(size, Image.LANCZOS))
+            for f in frames
+        ]
+    if path.lower().endswith(".gif"):
         images = [Image.fromarray(np.asarray(f[:, :, :3], dtype=np.uint8)) for f in frames]
         images[0].save(
             path,
@@ -162,10 +175,14 @@ def enjoy(
     rerun: str | None = None,
     video: str | None = None,
     say=print,
+    stride: int = 1,
+    width: int | None = None,
 ) -> list[dict]:
     """Fly the folder's policy (see the module docstring); returns the episodes' results."""
     if episodes < 1:
         raise EnjoyError(f"--episodes must be at least 1, got {episodes}")
+    if stride < 1 or (width is not None and width < 8):
+        raise EnjoyError(f"--stride must be >= 1 and --width >= 8, got {stride} and {width}")
     shown = video is None and rerun is None
     env_id, venv = make_env(folder, overrides or {}, frames=video is not None or shown, rerun=rerun)
     try:
@@ -179,8 +196,9 @@ def enjoy(
             on_frame = window(env_id, fps)
         results = fly(venv, policy, episodes, seed, on_frame, say)
         if video is not None:
-            write_video(frames, video, fps)
-            say(f"wrote {video} ({len(frames)} frames at {fps:g} per second)")
+            write_video(frames, video, fps, stride, width)
+            kept = len(frames[::stride])
+            say(f"wrote {video} ({kept} frames at {fps / stride:g} per second)")
         if rerun is not None:
             say(f"recorded: rerun {rerun}")
     finally:
@@ -203,11 +221,22 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--env", metavar="KEY=VALUE", nargs="+", default=[], help="env parameters")
     parser.add_argument("--rerun", metavar="FILE.rrd", help="record the episodes for Rerun")
     parser.add_argument("--video", metavar="FILE.mp4", help="write the episodes as MP4 or .gif")
+    parser.add_argument("--stride", type=int, default=1, help="--video keeps every Nth frame")
+    parser.add_argument("--width", type=int, help="--video's width in pixels (default: the env's)")
     args = parser.parse_args(argv)
     try:
         require("train", prog)
         overrides = parse_env_overrides(args.env)
-        enjoy(args.folder, args.episodes, args.seed, overrides, args.rerun, args.video)
+        enjoy(
+            args.folder,
+            args.episodes,
+            args.seed,
+            overrides,
+            args.rerun,
+            args.video,
+            stride=args.stride,
+            width=args.width,
+        )
     except (EnjoyError, NoDisplay, RunError, ConfigError, MissingExtra, ValueError) as e:
         print(f"{prog}: error: {e}", file=sys.stderr)
         return 2

@@ -40,6 +40,16 @@ def test_a_policy_flies_to_a_gif_and_a_recording(run, tmp_path, capsys):
     with Image.open(gif) as image:
         length = int(out.split("episode 1: return ")[1].split(", ")[1].split()[0])
         assert image.n_frames == length + 1  # the reset's frame and one per action
+    small = tmp_path / "small.gif"
+    assert (
+        enjoy.main(
+            [str(run), "--video", str(small), "--seed", "4", "--stride", "3", "--width", "64"]
+        )
+        == 0
+    )
+    capsys.readouterr()
+    with Image.open(small) as image:
+        assert image.size[0] == 64 and image.n_frames == len(range(0, length + 1, 3))
     assert enjoy.main([str(run), "--rerun", str(rrd), "--episodes", "2"]) == 0
     assert "episode 2: return" in capsys.readouterr().out and rrd.stat().st_size > 0
 

@@ -70,6 +70,14 @@ class Dimension:
             "choice": lambda: tune.choice(list(self.values)),
         }[self.kind]()
 
+    def nearest(self, value: Any) -> Any:
+        """``value`` if this dimension can draw it, else the nearest value it can (a range's
+        end, for a config value outside it); a choice it lacks is None."""
+        if self.kind == "choice":
+            return value if value in self.values else None
+        low, high = self.values
+        return min(max(value, low), high)
+
     def __str__(self) -> str:
         if self.kind == "choice":
             return f"{self.key} in {list(self.values)}"
@@ -149,6 +157,25 @@ def check_space(space: dict[str, Dimension], base: dict[str, Any], source: str) 
                 raise ConfigError(f"{source}: {dim.key} = {value!r}: {e}") from None
 
 
+def base_point(space: dict[str, Dimension], base: dict[str, Any]) -> tuple[dict, list[str]]:
+    """The config's own values of the searched keys, as a point of the space (the search's
+    first trial: the config it must beat), and a line for each value the space cannot draw,
+    saying what stands in for it."""
+    point, notes = {}, []
+    for key, dim in space.items():
+        node: Any = base
+        for part in key.split("."):
+            node = node[part]
+        near = dim.nearest(node)
+        if near is None:
+            near = dim.values[0]
+            notes.append(f"{key}: the config's {node!r} is no choice of the space; {near!r}")
+        elif near != node:
+            notes.append(f"{key}: the config's {node!r} is outside {dim}; {near!r}")
+        point[key] = near
+    return point, notes
+
+
 def apply_params(base: dict[str, Any], params: dict[str, Any]) -> dict[str, Any]:
     """A copy of ``base`` with each searched key set to its sampled value."""
     raw = copy.deepcopy(base)
@@ -162,4 +189,12 @@ def _plain(value: Any) -> Any:
     return value.item() if hasattr(value, "item") and not isinstance(value, list) else value
 
 
-__all__ = ["KINDS", "Dimension", "apply_params", "check_space", "find_space", "parse_space"]
+__all__ = [
+    "KINDS",
+    "Dimension",
+    "apply_params",
+    "base_point",
+    "check_space",
+    "find_space",
+    "parse_space",
+]

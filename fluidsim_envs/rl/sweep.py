@@ -11,8 +11,10 @@ folder as ``fluidsim-train`` writes it.
 - ``--seeds N`` alone trains the config with seeds ``seed, seed+1, ... seed+N-1`` (every trial
   to its end: a multi-seed result is not cut short).
 - ``--search SPACE.yaml --trials K`` (:mod:`.space`) samples K configs with Optuna's TPE
-  (seeded: ``--sampler-seed``) and stops the weak ones early with ASHA on the evaluation
-  return, its rungs in timesteps from ``--grace-steps`` up by threefold; with ``--seeds N``
+  (seeded: ``--sampler-seed``), the first of them the config itself (the one to beat, run
+  in the same sweep on the same machine; ``--no-base-trial`` leaves it out), and stops the
+  weak ones early with ASHA on the evaluation return, its rungs in timesteps from
+  ``--grace`` up by threefold; with ``--seeds N``
   each sampled config runs N seeds and Optuna sees their mean (Tune's ``Repeater``; then no
   early stopping, which would cut the seeds unevenly).
 - ``--target RETURN --wall-budget-s S`` makes it a race in wall-clock time: a trial stops on
@@ -54,7 +56,14 @@ import yaml
 from . import files
 from .config import ConfigError, config_from_dict, config_to_dict, load_config, read_yaml
 from .files import RunError
-from .space import Dimension, apply_params, check_space, find_space, parse_space
+from .space import (
+    Dimension,
+    apply_params,
+    base_point,
+    check_space,
+    find_space,
+    parse_space,
+)
 
 #: what the searcher and the early stopping maximize: each evaluation's mean return, or with
 #: ``--target`` :func:`target_score` (how soon the target was reached in wall-clock time)
@@ -83,6 +92,7 @@ class Sweep:
     wall_budget_s: float | None = None  # with a target: a trial's wall-clock limit
     grace: float = 0  # ASHA's first rung, in timesteps (wall-clock seconds with a target)
     sampler_seed: int = 0
+    base_first: bool = True  # a search's first trial is the config itself
     address: str | None = None
     command_line: str = ""
     started: str = ""
@@ -276,7 +286,10 @@ def _tune_config(sweep: Sweep, concurrent: int):
     from ray.tune.search import Repeater
     from ray.tune.search.optuna import OptunaSearch
 
-    searcher = OptunaSearch(sampler=optuna.samplers.TPESampler(seed=sweep.sampler_seed))
+    first = [base_point(sweep.dimensions, sweep.base)[0]] if sweep.base_first else None
+    searcher = OptunaSearch(
+        sampler=optuna.samplers.TPESampler(seed=sweep.sampler_seed), points_to_evaluate=first
+    )
     scheduler = ASHAScheduler(
         time_attr=sweep.time_attr,
         # one past the run's end: a trial that reaches it returns by itself (final model,
@@ -322,6 +335,9 @@ def run_sweep(sweep: Sweep, resume: bool, say: Callable[[str], None] = print) ->
                 f"--cpus-per-trial {sweep.cpus_per_trial}: the cluster has {cpus} CPUs"
             )
         say(_plan(sweep, cpus, concurrent, resume))
+        if sweep.space and sweep.base_first and not resume:
+            point, notes = base_point(sweep.dimensions, sweep.base)
+            say("the first trial is the config itself" + "".join(f"\n  {n}" for n in notes))
         progress = SweepProgress(sweep, say)
         tune_dir = sweep.dir / "tune"
         if resume and tune.Tuner.can_restore(str(tune_dir)):
@@ -431,6 +447,12 @@ def parse_args(argv: list[str] | None, prog: str) -> argparse.Namespace:
         "evaluation period), or with --target seconds (default a ninth of the budget)",
     )
     parser.add_argument("--sampler-seed", type=int, default=0, help="Optuna's TPE seed")
+    parser.add_argument(
+        "--no-base-trial",
+        action="store_true",
+        help="do not start a search with the config itself (its first trial by default: "
+        "the config the search must beat, run in the same sweep)",
+    )
     return parser.parse_args(argv)
 
 
@@ -480,6 +502,7 @@ def sweep_from_args(args: argparse.Namespace, command: list[str]) -> Sweep:
         wall_budget_s=budget,
         grace=grace,
         sampler_seed=args.sampler_seed,
+        base_first=not args.no_base_trial,
         address=args.address,
         command_line=shlex.join(command),
         started=datetime.datetime.now().isoformat(timespec="seconds"),

@@ -3,7 +3,8 @@ Tune callback that also keeps ``status.yaml``), and the table over all trials, `
 and ``results.md`` (:func:`write_results`), built from the run folders' evaluation histories
 and ``run.yaml`` files: it can be rebuilt from the sweep folder alone.
 
-A trial's status: ``finished`` (ran its timesteps), ``reached target`` (``--target``), ``out
+A trial's status: ``finished`` (ran its timesteps), ``reached target`` (``--target``, within
+its budget; ``after its budget`` where the evaluation that got there ended past it), ``out
 of time`` (``--wall-budget-s``), ``stopped early`` (ASHA cut it at a rung), ``error`` (the
 message in the table), ``running`` (a sweep killed or still going: ``--resume`` continues it).
 """
@@ -135,6 +136,9 @@ def trial_row(sweep, trial_id: str, state: dict[str, Any]) -> dict[str, Any]:
             wall_s=history[-1]["wall_s"],
             time_to_target_s=reached[0]["wall_s"] if reached else None,
         )
+        late = reached and reached[0]["wall_s"] > (sweep.wall_budget_s or math.inf)
+        if late:  # the evaluation that got there came after the budget had run out
+            row["status"] = "reached target after its budget"
     row["peak_rss_mb"] = state.get("peak_rss_mb")  # as of the trial's last evaluation
     row["run_dir"] = f"runs/{trial_id}" if run_dir.is_dir() else None
     return row

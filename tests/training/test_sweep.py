@@ -13,7 +13,7 @@ import yaml
 
 from fluidsim_envs.rl import sweep as sweep_cli
 from fluidsim_envs.rl.config import ConfigError, config_from_dict, config_to_dict, load_config
-from fluidsim_envs.rl.space import apply_params, check_space, find_space, parse_space
+from fluidsim_envs.rl.space import apply_params, base_point, check_space, find_space, parse_space
 
 # 4 PPO rollouts of 8 envs x 32 steps, each evaluated (2 episodes) and checkpointed
 TINY = [
@@ -82,6 +82,19 @@ def test_the_shipped_spaces_fit_their_shipped_configs(name):
         for values in itertools.product(*(d.values for d in choices)):
             picked = {d.key: v for d, v in zip(choices, values, strict=True)}
             config_from_dict(apply_params(raw, picked))
+
+
+def test_the_base_point_is_the_config_where_the_space_can_draw_it():
+    space = parse_space({**SPACE, "algorithm.batch_size": {"choice": [32, 64]}}, "s")
+    point, notes = base_point(space, base())
+    assert point == {
+        "algorithm.learning_rate": 3.0e-4,
+        "algorithm.n_epochs": 6,
+        "algorithm.batch_size": 64,
+    }
+    assert notes == [
+        "algorithm.n_epochs: the config's 10 is outside algorithm.n_epochs ~ int[2, 6]; 6"
+    ]
 
 
 @pytest.mark.parametrize(
@@ -188,6 +201,11 @@ def test_a_two_trial_search_writes_run_folders_and_one_table(swept):
         assert float(row["peak_rss_mb"]) > 0 and float(row["wall_s"]) > 0
         if row["status"] == "finished":
             assert int(row["timesteps"]) == 1024 and (run / "model.zip").is_file()
+    # the first trial is the config itself: learning rate 3e-4, its n_epochs of 10 outside
+    # the space, so the nearest the space draws, 6
+    assert {(float(r["algorithm.learning_rate"]), int(r["algorithm.n_epochs"])) for r in rows} >= {
+        (3.0e-4, 6)
+    }
     best = [float(r["best_return"]) for r in rows]
     assert best == sorted(best, reverse=True)
     md = (swept / "results.md").read_text()

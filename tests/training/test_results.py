@@ -1,0 +1,66 @@
+"""benchmarks/results.py's statistics on made-up episodes: IQM and mean over runs with
+rliable's stratified bootstrap, a baseline's single run bootstrapped over its episodes, the
+normalized score (random 0, tuned pilot 1), and the table that says where a trained policy
+is below the tuned pilot."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+pytest.importorskip("rliable")
+
+from benchmarks import results  # noqa: E402
+
+
+def episodes(env: str, policy: str, run: str, returns) -> list[dict]:
+    return [
+        {"env": env, "policy": policy, "run": run, "episode": i, "return": r, "success": r > 5}
+        for i, r in enumerate(returns)
+    ]
+
+
+@pytest.fixture
+def matrices():
+    rng = np.random.default_rng(0)
+    rows = episodes("E", "tuned pilot", "-", 10.0 + rng.normal(0, 1, 64))
+    rows += episodes("E", "random", "-", rng.normal(0, 1, 64))
+    rows += episodes("E", "planner (oracle)", "-", 12.0 + rng.normal(0, 1, 64))
+    for k, level in enumerate((2.0, 4.0, 6.0, 8.0, 30.0)):  # an outlier run: IQM resists it
+        rows += episodes("E", "PPO", f"t{k}", level + rng.normal(0, 0.1, 64))
+    return results.score_matrices(rows)
+
+
+def test_iqm_and_mean_over_runs(matrices):
+    ppo = matrices[("E", "PPO")]["return"]
+    assert ppo.shape == (5, 64)
+    est = results.interval_estimates(ppo)
+    means = np.sort(ppo.mean(axis=1))
+    # five runs: the IQM drops a quarter at each end (1.25 runs), weighting the rest
+    iqm = (0.75 * means[1] + means[2] + 0.75 * means[3]) / 2.5
+    assert est["iqm"][0] == pytest.approx(iqm, abs=1e-9)
+    assert est["mean"][0] == pytest.approx(means.mean())
+    assert est["iqm"][1] <= est["iqm"][0] <= est["iqm"][2]
+    assert est["mean"][2] - est["mean"][1] > est["iqm"][2] - est["iqm"][1]  # the outlier
+
+
+def test_a_baseline_is_bootstrapped_over_its_episodes(matrices):
+    pilot = matrices[("E", "tuned pilot")]["return"]
+    est = results.interval_estimates(pilot)
+    assert est["iqm"] == est["mean"]
+    mean, lo, hi = est["mean"]
+    assert mean == pytest.approx(pilot.mean())
+    assert lo < mean < hi and hi - lo == pytest.approx(2 * 1.96 / 8, rel=0.25)  # sigma 1, 64
+
+
+def test_the_table_says_where_training_is_below_the_pilot(matrices, tmp_path, monkeypatch):
+    summary = results.summary_rows(matrices)
+    by = {r["policy"]: r for r in summary}
+    assert by["tuned pilot"]["normalized_iqm"] == pytest.approx(1.0)
+    assert by["random"]["normalized_iqm"] == pytest.approx(0.0, abs=1e-12)
+    csv = tmp_path / "results.csv"
+    monkeypatch.setattr(results, "CSV", csv)
+    results.write_csv(csv, results.COLUMNS, ([r[c] for c in results.COLUMNS] for r in summary))
+    table = results.markdown()
+    ppo = next(line for line in table.splitlines() if "| PPO |" in line)
+    assert "**below**" in ppo  # IQM about 5 against the pilot's 10
