@@ -6,10 +6,10 @@ intervals, performance profiles, learning curves with bands.
 
     python -m benchmarks.results --train            # train what is missing, then the docs
     python -m benchmarks.results                    # the docs from the runs as they are
-    python -m benchmarks.results --configs paper_airplane_ppo --seeds 5 --train
+    python -m benchmarks.results --configs paper_airplane_v1_ppo --seeds 5 --train
 
-Training: ``fluidsim-sweep CONFIG --seeds N --set env_id=<v1> [SETS] --sweep-dir
-sweeps/results/CONFIG`` (a folder that holds a sweep is resumed; the real CLI, in a
+Training: ``fluidsim-sweep CONFIG --seeds N --sweep-dir sweeps/results/CONFIG [--set ...]``
+for each shipped v1 config (a folder that holds a sweep is resumed; the real CLI, in a
 subprocess). Evaluation: each run's final model, acting deterministically, and the
 baselines (the planner, an oracle that reads the true state; the tuned pilot; random
 actions) on the same ``--episodes`` episodes, seed :data:`EVAL_SEED` (disjoint from the
@@ -35,12 +35,12 @@ import numpy as np
 
 from benchmarks.common import DOCS, ROOT, read_csv, write_csv
 
-#: what is trained: config -> its scene's v1
+#: what is trained: the shipped v1 configs, and their envs
 CONFIGS = {
-    "paper_airplane_ppo": "fluidsim/PaperAirplane-v1",
-    "submarine_wake_ppo": "fluidsim/SubmarineWake-v1",
-    "boat_on_step_ppo": "fluidsim/BoatOnStep-v1",
-    "paper_airplane_sac": "fluidsim/PaperAirplane-v1",
+    "paper_airplane_v1_ppo": "fluidsim/PaperAirplane-v1",
+    "submarine_wake_v1_ppo": "fluidsim/SubmarineWake-v1",
+    "boat_on_step_v1_ppo": "fluidsim/BoatOnStep-v1",
+    "paper_airplane_v1_sac": "fluidsim/PaperAirplane-v1",
 }
 SWEEPS = ROOT / "sweeps" / "results"
 EVAL_SEED = 0  # the pilots were tuned on TUNING_SEEDS (evaluation.py): disjoint
@@ -68,8 +68,8 @@ def train(config: str, seeds: int, sets: list[str]) -> None:
     if (folder / "sweep.yaml").is_file():
         cmd = ["--resume", str(folder)]
     else:
-        cmd = [config, "--seeds", str(seeds), "--set", f"env_id={CONFIGS[config]}", *sets]
-        cmd += ["--sweep-dir", str(folder)]
+        cmd = [config, "--seeds", str(seeds), "--sweep-dir", str(folder)]
+        cmd += ["--set", *sets] if sets else []
     cmd = [sys.executable, "-m", "fluidsim_envs.rl.sweep", *cmd]
     print("$", " ".join(cmd), flush=True)
     subprocess.run(cmd, check=True, cwd=ROOT)
@@ -203,7 +203,8 @@ def interval_estimates(scores: np.ndarray) -> dict[str, tuple[float, float, floa
     point, ci = rly.get_interval_estimates(
         {"p": scores.reshape(-1, 1)}, metrics.aggregate_mean, reps=REPS, random_state=state
     )
-    value = (float(point["p"]), float(ci["p"][0]), float(ci["p"][1]))
+    lo, hi = np.ravel(ci["p"])
+    value = (float(np.ravel(point["p"])[0]), float(lo), float(hi))
     return {"iqm": value, "mean": value}
 
 
@@ -320,14 +321,14 @@ def _history(run: Path) -> dict[int, float]:
 
 
 def markdown() -> str:
-    """docs/results.csv as a table: each env's policies, best first; PPO or SAC below the
-    tuned pilot said so."""
+    """docs/results.csv as a table: each env's policies; a trained policy's IQM interval
+    entirely below the tuned pilot's interval is said so in bold."""
     if not CSV.is_file():
         return "(no docs/results.csv yet: `python -m benchmarks.results --train`)\n"
     _, rows = read_csv(CSV)
     lines = [
         "| env | policy | runs | IQM return [95% CI] | mean return [95% CI] | success "
-        "| vs tuned pilot |",
+        "| IQM vs tuned pilot |",
         "|---|---|--:|---|---|---|---|",
     ]
     for r in rows:
@@ -335,8 +336,8 @@ def markdown() -> str:
         versus = ""
         if r["policy"] not in BASELINES:
             pilot = next(p for p in rows if p["env"] == r["env"] and p["policy"] == "tuned pilot")
-            below = f["mean_hi"] < float(pilot["mean_lo"])
-            above = f["mean_lo"] > float(pilot["mean_hi"])
+            below = f["iqm_hi"] < float(pilot["mean_lo"])  # the intervals apart
+            above = f["iqm_lo"] > float(pilot["mean_hi"])
             versus = "**below**" if below else ("above" if above else "overlaps")
         lines.append(
             f"| {r['env']} | {r['policy']} | {int(f['runs'])} | "

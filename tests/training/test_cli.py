@@ -218,7 +218,7 @@ def test_python_m_prints_help(module):
     )
     assert done.returncode == 0 and done.stdout.startswith("usage: python -m fluidsim_envs.rl.")
     if module == "train":
-        assert "shipped configs: boat_on_step_ppo, paper_airplane_ppo" in done.stdout
+        assert "shipped configs: boat_on_step_ppo, boat_on_step_v1_ppo," in done.stdout
 
 
 def baselines() -> list[str]:

@@ -29,6 +29,10 @@ def test_shipped_configs_cover_every_env_with_ppo_and_the_airplane_with_sac():
         ("fluidsim/SubmarineWake-v0", "ppo"),
         ("fluidsim/BoatOnStep-v0", "ppo"),
         ("fluidsim/PaperAirplane-v0", "sac"),
+        ("fluidsim/PaperAirplane-v1", "ppo"),
+        ("fluidsim/SubmarineWake-v1", "ppo"),
+        ("fluidsim/BoatOnStep-v1", "ppo"),
+        ("fluidsim/PaperAirplane-v1", "sac"),
     }
     for name, cfg in loaded.items():
         # every key of the file is spelled out and survives the round trip
