@@ -20,8 +20,9 @@ Writes ``docs/results_episodes.csv`` (a row per policy, run and episode: everyth
 computed from it) and ``docs/results.csv`` (a row per env and policy: IQM and mean of the
 runs' mean returns with their intervals, the success rate, and the normalized score, 0 for
 random and 1 for the tuned pilot), ``docs/results_curves.png`` and
-``docs/results_profiles.png``. The tables in docs/results.md and the README come from
-``docs/results.csv`` (``python -m benchmarks.report``).
+``docs/results_profiles.png`` (:func:`profile`: runs resampled whole). :func:`markdown`
+renders ``docs/results.csv`` as the table that docs/results.md and the README will show
+once the runs exist (a ``benchmarks.report`` block, wired with the first results).
 """
 
 from __future__ import annotations
@@ -56,6 +57,7 @@ COLUMNS = (
     "normalized_iqm_hi",
 )  # fmt: skip
 REPS = 20_000  # bootstrap resamples
+PROFILE_REPS = 2000
 BOOTSTRAP_SEED = 2024
 
 
@@ -190,10 +192,12 @@ def interval_estimates(scores: np.ndarray) -> dict[str, tuple[float, float, floa
     def aggregate(x):
         return np.array([metrics.aggregate_iqm(x), metrics.aggregate_mean(x)])
 
-    state = np.random.RandomState(BOOTSTRAP_SEED)
+    # rliable's StratifiedBootstrap draws from NumPy's global generator (its random_state
+    # does not reach the resampling): seeded here, the same scores give the same intervals
+    np.random.seed(BOOTSTRAP_SEED)  # noqa: NPY002  (the generator rliable uses)
     if scores.shape[0] > 1:
         point, ci = rly.get_interval_estimates(
-            {"p": scores.mean(axis=1, keepdims=True)}, aggregate, reps=REPS, random_state=state
+            {"p": scores.mean(axis=1, keepdims=True)}, aggregate, reps=REPS
         )
         iqm, mean = point["p"]
         return {
@@ -201,7 +205,7 @@ def interval_estimates(scores: np.ndarray) -> dict[str, tuple[float, float, floa
             "mean": (float(mean), float(ci["p"][0, 1]), float(ci["p"][1, 1])),
         }
     point, ci = rly.get_interval_estimates(
-        {"p": scores.reshape(-1, 1)}, metrics.aggregate_mean, reps=REPS, random_state=state
+        {"p": scores.reshape(-1, 1)}, metrics.aggregate_mean, reps=REPS
     )
     lo, hi = np.ravel(ci["p"])
     value = (float(np.ravel(point["p"])[0]), float(lo), float(hi))
@@ -232,14 +236,27 @@ def summary_rows(matrices: dict) -> list[dict]:
 # figures
 
 
+def profile(returns: np.ndarray, taus: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The fraction of episodes whose return exceeds each tau (``returns``: [runs,
+    episodes]), runs pooled, and its 95% bootstrap band: whole runs resampled (a run's
+    episodes share its policy); a single run (a baseline) resampled over its episodes."""
+    rng = np.random.default_rng(BOOTSTRAP_SEED)
+    frac = (returns[:, :, None] > taus).mean(axis=1)  # [runs, taus]
+    runs_, episodes_ = returns.shape
+    if runs_ > 1:
+        boots = frac[rng.integers(0, runs_, (PROFILE_REPS, runs_))].mean(axis=1)
+    else:
+        picks = returns[0][rng.integers(0, episodes_, (PROFILE_REPS, episodes_))]
+        boots = (picks[:, :, None] > taus).mean(axis=1)
+    return frac.mean(axis=0), np.percentile(boots, [2.5, 97.5], axis=0)
+
+
 def plot_profiles(matrices: dict, path: Path) -> None:
-    """Per env: the fraction of episodes whose return exceeds tau, for each policy (runs
-    pooled; the band: 95% stratified bootstrap over runs, rliable)."""
+    """Per env: each policy's performance profile (:func:`profile`), with its band."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from rliable import library as rly
 
     envs = sorted({env for env, _ in matrices})
     fig, axes = plt.subplots(1, len(envs), figsize=(5 * len(envs), 3.6), squeeze=False)
@@ -248,12 +265,10 @@ def plot_profiles(matrices: dict, path: Path) -> None:
         lo = min(m.min() for m in mats.values())
         hi = max(m.max() for m in mats.values())
         taus = np.linspace(lo, hi, 101)
-        profiles, cis = rly.create_performance_profile(
-            mats, taus, reps=2000, random_state=np.random.RandomState(BOOTSTRAP_SEED)
-        )
-        for policy in mats:
-            ax.plot(taus, profiles[policy], label=policy)
-            ax.fill_between(taus, cis[policy][0], cis[policy][1], alpha=0.2)
+        for policy, returns in mats.items():
+            curve, band = profile(returns, taus)
+            ax.plot(taus, curve, label=policy)
+            ax.fill_between(taus, band[0], band[1], alpha=0.2)
         _label(ax, env, "episode return τ", "fraction of episodes > τ")
     _save(fig, path)
 
@@ -277,11 +292,11 @@ def plot_curves(configs: list[str], path: Path) -> None:
             continue
         steps = sorted(set.intersection(*(set(c) for c in curves)))
         scores = np.array([[c[t] for t in steps] for c in curves])  # [runs, points]
+        np.random.seed(BOOTSTRAP_SEED)  # noqa: NPY002  (rliable resamples with it)
         point, ci = rly.get_interval_estimates(
             {"r": scores},
             lambda x: np.array([metrics.aggregate_iqm(x[:, [j]]) for j in range(x.shape[1])]),
             reps=2000,
-            random_state=np.random.RandomState(BOOTSTRAP_SEED),
         )
         ax.plot(steps, point["r"], label=f"IQM of {len(curves)} runs")
         ax.fill_between(steps, ci["r"][0], ci["r"][1], alpha=0.25)

@@ -184,6 +184,10 @@ def enjoy(
     if stride < 1 or (width is not None and width < 8):
         raise EnjoyError(f"--stride must be >= 1 and --width >= 8, got {stride} and {width}")
     shown = video is None and rerun is None
+    if shown:  # pygame: said before the env is built (the play extra)
+        from fluidsim_envs.rl.extras import require
+
+        require("play", "python -m fluidsim_envs.enjoy without --video or --rerun")
     env_id, venv = make_env(folder, overrides or {}, frames=video is not None or shown, rerun=rerun)
     try:
         _, policy = load_policy(folder, venv.unwrapped if rerun else venv)
@@ -210,7 +214,7 @@ def main(argv: list[str] | None = None) -> int:
     from fluidsim_envs.play import NoDisplay
     from fluidsim_envs.rl.config import ConfigError
     from fluidsim_envs.rl.evaluate import parse_env_overrides
-    from fluidsim_envs.rl.extras import MissingExtra, require
+    from fluidsim_envs.rl.extras import require
     from fluidsim_envs.rl.files import RunError
 
     prog = "python -m fluidsim_envs.enjoy"
@@ -237,7 +241,7 @@ def main(argv: list[str] | None = None) -> int:
             stride=args.stride,
             width=args.width,
         )
-    except (EnjoyError, NoDisplay, RunError, ConfigError, MissingExtra, ValueError) as e:
+    except (EnjoyError, NoDisplay, RunError, ConfigError, ImportError, ValueError) as e:
         print(f"{prog}: error: {e}", file=sys.stderr)
         return 2
     return 0

@@ -136,8 +136,10 @@ class PPOConfig:
         "target_kl": POSITIVE,
     }
 
-    def check(self, n_envs: int) -> None:
-        if self.batch_size > self.n_steps * n_envs:
+    def check(self, n_envs: int | None) -> None:
+        """``n_envs`` None: the checks of single keys only (not the batch against the
+        rollout of ``n_steps x n_envs``)."""
+        if n_envs is not None and self.batch_size > self.n_steps * n_envs:
             raise ConfigError(
                 f"algorithm.batch_size ({self.batch_size}) must be at most n_steps x n_envs "
                 f"({self.n_steps} x {n_envs} = {self.n_steps * n_envs})"
@@ -185,7 +187,7 @@ class SACConfig:
         "sde_sample_freq": SDE_FREQ,
     }
 
-    def check(self, n_envs: int) -> None:
+    def check(self, n_envs: int | None) -> None:
         if self.gradient_steps == 0:
             raise ConfigError("algorithm.gradient_steps must be -1 or positive, got 0")
         if isinstance(self.ent_coef, str) and not _auto_ent_coef(self.ent_coef):
@@ -434,6 +436,16 @@ def apply_overrides(raw: dict[str, Any], overrides: typing.Sequence[str]) -> dic
     return out
 
 
+def get_key(raw: dict[str, Any], key: str) -> Any:
+    """The dotted ``key`` of ``raw`` (None where a part of the way is missing)."""
+    node: Any = raw
+    for part in key.split("."):
+        if not isinstance(node, dict) or part not in node:
+            return None
+        node = node[part]
+    return node
+
+
 def set_key(raw: dict[str, Any], key: str, value: Any, what: str) -> None:
     """Set the dotted ``key`` (``algorithm.learning_rate``) of ``raw`` to ``value`` in place,
     making the mappings on the way; ``what`` names the setting in the error where a part of the
@@ -622,8 +634,7 @@ def _type_error(value: Any, tp: Any, where: str) -> ConfigError:
 
 def _check(cfg: TrainConfig, joint: bool = True) -> None:
     _check_numbers(cfg, "")
-    if joint:
-        cfg.algorithm.check(cfg.n_envs)
+    cfg.algorithm.check(cfg.n_envs if joint else None)
     _check_policy(cfg.policy, cfg.algorithm.name)
     check_device(cfg.device)
     _check_env(cfg.env_id, cfg.env_kwargs)

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .config import SHIPPED, ConfigError, config_from_dict, set_key
+from .config import SHIPPED, ConfigError, config_from_dict, get_key, set_key
 
 #: the search spaces that ship with the package, found by name (``--search ppo``)
 SHIPPED_SPACES = SHIPPED / "search"
@@ -163,11 +163,12 @@ def base_point(space: dict[str, Dimension], base: dict[str, Any]) -> tuple[dict,
     saying what stands in for it."""
     point, notes = {}, []
     for key, dim in space.items():
-        node: Any = base
-        for part in key.split("."):
-            node = node[part]
-        near = dim.nearest(node)
-        if near is None:
+        node = get_key(base, key)
+        near = None if node is None else dim.nearest(node)
+        if node is None:  # unset (an env parameter left at its default) or null
+            near = dim.values[0]
+            notes.append(f"{key}: the config does not set it; {near!r}")
+        elif near is None:
             near = dim.values[0]
             notes.append(f"{key}: the config's {node!r} is no choice of the space; {near!r}")
         elif near != node:
@@ -180,13 +181,13 @@ def apply_params(base: dict[str, Any], params: dict[str, Any]) -> dict[str, Any]
     """A copy of ``base`` with each searched key set to its sampled value."""
     raw = copy.deepcopy(base)
     for key, value in params.items():
-        set_key(raw, key, _plain(value), f"search key {key}")
+        set_key(raw, key, plain(value), f"search key {key}")
     return raw
 
 
-def _plain(value: Any) -> Any:
+def plain(value: Any) -> Any:
     """NumPy scalars (Optuna's and Tune's samples) as Python numbers."""
-    return value.item() if hasattr(value, "item") and not isinstance(value, list) else value
+    return value.item() if hasattr(value, "item") else value
 
 
 __all__ = [
@@ -197,4 +198,5 @@ __all__ = [
     "check_space",
     "find_space",
     "parse_space",
+    "plain",
 ]

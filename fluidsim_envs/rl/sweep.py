@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import math
 import os
 import shlex
 import socket
@@ -132,7 +133,10 @@ class Sweep:
         if not path.is_file():
             raise SweepError(f"--resume {folder}: not a sweep folder (no sweep.yaml)")
         raw = read_yaml(path)
-        return cls(**{**raw, "folder": str(folder.absolute())})
+        try:
+            return cls(**{**raw, "folder": str(folder.absolute())})
+        except TypeError as e:  # not a mapping, or keys this version does not know
+            raise SweepError(f"{path}: not a sweep this version can resume ({e})") from None
 
 
 # --------------------------------------------------------------------------------------------
@@ -193,21 +197,27 @@ def run_trial(params: dict[str, Any], sweep: Sweep) -> None:
         with log.open("a") as f:
             f.write(line + "\n")
 
+    last: list[dict[str, Any]] = []  # the run's final evaluation, held until it has finished
+
     def report(record: dict[str, Any]) -> bool:
         record = {**record, "run_dir": str(run_dir)}
-        if sweep.target is None:
+        go_on = record["timesteps"] < cfg.total_timesteps
+        if sweep.target is not None:
+            best, wall_s = record["best_return"], record["wall_s"]
+            record[TARGET_METRIC] = target_score(best, wall_s, sweep.target, sweep.wall_budget_s)
+            # a trial that reached the target, or its wall-clock budget, ends here
+            go_on = go_on and best < sweep.target and wall_s < sweep.wall_budget_s
+        if go_on:
             tune.report(record)
-            return True
-        best, wall_s = record["best_return"], record["wall_s"]
-        record[TARGET_METRIC] = target_score(best, wall_s, sweep.target, sweep.wall_budget_s)
-        tune.report(record)
-        # a trial that reached the target, or its wall-clock budget, ends here rather than
-        # being stopped by Tune: its run finishes (final model, run.yaml)
-        return best < sweep.target and wall_s < sweep.wall_budget_s
+        else:  # told to Tune once the run has finished: a STOP then cannot cut its end short
+            last.append(record)
+        return go_on
 
     command = [*shlex.split(sweep.command_line), f"(trial {trial_id})"]
     log.parent.mkdir(parents=True, exist_ok=True)
     train(cfg, run_dir, command, resume=resume, progress_bar=False, say=say, on_eval=report)
+    if last:  # Tune may stop the trial here: its run folder is complete (final model, run.yaml)
+        tune.report(last[-1])
 
 
 def _resumable(run_dir: Path) -> bool:
@@ -324,7 +334,7 @@ def run_sweep(sweep: Sweep, resume: bool, say: Callable[[str], None] = print) ->
     import ray
     from ray import tune
 
-    from .sweep_results import SweepProgress, closing_lines, write_results
+    from .sweep_results import SweepProgress, closing_lines, read_status, write_results
 
     start_ray(sweep.address)
     try:
@@ -354,16 +364,26 @@ def run_sweep(sweep: Sweep, resume: bool, say: Callable[[str], None] = print) ->
                     storage_path=str(sweep.dir),
                     callbacks=[progress],
                     verbose=0,
-                    failure_config=tune.FailureConfig(max_failures=0),
+                    # a trial whose worker died (a lost machine) starts again, and continues
+                    # its run folder from the newest checkpoint
+                    failure_config=tune.FailureConfig(max_failures=2),
                 ),
             )
-        tuner.fit()
+        results = tuner.fit()
     finally:
         ray.shutdown()
     table = write_results(sweep)
     for line in closing_lines(sweep, table):
         say(line)
+    # Ctrl-C: Tune saves its state and returns from fit() as if done; say it is not
+    running = [t for t, st in read_status(sweep.dir).items() if st.get("status") == "running"]
+    if running or len(results) < _expected_trials(sweep):
+        raise KeyboardInterrupt
     return table
+
+
+def _expected_trials(sweep: Sweep) -> int:
+    return sweep.trials * sweep.seeds if sweep.space else sweep.seeds
 
 
 def _plan(sweep: Sweep, cpus: int, concurrent: int, resume: bool) -> str:
@@ -478,12 +498,16 @@ def sweep_from_args(args: argparse.Namespace, command: list[str]) -> Sweep:
         path = find_space(args.search)
         space = read_yaml(path)
         check_space(parse_space(space, str(path)), base, str(path))
+    for flag, value in (("--target", args.target), ("--wall-budget-s", args.wall_budget_s)):
+        if value is not None and not math.isfinite(value):
+            raise SweepError(f"{flag} {value}: must be a finite number")
     budget = _wall_budget(args)
     longest = cfg.total_timesteps if budget is None else budget
     grace = args.grace if args.grace is not None else _default_grace(cfg, budget)
-    if not 0 < grace <= longest:
+    if not 0 < grace <= longest:  # also NaN
         what = "total_timesteps" if budget is None else "--wall-budget-s"
-        raise SweepError(f"--grace {args.grace}: must be in (0, {what} = {longest:,}]")
+        named = f"--grace {args.grace}" if args.grace is not None else f"eval.freq {grace:,}"
+        raise SweepError(f"{named}: ASHA's first rung must be in (0, {what} = {longest:,}]")
     if args.address is not None:
         check_address(args.address)
     stamp = datetime.datetime.now().strftime("%Y%m%d-%H%M%S")
@@ -543,14 +567,35 @@ def _warm(sweep: Sweep, say) -> None:
     env.close()
 
 
+#: the options a resumed sweep takes from its sweep.yaml, with their defaults
+_RESUME_FIXED = {
+    "overrides": [],
+    "seeds": 1,
+    "search": None,
+    "trials": None,
+    "address": None,
+    "cpus_per_trial": 1,
+    "sweep_dir": None,
+    "target": None,
+    "wall_budget_s": None,
+    "grace": None,
+    "sampler_seed": 0,
+    "no_base_trial": False,
+}
+
+
 def main(argv: list[str] | None = None, prog: str = "fluidsim-sweep") -> int:
     args = parse_args(argv, prog)
-    command = [prog, *(sys.argv[1:] if argv is None else argv)]
+    command = [*prog.split(), *(sys.argv[1:] if argv is None else argv)]
     sweep = None
     try:
         if args.resume is not None:
-            if args.config is not None or args.search is not None:
-                raise SweepError("--resume DIR takes the config and the space from DIR")
+            given = [f for f, default in _RESUME_FIXED.items() if getattr(args, f) != default]
+            if args.config is not None or given:
+                flags = ", ".join("--" + f.replace("_", "-") for f in given) or "a config"
+                raise SweepError(
+                    f"--resume DIR takes its settings from DIR/sweep.yaml, not from {flags}"
+                )
             sweep = Sweep.load(args.resume)
         else:
             sweep = sweep_from_args(args, command)

@@ -23,6 +23,7 @@ from ray.tune import Callback
 
 from . import files
 from .config import read_yaml
+from .space import plain
 
 STATUS_FILE = "status.yaml"
 COLUMNS_BEFORE = ("trial", "status")
@@ -61,7 +62,7 @@ class SweepProgress(Callback):
     def on_trial_start(self, iteration, trials, trial, **info) -> None:
         from .sweep import searched, trial_seed
 
-        params = {k: _plain(v) for k, v in searched(trial.config).items()}
+        params = {k: plain(v) for k, v in searched(trial.config).items()}
         seed = trial_seed(self.sweep, trial.config)
         self._update(trial, status="running", seed=seed, params=params)
         shown = ", ".join(f"{k}={_fmt(v)}" for k, v in params.items())
@@ -205,7 +206,7 @@ def markdown(sweep, rows: list[dict[str, Any]], cols: list[str]) -> str:
     ]
     if sweep.space:
         lines += ["Searched:", ""] + [f"- {dim}" for dim in sweep.dimensions.values()] + [""]
-    lines += _seed_summary(rows) + [
+    lines += (_seed_summary(rows) if not sweep.space else []) + [
         "| " + " | ".join(cols) + " |",
         "|" + "---|" * len(cols),
     ]
@@ -223,10 +224,6 @@ def _seed_summary(rows: list[dict[str, Any]]) -> list[str]:
         f"min {min(finals):.3f}, max {max(finals):.3f}.",
         "",
     ]
-
-
-def _plain(value: Any) -> Any:
-    return value.item() if hasattr(value, "item") else value
 
 
 def _csv_value(value: Any) -> Any:

@@ -536,7 +536,11 @@ def _restart(run_dir: Path, cfg: TrainConfig) -> tuple[Restart, float]:
         )
     # before the trim: a run of an older version takes its best score from the whole history
     BestModel.open(run_dir / "best", EvalLog.load(run_dir / "eval"))
-    return restart, trim_logs(run_dir, restart)
+    monitor_s = trim_logs(run_dir, restart)
+    # the run's clock goes on from the later of the last kept episode's end and the last
+    # kept evaluation's (an evaluation after the last episode: its wall_s must not go back)
+    kept = [w for w in EvalLog.load(run_dir / "eval").wall_s if np.isfinite(w)]
+    return restart, max([monitor_s, *kept[-1:]])
 
 
 def resumed_seed(seed: int, done_steps: int) -> int:

@@ -78,3 +78,16 @@ def test_the_table_says_where_training_is_below_the_pilot(tmp_path, monkeypatch)
     sac = next(line for line in table.splitlines() if "| SAC |" in line)
     assert ppo.endswith("| **below** |")  # IQM 4 [3, 5] against the pilot's 10 [9.8, 10.2]
     assert sac.endswith("| above |")  # IQM 11 against 10
+
+
+def test_profiles_resample_whole_runs():
+    """Five runs at different levels: the band over runs is wide where they disagree; one
+    run (a baseline) is resampled over its episodes."""
+    rng = np.random.default_rng(2)
+    runs = np.array([level + rng.normal(0, 0.1, 64) for level in (1.0, 2.0, 3.0, 4.0, 5.0)])
+    taus = np.array([2.5])
+    curve, band = results.profile(runs, taus)
+    assert curve[0] == pytest.approx(0.6)  # three runs of five above 2.5
+    assert band[1, 0] - band[0, 0] > 0.5  # whole runs resampled: 0.2 to 1.0 or so
+    one, one_band = results.profile(runs[2:3], np.array([3.0]))
+    assert 0.2 < one[0] < 0.8 and one_band[0, 0] < one[0] < one_band[1, 0]

@@ -84,6 +84,19 @@ def test_the_shipped_spaces_fit_their_shipped_configs(name):
             config_from_dict(apply_params(raw, picked))
 
 
+def test_the_base_point_names_what_the_config_leaves_unset():
+    space = parse_space(
+        {
+            "env_kwargs.wind_speed_mps": {"uniform": [0.0, 3.0]},
+            "algorithm.target_kl": {"choice": [0.01, 0.05]},
+        },
+        "s",
+    )
+    point, notes = base_point(space, base())
+    assert point == {"env_kwargs.wind_speed_mps": 0.0, "algorithm.target_kl": 0.01}
+    assert all("the config does not set it" in n for n in notes) and len(notes) == 2
+
+
 def test_the_base_point_is_the_config_where_the_space_can_draw_it():
     space = parse_space({**SPACE, "algorithm.batch_size": {"choice": [32, 64]}}, "s")
     point, notes = base_point(space, base())
@@ -137,11 +150,14 @@ def closed_port() -> int:
         (["--trials", "3"], "--trials 3: only with --search"),
         (["--search", "missing.yaml"], "--search missing.yaml: file not found, nor a shipped"),
         (["--cpus-per-trial", "0"], "--cpus-per-trial 0"),
-        (["--grace", "999999"], "--grace 999999.0: must be in (0, total_timesteps"),
+        (["--grace", "999999"], "--grace 999999.0: ASHA's first rung must be in (0, total"),
         (["--target", "5"], "--target 5.0 needs --wall-budget-s"),
         (["--wall-budget-s", "60"], "--wall-budget-s 60.0: only with --target"),
         (["--address", "nohostport"], "expected HOST:PORT"),
         (["--set", "eval.freq=0"], "eval.freq is 0"),
+        (["--target", "nan", "--wall-budget-s", "60"], "--target nan: must be a finite number"),
+        (["--target", "5", "--wall-budget-s", "inf"], "--wall-budget-s inf: must be a finite"),
+        (["--grace", "nan"], "--grace nan: ASHA's first rung must be in (0, total_timesteps"),
     ],
 )
 def test_bad_arguments_are_errors_that_name_them(tmp_path, capsys, monkeypatch, args, named):
@@ -159,9 +175,15 @@ def test_an_unreachable_address_is_an_error_that_names_it(tmp_path, capsys):
     assert f"--address {address}: nothing answers" in err and "ray start --head" in err
 
 
-def test_resume_needs_a_sweep_folder(tmp_path, capsys):
+def test_resume_needs_a_sweep_folder_and_takes_its_settings_from_it(tmp_path, capsys):
     assert sweep_cli.main(["--resume", str(tmp_path)]) == 2
     assert "not a sweep folder (no sweep.yaml)" in capsys.readouterr().err
+    assert sweep_cli.main(["--resume", str(tmp_path), "--seeds", "3", "--trials", "2"]) == 2
+    err = capsys.readouterr().err
+    assert "takes its settings from DIR/sweep.yaml, not from --seeds, --trials" in err
+    (tmp_path / "sweep.yaml").write_text("folder: x\nno_such_setting: 1\n")
+    assert sweep_cli.main(["--resume", str(tmp_path)]) == 2
+    assert "sweep.yaml: not a sweep this version can resume" in capsys.readouterr().err
 
 
 # --------------------------------------------------------------------------------------------
