@@ -256,5 +256,7 @@ def test_seeds_of_one_sampled_config_race_to_a_target(tmp_path):
     for row in rows:
         assert row["status"] == "reached target" and int(row["timesteps"]) == 256
         assert float(row["time_to_target_s"]) == float(row["wall_s"]) > 0
+        # the trial ended itself and its run finished before Tune heard the last evaluation
+        assert (folder / row["run_dir"] / "model.zip").is_file()
     times = [float(r["time_to_target_s"]) for r in rows]
     assert times == sorted(times)
