@@ -136,7 +136,8 @@ def write_video(
 
 
 def window(env_id: str, fps: float):
-    """An ``on_frame`` that shows frames in a pygame window at ``fps`` (Esc or closing stops)."""
+    """An ``on_frame`` that shows frames in a pygame window at ``fps`` (Esc or closing stops;
+    ``fps`` 0: as fast as they come)."""
     from fluidsim_envs.play import check_display
 
     check_display()
@@ -177,6 +178,7 @@ def enjoy(
     say=print,
     stride: int = 1,
     width: int | None = None,
+    realtime: bool = True,
 ) -> list[dict]:
     """Fly the folder's policy (see the module docstring); returns the episodes' results."""
     if episodes < 1:
@@ -197,7 +199,7 @@ def enjoy(
         if video is not None:
             on_frame = frames.append
         elif shown:
-            on_frame = window(env_id, fps)
+            on_frame = window(env_id, fps if realtime else 0)
         results = fly(venv, policy, episodes, seed, on_frame, say)
         if video is not None:
             write_video(frames, video, fps, stride, width)

@@ -71,3 +71,19 @@ def test_no_display_names_the_other_ways(run, monkeypatch, capsys):
     assert enjoy.main([str(run)]) == 2
     err = capsys.readouterr().err
     assert "no display here" in err and "--video" in err
+
+
+def test_the_window_shows_every_frame(run, monkeypatch):
+    """Without --video or --rerun the episodes play in a window (SDL's dummy driver here,
+    not paced to real time)."""
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
+    shown = []
+    real = enjoy.window
+
+    def counting(env_id, fps):
+        show = real(env_id, fps)
+        return lambda frame: shown.append(frame.shape) or show(frame)
+
+    monkeypatch.setattr(enjoy, "window", counting)
+    results = enjoy.enjoy(run, episodes=1, seed=4, realtime=False, say=lambda line: None)
+    assert len(shown) == results[0]["length"] + 1 and len(set(shown)) == 1
