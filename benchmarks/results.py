@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from benchmarks.common import DOCS, ROOT, read_csv, write_csv
+from fluidsim_envs.rl.runs import read_history
 
 #: what is trained: the shipped v1 configs, and their envs
 CONFIGS = {
@@ -285,7 +286,10 @@ def plot_curves(configs: list[str], path: Path) -> None:
 
     fig, axes = plt.subplots(1, len(configs), figsize=(5 * len(configs), 3.6), squeeze=False)
     for ax, config in zip(axes[0], configs, strict=True):
-        curves = [_history(run) for run in runs(config)]
+        curves = [
+            {int(h["timesteps"]): h["mean_return"] for h in read_history(run)}
+            for run in runs(config)
+        ]
         curves = [c for c in curves if c]
         if not curves:
             ax.set_title(f"{config}: no runs")
@@ -319,16 +323,6 @@ def _save(fig, path: Path) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
-
-
-def _history(run: Path) -> dict[int, float]:
-    import csv
-
-    path = run / "eval" / "history.csv"
-    if not path.is_file():
-        return {}
-    with path.open() as f:
-        return {int(r["timesteps"]): float(r["mean_return"]) for r in csv.DictReader(f)}
 
 
 # --------------------------------------------------------------------------------------------

@@ -446,6 +446,19 @@ def get_key(raw: dict[str, Any], key: str) -> Any:
     return node
 
 
+def add_overrides_argument(parser, help_text: str) -> None:
+    """The commands' ``--set KEY=VALUE ...`` option (repeatable; into ``args.overrides``)."""
+    parser.add_argument(
+        "--set",
+        dest="overrides",
+        metavar="KEY=VALUE",
+        nargs="+",
+        action="extend",
+        default=[],
+        help=help_text,
+    )
+
+
 def set_key(raw: dict[str, Any], key: str, value: Any, what: str) -> None:
     """Set the dotted ``key`` (``algorithm.learning_rate``) of ``raw`` to ``value`` in place,
     making the mappings on the way; ``what`` names the setting in the error where a part of the

@@ -277,6 +277,21 @@ class EvalLog:
         files.write_text(self.csv, text.getvalue())
 
 
+def read_history(run_dir: Path) -> list[dict[str, float]]:
+    """A run's ``eval/history.csv`` as rows of numbers (NaN where a value is missing or not a
+    number; no rows without the file): what sweeps and studies read of a run's evaluations."""
+    path = run_dir / "eval" / "history.csv"
+    if not path.is_file():
+        return []
+    with path.open() as f:
+        return [{k: _float_or_nan(v) for k, v in r.items()} for r in csv.DictReader(f)]
+
+
+def _float_or_nan(text: str | None) -> float:
+    value = _float_or_none(text)
+    return math.nan if value is None else value
+
+
 def _padded(rows: list[list[float]]) -> np.ndarray:
     """Rows as one 2-D array; rows of unequal length (eval.n_episodes changed on a resume)
     are padded with NaN."""

@@ -55,7 +55,14 @@ from typing import Any
 import yaml
 
 from . import files
-from .config import ConfigError, config_from_dict, config_to_dict, load_config, read_yaml
+from .config import (
+    ConfigError,
+    add_overrides_argument,
+    config_from_dict,
+    config_to_dict,
+    load_config,
+    read_yaml,
+)
 from .files import RunError
 from .space import (
     Dimension,
@@ -428,15 +435,7 @@ def parse_args(argv: list[str] | None, prog: str) -> argparse.Namespace:
         "--address=HEAD:6379` on the others, then --address HEAD:6379.",
     )
     parser.add_argument("config", nargs="?", help="a config YAML file or a shipped config's name")
-    parser.add_argument(
-        "--set",
-        dest="overrides",
-        metavar="KEY=VALUE",
-        nargs="+",
-        action="extend",
-        default=[],
-        help="override config keys for every trial (as fluidsim-train --set)",
-    )
+    add_overrides_argument(parser, "override config keys for every trial (as fluidsim-train --set)")
     parser.add_argument("--seeds", type=int, default=1, help="seeds per config (default 1)")
     parser.add_argument(
         "--search",

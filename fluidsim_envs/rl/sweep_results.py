@@ -23,6 +23,7 @@ from ray.tune import Callback
 
 from . import files
 from .config import read_yaml
+from .runs import read_history
 from .space import plain
 
 STATUS_FILE = "status.yaml"
@@ -122,7 +123,7 @@ def trial_row(sweep, trial_id: str, state: dict[str, Any]) -> dict[str, Any]:
         row[key] = params.get(key)
     row["seed"] = state.get("seed")
     run_dir = sweep.dir / "runs" / trial_id
-    history = _history(run_dir / "eval" / "history.csv")
+    history = read_history(run_dir)
     if history:
         best = max(history, key=lambda h: h["mean_return"])
         reached = [
@@ -143,20 +144,6 @@ def trial_row(sweep, trial_id: str, state: dict[str, Any]) -> dict[str, Any]:
     row["peak_rss_mb"] = state.get("peak_rss_mb")  # as of the trial's last evaluation
     row["run_dir"] = f"runs/{trial_id}" if run_dir.is_dir() else None
     return row
-
-
-def _history(path: Path) -> list[dict[str, float]]:
-    if not path.is_file():
-        return []
-    with path.open() as f:
-        return [{k: _number(v) for k, v in r.items()} for r in csv.DictReader(f)]
-
-
-def _number(text: str | None) -> float:
-    try:
-        return float(text)
-    except (TypeError, ValueError):
-        return math.nan
 
 
 def results_rows(sweep) -> list[dict[str, Any]]:

@@ -60,6 +60,7 @@ from .config import (  # noqa: E402
     ACTIVATIONS,
     ConfigError,
     TrainConfig,
+    add_overrides_argument,
     config_from_dict,
     dump_config,
     load_config,
@@ -724,14 +725,8 @@ def parse_args(argv: list[str] | None, prog: str = "fluidsim-train") -> argparse
         nargs="?",
         help="a config YAML file, or a shipped config's name (omit with --resume)",
     )
-    parser.add_argument(
-        "--set",
-        dest="overrides",
-        metavar="KEY=VALUE",
-        nargs="+",
-        action="extend",
-        default=[],
-        help="override config keys (nested through dots, values read as YAML)",
+    add_overrides_argument(
+        parser, "override config keys (nested through dots, values read as YAML)"
     )
     parser.add_argument(
         "--run-dir", type=Path, help="run folder (default runs/<env>-<algo>-<time>)"
