@@ -209,10 +209,13 @@ BLOCKS = (
         "study_model_cost:dart_markdown",
     ),
     Block("docs/seed_map.md", "seed-claims", "docs/study_*.csv", "seed_claims:markdown"),
+    Block("README.md", "results-table", "docs/results.csv", "results:markdown"),
+    Block("README.md", "zoo-table", "zoo/*/evaluation.csv", "zoo:markdown"),
 )
 # pages written whole by their benchmark from its CSV: page -> renderer (``module:function``)
 PAGES = {
     "docs/bench_peers.md": "bench_peers:page",
+    "docs/results.md": "results:page",
 }
 
 # docs/dart_glide.csv's phugoid sources, as the table names them

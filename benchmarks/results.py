@@ -4,25 +4,37 @@ Agarwal et al. (2021, "Deep RL at the edge of the statistical precipice") by the
 ``rliable``: interquartile mean (IQM) and mean over runs with 95% stratified bootstrap
 intervals, performance profiles, learning curves with bands.
 
-    python -m benchmarks.results --train            # train what is missing, then the docs
-    python -m benchmarks.results                    # the docs from the runs as they are
-    python -m benchmarks.results --configs paper_airplane_v1_ppo --seeds 5 --train
+    python -m benchmarks.results --train            # train the missing seeds, then the docs
+    python -m benchmarks.results                    # the docs from the published runs
+    python -m benchmarks.results --configs boat_on_step_v1_ppo --train --max-new 2
 
-Training: ``fluidsim-sweep CONFIG --seeds N --sweep-dir sweeps/results/CONFIG [--set ...]``
-for each shipped v1 config (a folder that holds a sweep is resumed; the real CLI, in a
-subprocess). Evaluation: each run's final model, acting deterministically, and the
-baselines (the planner, an oracle that reads the true state; the tuned pilot; random
-actions) on the same ``--episodes`` episodes, seed :data:`EVAL_SEED` (disjoint from the
-pilots' tuning seeds); each run's per-episode results are kept in its folder
+Training: the seeds ``seed .. seed + --seeds - 1`` of each shipped v1 config (its own
+``seed`` first) that are neither published nor trained here yet, through the real CLI,
+``fluidsim-sweep CONFIG --seeds N --set seed=FIRST --sweep-dir
+sweeps/results/CONFIG/seedsFIRST-LAST`` (in a subprocess; a folder that holds a sweep is
+resumed). ``--max-new K`` trains at most K of them now: the whole set is hours of compute on
+2 cores, and a session's machine (and its ``sweeps/``) does not outlive it.
+
+Evaluation: each run's final model, acting deterministically, and the baselines (the
+planner, an oracle that reads the true state; the tuned pilot; random actions) on the same
+``--episodes`` episodes, seed :data:`EVAL_SEED` (disjoint from the pilots' tuning seeds and
+from the runs' evaluation seed). A run's per-episode results are cached in its folder
 (``results_eval.npz``), the baselines' in ``sweeps/results/baselines/``.
 
-Writes ``docs/results_episodes.csv`` (a row per policy, run and episode: everything else is
-computed from it) and ``docs/results.csv`` (a row per env and policy: IQM and mean of the
-runs' mean returns with their intervals, the success rate, and the normalized score, 0 for
-random and 1 for the tuned pilot), ``docs/results_curves.png`` and
-``docs/results_profiles.png`` (:func:`profile`: runs resampled whole). :func:`markdown`
-renders ``docs/results.csv`` as the table that docs/results.md and the README will show
-once the runs exist (a ``benchmarks.report`` block, wired with the first results).
+What it writes, and what survives the run folders (committed, merged: the rows of the runs
+found here replace those of the same config and seed, the others are kept, so the seeds of
+several sessions add up):
+
+- ``docs/results_episodes.csv``: a row per policy, run (``seed N``) and episode; the
+  statistics are computed from it alone;
+- ``docs/results_history.csv``: each run's evaluations during training (the curves);
+- ``docs/results_runs.csv``: a row per run: the revision that trained it, its steps, wall
+  time and peak resident memory, its final evaluation return;
+- ``docs/results.csv``: a row per env and policy: IQM and mean of the runs' mean returns with
+  their intervals, the success rate, and the normalized score (0 random, 1 the tuned pilot);
+- ``docs/results_curves.png``, ``docs/results_profiles.png`` (:func:`profile`: runs
+  resampled whole), and ``docs/results.md`` (:func:`page`, checked by ``benchmarks.report``),
+  whose table the README shows.
 """
 
 from __future__ import annotations
@@ -30,9 +42,11 @@ from __future__ import annotations
 import argparse
 import subprocess
 import sys
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 import numpy as np
+import yaml
 
 from benchmarks.common import DOCS, ROOT, read_csv, write_csv
 from fluidsim_envs.rl.runs import read_history
@@ -47,10 +61,19 @@ CONFIGS = {
 SWEEPS = ROOT / "sweeps" / "results"
 EVAL_SEED = 0  # the pilots were tuned on TUNING_SEEDS (evaluation.py): disjoint
 EPISODES = 256
+SEEDS = 5
 BASELINES = ("planner (oracle)", "tuned pilot", "random")
 EPISODES_CSV = DOCS / "results_episodes.csv"
+HISTORY_CSV = DOCS / "results_history.csv"
+RUNS_CSV = DOCS / "results_runs.csv"
 CSV = DOCS / "results.csv"
+PAGE = DOCS / "results.md"
 EPISODE_COLUMNS = ("env", "policy", "run", "episode", "return", "success")
+HISTORY_COLUMNS = ("config", "seed", "timesteps", "wall_s", "mean_return", "success_rate")
+RUN_COLUMNS = (
+    "config", "seed", "revision", "timesteps", "wall_s", "peak_rss_mb", "final_eval_return",
+    "results_return", "folder",
+)  # fmt: skip
 COLUMNS = (
     "env", "policy", "runs", "episodes",
     "iqm", "iqm_lo", "iqm_hi", "mean", "mean_lo", "mean_hi",
@@ -63,29 +86,70 @@ BOOTSTRAP_SEED = 2024
 
 
 # --------------------------------------------------------------------------------------------
-# training and evaluation (run folders -> per-episode results)
+# training (configs -> run folders)
 
 
-def train(config: str, seeds: int, sets: list[str]) -> None:
-    folder = SWEEPS / config
-    if (folder / "sweep.yaml").is_file():
-        cmd = ["--resume", str(folder)]
-    else:
-        cmd = [config, "--seeds", str(seeds), "--sweep-dir", str(folder)]
-        cmd += ["--set", *sets] if sets else []
-    cmd = [sys.executable, "-m", "fluidsim_envs.rl.sweep", *cmd]
-    print("$", " ".join(cmd), flush=True)
-    subprocess.run(cmd, check=True, cwd=ROOT)
+def base_seed(config: str) -> int:
+    from fluidsim_envs.rl.config import load_config
+
+    return int(load_config(config).seed)
 
 
-def runs(config: str) -> list[Path]:
-    """The config's finished runs (a final model), by trial."""
-    folder = SWEEPS / config / "runs"
-    return sorted(p for p in folder.glob("*") if (p / "model.zip").is_file())
+def wanted_seeds(config: str, seeds: int) -> list[int]:
+    first = base_seed(config)
+    return list(range(first, first + seeds))
+
+
+def missing_seeds(config: str, seeds: int) -> list[int]:
+    """The wanted seeds neither published (docs/results_runs.csv) nor finished here."""
+    have = {int(r["seed"]) for r in _published(RUNS_CSV) if r["config"] == config}
+    have |= set(local_runs(config))
+    return [s for s in wanted_seeds(config, seeds) if s not in have]
+
+
+def chunks(seeds: Sequence[int]) -> list[list[int]]:
+    """Consecutive runs of sorted seeds: each is one ``--seeds N --set seed=FIRST`` sweep."""
+    out: list[list[int]] = []
+    for s in sorted(seeds):
+        if out and s == out[-1][-1] + 1:
+            out[-1].append(s)
+        else:
+            out.append([s])
+    return out
+
+
+def train(config: str, seeds: list[int]) -> None:
+    for chunk in chunks(seeds):
+        folder = SWEEPS / config / f"seeds{chunk[0]}-{chunk[-1]}"
+        if (folder / "sweep.yaml").is_file():
+            cmd = ["--resume", str(folder)]
+        else:
+            cmd = [config, "--seeds", str(len(chunk)), "--set", f"seed={chunk[0]}"]
+            cmd += ["--sweep-dir", str(folder)]
+        cmd = [sys.executable, "-m", "fluidsim_envs.rl.sweep", *cmd]
+        print("$", " ".join(cmd), flush=True)
+        subprocess.run(cmd, check=True, cwd=ROOT)
+
+
+def local_runs(config: str) -> dict[int, Path]:
+    """The config's runs finished here (a final model), by seed."""
+    out = {}
+    for run in sorted((SWEEPS / config).glob("*/runs/*")):
+        if (run / "model.zip").is_file():
+            out[int(yaml.safe_load((run / "config.yaml").read_text())["seed"])] = run
+    return out
 
 
 def policy_name(config: str) -> str:
     return config.rsplit("_", 1)[1].upper()
+
+
+def run_label(seed: int) -> str:
+    return f"seed {seed}"
+
+
+# --------------------------------------------------------------------------------------------
+# evaluation (run folders -> per-episode results)
 
 
 def run_episodes(run: Path, episodes: int, seed: int) -> dict[str, np.ndarray]:
@@ -98,6 +162,7 @@ def run_episodes(run: Path, episodes: int, seed: int) -> dict[str, np.ndarray]:
     from fluidsim_envs.evaluation import first_episodes
     from fluidsim_envs.rl.evaluate import _make_venv, load_run, model_policy
 
+    print(f"{run.relative_to(ROOT)}: its final model on {episodes} episodes ...", flush=True)
     cfg, model = load_run(run, "final")
     venv = _make_venv(cfg.env_id, episodes, cfg.env_kwargs)
     try:
@@ -138,17 +203,17 @@ def baseline_episodes(env_id: str, episodes: int, seed: int) -> dict[str, dict[s
 
 
 def episode_rows(configs: list[str], episodes: int, seed: int) -> list[tuple]:
-    """Every policy's episodes, as :data:`EPISODE_COLUMNS` rows."""
+    """The baselines' episodes on each config's env and its local runs' episodes, as
+    :data:`EPISODE_COLUMNS` rows."""
     rows: list[tuple] = []
-    envs_done: set[str] = set()
+    for env_id in dict.fromkeys(CONFIGS[c] for c in configs):
+        env = env_id.split("/")[1]
+        for name, d in baseline_episodes(env_id, episodes, seed).items():
+            rows += _rows(env, name, "-", d)
     for config in configs:
         env = CONFIGS[config].split("/")[1]
-        if env not in envs_done:
-            envs_done.add(env)
-            for name, d in baseline_episodes(CONFIGS[config], episodes, seed).items():
-                rows += _rows(env, name, "-", d)
-        for run in runs(config):
-            rows += _rows(env, policy_name(config), run.name, run_episodes(run, episodes, seed))
+        for s, run in local_runs(config).items():
+            rows += _rows(env, policy_name(config), run_label(s), run_episodes(run, episodes, seed))
     return rows
 
 
@@ -157,6 +222,53 @@ def _rows(env: str, policy: str, run: str, d: dict[str, np.ndarray]) -> list[tup
         (env, policy, run, i, round(float(r), 4), int(s))
         for i, (r, s) in enumerate(zip(d["return"], d["success"], strict=True))
     ]
+
+
+def history_rows(configs: list[str]) -> list[tuple]:
+    """Each local run's evaluations during training, as :data:`HISTORY_COLUMNS` rows."""
+    return [
+        (config, s, int(h["timesteps"]), round(h["wall_s"], 1), round(h["mean_return"], 4),
+         round(h["success_rate"], 4))
+        for config in configs
+        for s, run in local_runs(config).items()
+        for h in read_history(run)
+    ]  # fmt: skip
+
+
+def run_rows(configs: list[str], episodes: int, seed: int) -> list[tuple]:
+    """A row per local run: :data:`RUN_COLUMNS` (wall time: the run's clock at its last
+    evaluation, across resumes; peak RSS: the largest of its sessions')."""
+    out = []
+    for config in configs:
+        for s, run in local_runs(config).items():
+            meta = yaml.safe_load((run / "run.yaml").read_text())
+            last = read_history(run)[-1]
+            rss = [t["peak_rss_mb"] for t in meta.get("timing", []) if "peak_rss_mb" in t]
+            git = meta["git"]
+            out.append((
+                config, s, git["revision"][:10] + ("+dirty" if git["dirty"] else ""),
+                int(meta["num_timesteps"]), round(last["wall_s"], 1),
+                round(max(rss), 1) if rss else "", round(last["mean_return"], 4),
+                round(float(np.mean(run_episodes(run, episodes, seed)["return"])), 4),
+                str(run.relative_to(ROOT)),
+            ))  # fmt: skip
+    return out
+
+
+def merge(path: Path, columns: Sequence[str], new: Iterable[Sequence], key: Sequence[str],
+          comments: Sequence[str] = ()) -> list[dict]:  # fmt: skip
+    """Write ``new`` rows to the committed CSV at ``path``, keeping its rows whose ``key``
+    (columns) no new row has: the rows of runs trained in other sessions."""
+    fresh = [dict(zip(columns, map(str, r), strict=True)) for r in new]
+    keys = {tuple(r[k] for k in key) for r in fresh}
+    kept = [r for r in _published(path) if tuple(r[k] for k in key) not in keys]
+    rows = kept + fresh
+    write_csv(path, columns, ([r[c] for c in columns] for r in rows), comments)
+    return rows
+
+
+def _published(path: Path) -> list[dict]:
+    return read_csv(path)[1] if path.is_file() else []
 
 
 # --------------------------------------------------------------------------------------------
@@ -214,8 +326,17 @@ def interval_estimates(scores: np.ndarray) -> dict[str, tuple[float, float, floa
 
 
 def summary_rows(matrices: dict) -> list[dict]:
+    """A :data:`COLUMNS` row per (env, policy): the envs in :data:`CONFIGS`' order, in each
+    the planner, the tuned pilot, the trained policies, random."""
+    envs = [e.split("/")[1] for e in dict.fromkeys(CONFIGS.values())]
+    rank = {"planner (oracle)": 0, "tuned pilot": 1, "random": 3}
+
+    def order(key):
+        env, policy = key
+        return (envs.index(env) if env in envs else len(envs), env, rank.get(policy, 2), policy)
+
     out = []
-    for (env, policy), m in matrices.items():
+    for (env, policy), m in sorted(matrices.items(), key=lambda kv: order(kv[0])):
         ret = interval_estimates(m["return"])
         suc = interval_estimates(m["success"])
         pilot = matrices[(env, "tuned pilot")]["return"].mean()
@@ -274,9 +395,11 @@ def plot_profiles(matrices: dict, path: Path) -> None:
     _save(fig, path)
 
 
-def plot_curves(configs: list[str], path: Path) -> None:
-    """Per config: each run's evaluations during training (eval/history.csv) as the IQM over
-    runs at each timestep, with a 95% stratified bootstrap band (rliable)."""
+def plot_curves(history: list[dict], matrices: dict, path: Path) -> None:
+    """Per config: its runs' evaluations during training (docs/results_history.csv) as the
+    IQM over runs at each timestep, with a 95% stratified bootstrap band (rliable); the
+    planner's and the tuned pilot's mean return on the results' episodes as lines (the
+    evaluations during training fly other episodes: seed 1,000,000, 32 of them)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -284,18 +407,19 @@ def plot_curves(configs: list[str], path: Path) -> None:
     from rliable import library as rly
     from rliable import metrics
 
-    fig, axes = plt.subplots(1, len(configs), figsize=(5 * len(configs), 3.6), squeeze=False)
-    for ax, config in zip(axes[0], configs, strict=True):
-        curves = [
-            {int(h["timesteps"]): h["mean_return"] for h in read_history(run)}
-            for run in runs(config)
-        ]
-        curves = [c for c in curves if c]
-        if not curves:
-            ax.set_title(f"{config}: no runs")
-            continue
-        steps = sorted(set.intersection(*(set(c) for c in curves)))
-        scores = np.array([[c[t] for t in steps] for c in curves])  # [runs, points]
+    configs = [c for c in CONFIGS if any(h["config"] == c for h in history)]
+    cols = min(len(configs), 2)
+    rows = -(-len(configs) // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(5 * cols, 3.6 * rows), squeeze=False)
+    for ax in axes.flat[len(configs) :]:
+        ax.set_visible(False)
+    for ax, config in zip(axes.flat, configs, strict=False):
+        curves: dict[str, dict[int, float]] = {}
+        for h in history:
+            if h["config"] == config:
+                curves.setdefault(h["seed"], {})[int(h["timesteps"])] = float(h["mean_return"])
+        steps = sorted(set.intersection(*(set(c) for c in curves.values())))
+        scores = np.array([[c[t] for t in steps] for c in curves.values()])  # [runs, points]
         np.random.seed(BOOTSTRAP_SEED)  # noqa: NPY002  (rliable resamples with it)
         point, ci = rly.get_interval_estimates(
             {"r": scores},
@@ -304,6 +428,11 @@ def plot_curves(configs: list[str], path: Path) -> None:
         )
         ax.plot(steps, point["r"], label=f"IQM of {len(curves)} runs")
         ax.fill_between(steps, ci["r"][0], ci["r"][1], alpha=0.25)
+        env = CONFIGS[config].split("/")[1]
+        for name, style in (("planner (oracle)", ":"), ("tuned pilot", "--")):
+            if (env, name) in matrices:
+                mean = matrices[(env, name)]["return"].mean()
+                ax.axhline(mean, color="gray", linestyle=style, label=name)
         title = f"{CONFIGS[config].split('/')[1]}, {policy_name(config)}"
         _label(ax, title, "timesteps", "evaluation return")
     _save(fig, path)
@@ -337,8 +466,8 @@ def markdown() -> str:
     _, rows = read_csv(CSV)
     lines = [
         "| env | policy | runs | IQM return [95% CI] | mean return [95% CI] | success "
-        "| IQM vs tuned pilot |",
-        "|---|---|--:|---|---|---|---|",
+        "| normalized IQM [95% CI] | vs tuned pilot |",
+        "|---|---|--:|---|---|---|---|---|",
     ]
     for r in rows:
         f = {k: float(v) for k, v in r.items() if k not in ("env", "policy")}
@@ -350,33 +479,123 @@ def markdown() -> str:
             versus = "**below**" if below else ("above" if above else "overlaps")
         lines.append(
             f"| {r['env']} | {r['policy']} | {int(f['runs'])} | "
-            f"{f['iqm']:.2f} [{f['iqm_lo']:.2f}, {f['iqm_hi']:.2f}] | "
-            f"{f['mean']:.2f} [{f['mean_lo']:.2f}, {f['mean_hi']:.2f}] | "
-            f"{100 * f['success']:.0f}% [{100 * f['success_lo']:.0f}, {100 * f['success_hi']:.0f}] "
-            f"| {versus} |"
+            f"{_ci(f, 'iqm', '.2f')} | {_ci(f, 'mean', '.2f')} | "
+            f"{100 * f['success']:.0f}% [{100 * f['success_lo']:.0f}, "
+            f"{100 * f['success_hi']:.0f}] | {_ci(f, 'normalized_iqm', '.2f')} | {versus} |"
         )
     return "\n".join(lines) + "\n"
+
+
+def _ci(f: dict[str, float], key: str, form: str) -> str:
+    return f"{f[key]:{form}} [{f[key + '_lo']:{form}}, {f[key + '_hi']:{form}}]"
+
+
+def runs_markdown() -> str:
+    """docs/results_runs.csv as a table: a row per run."""
+    if not RUNS_CSV.is_file():
+        return "(no runs published yet)\n"
+    lines = [
+        "| config | seed | revision | steps | wall (min) | peak RSS (MiB) "
+        "| last evaluation during training | return on these episodes |",
+        "|---|--:|---|--:|--:|--:|--:|--:|",
+    ]
+    for r in _published(RUNS_CSV):
+        lines.append(
+            f"| {r['config']} | {r['seed']} | `{r['revision']}` | {int(r['timesteps']):,} | "
+            f"{float(r['wall_s']) / 60:.1f} | {r['peak_rss_mb'] or 'n/a'} | "
+            f"{float(r['final_eval_return']):.2f} | {float(r['results_return']):.2f} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def missing_markdown() -> str:
+    """The configs with fewer than :data:`SEEDS` published runs, and the command for them."""
+    have = {c: 0 for c in CONFIGS}
+    for r in _published(RUNS_CSV):
+        have[r["config"]] += 1
+    lines = [
+        f"- `{c}`: {n} of {SEEDS} runs (`python -m benchmarks.results --configs {c} --train`)"
+        for c, n in have.items()
+        if n < SEEDS
+    ]
+    return "\n".join(lines) + "\n" if lines else "None: every config has its runs.\n"
+
+
+def page() -> str:
+    """docs/results.md, whole, from the CSVs (``benchmarks.report --check`` compares it)."""
+    return f"""# Results: trained policies over seeds, against the baselines
+
+<!-- written by `python -m benchmarks.results` from docs/results*.csv: do not edit -->
+
+Each shipped v1 config (`fluidsim_envs/configs/<config>.yaml`, trained at the env's
+`standard` level) is trained with seeds 0 to {SEEDS - 1}. Each run's final model, acting
+deterministically, and the three baselines fly the same {EPISODES} episodes (seed
+{EVAL_SEED}): the planner (an oracle: it reads the true state and plans over the env's own
+model), the tuned pilot (the scene's classical controller, its gains tuned by
+`python -m benchmarks.tune_pilots` on seeds 1 and 2) and random actions. The runs' own
+evaluations during training use seed 1,000,000; the zoo publishes on seed 3.
+
+A run's score is its mean return over the episodes. The table gives the interquartile mean
+(IQM: the mean of the middle half of the runs, scipy's 25% trimmed mean) and the mean over
+runs, each with its 95% stratified bootstrap interval over runs (the `rliable` library of
+Agarwal et al., 2021, {REPS:,} resamples). A baseline is one policy: its interval is over its
+episodes. The normalized IQM puts random at 0 and the tuned pilot at 1. *vs tuned pilot*
+says **below** where the trained IQM's interval lies wholly under the pilot's, *above*
+where wholly over it, and *overlaps* otherwise.
+
+{markdown()}
+Still to train (each line is the command that adds the missing seeds; runs of several
+sessions add up, the CSVs keep each run's revision):
+
+{missing_markdown()}
+## Learning curves
+
+The IQM over runs of each evaluation during training (32 episodes each), with its 95%
+bootstrap band:
+
+![learning curves](results_curves.png)
+
+## Performance profiles
+
+The fraction of the {EPISODES} episodes whose return exceeds each value τ, with a 95% band
+from resampling whole runs (a run's episodes share its policy):
+
+![performance profiles](results_profiles.png)
+
+## The runs
+
+{runs_markdown()}
+Wall time is the run's own clock at its last evaluation on 2 cores, two runs at a time (one
+core each); peak RSS is the training process's. Data: `docs/results_episodes.csv` (every
+episode of every policy), `docs/results_history.csv` (the curves), `docs/results_runs.csv`,
+`docs/results.csv`.
+"""
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--configs", nargs="+", choices=list(CONFIGS), default=list(CONFIGS))
-    parser.add_argument("--seeds", type=int, default=5)
-    parser.add_argument("--episodes", type=int, default=EPISODES)
-    parser.add_argument("--train", action="store_true", help="train the missing runs first")
-    parser.add_argument("--set", nargs="+", default=[], help="config overrides for training")
+    parser.add_argument("--seeds", type=int, default=SEEDS, help=f"runs per config ({SEEDS})")
+    parser.add_argument("--train", action="store_true", help="train the missing seeds first")
+    parser.add_argument("--max-new", type=int, help="train at most this many seeds a config")
     args = parser.parse_args(argv)
+    if args.seeds < 1 or (args.max_new is not None and args.max_new < 1):
+        parser.error(f"--seeds {args.seeds} --max-new {args.max_new}: each must be at least 1")
     if args.train:
         for config in args.configs:
-            train(config, args.seeds, args.set)
-    rows = episode_rows(args.configs, args.episodes, EVAL_SEED)
-    write_csv(EPISODES_CSV, EPISODE_COLUMNS, rows, [f"episodes: seed {EVAL_SEED}"])
-    _, episodes = read_csv(EPISODES_CSV)
-    matrices = score_matrices(episodes)
+            train(config, missing_seeds(config, args.seeds)[: args.max_new])
+    note = [f"episodes: {EPISODES}, seed {EVAL_SEED}; each run's final model, deterministic"]
+    rows = merge(EPISODES_CSV, EPISODE_COLUMNS, episode_rows(args.configs, EPISODES, EVAL_SEED),
+                 ("env", "policy", "run"), note)  # fmt: skip
+    history = merge(HISTORY_CSV, HISTORY_COLUMNS, history_rows(args.configs), ("config", "seed"))
+    merge(RUNS_CSV, RUN_COLUMNS, run_rows(args.configs, EPISODES, EVAL_SEED), ("config", "seed"))
+    matrices = score_matrices(rows)
     summary = summary_rows(matrices)
-    write_csv(CSV, COLUMNS, ([r[c] for c in COLUMNS] for r in summary))
+    write_csv(CSV, COLUMNS, ([r[c] for c in COLUMNS] for r in summary), note)
     plot_profiles(matrices, DOCS / "results_profiles.png")
-    plot_curves(args.configs, DOCS / "results_curves.png")
+    if history:
+        plot_curves(history, matrices, DOCS / "results_curves.png")
+    PAGE.write_text(page())
     print(markdown())
     return 0
 

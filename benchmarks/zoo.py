@@ -7,7 +7,8 @@ evaluation that the README shows.
 For each config of :data:`benchmarks.results.CONFIGS`, the run with the best mean return on
 the results' episodes (``results_eval.npz``, written by ``python -m benchmarks.results``) is
 copied to ``zoo/<Env-vN>-<algo>/``: ``config.yaml``, ``model.zip``, ``vecnormalize.pkl`` and
-``run.yaml`` (how it was trained: command, revision, seeds, versions). Then ``fluidsim-evaluate
+``run.yaml`` (how it was trained: command, revision, seeds, versions), the model without its
+optimizers' state (:func:`save_policy`). Then ``fluidsim-evaluate
 zoo/<name> --episodes 256 --seed 3 --no-planner`` writes its ``evaluation.csv`` (the trained
 policy beside the tuned and hand-set pilots and random, on the same episodes: fresh ones,
 not the seed-0 episodes the run was chosen on), whose trained row the README's zoo table
@@ -29,9 +30,10 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+import yaml
 
 from benchmarks.common import DOCS, ROOT, read_csv
-from benchmarks.results import CONFIGS, runs
+from benchmarks.results import CONFIGS, EPISODES_CSV, _published, local_runs, policy_name
 
 #: the zoo's evaluation episodes: not the results' (seed 0), on which its runs were ranked,
 #: so the published row is not the best of five on its own episodes
@@ -49,15 +51,40 @@ def entry_name(config: str) -> str:
     return f"{CONFIGS[config].split('/')[1]}-{config.rsplit('_', 1)[1]}"
 
 
-def best_run(config: str) -> Path | None:
-    """The config's run with the best mean return on the results' episodes."""
-    scored = []
-    for run in runs(config):
-        cache = run / "results_eval.npz"
-        if cache.is_file():
-            with np.load(cache) as data:
-                scored.append((float(np.mean(data["return"])), run))
-    return max(scored)[1] if scored else None
+def best_seed(config: str) -> int | None:
+    """The seed of the config's run with the best mean return on the results' episodes
+    (docs/results_episodes.csv: the runs of every session)."""
+    env, policy = CONFIGS[config].split("/")[1], policy_name(config)
+    returns: dict[str, list[float]] = {}
+    for r in _published(EPISODES_CSV):
+        if r["env"] == env and r["policy"] == policy:
+            returns.setdefault(r["run"], []).append(float(r["return"]))
+    if not returns:
+        return None
+    best = max(returns, key=lambda run: np.mean(returns[run]))
+    return int(best.removeprefix("seed "))
+
+
+def entry_seed(folder: Path) -> int | None:
+    """The training seed of the zoo entry in ``folder`` (None: no entry)."""
+    path = folder / "config.yaml"
+    if not (folder / "model.zip").is_file() or not path.is_file():
+        return None
+    return int(yaml.safe_load(path.read_text())["seed"])
+
+
+def save_policy(run: Path, path: Path) -> None:
+    """The run's final model without its optimizers' state (Adam's moments: as large again
+    as the networks, needed to train on, not to act; SAC's would pass the 2 MiB)."""
+    import functools
+
+    from fluidsim_envs.rl.evaluate import load_run
+
+    _, model = load_run(run, "final")
+    for name in model._get_torch_save_params()[0]:
+        if name.endswith("optimizer"):
+            functools.reduce(getattr, name.split("."), model).state.clear()
+    model.save(path)
 
 
 def evaluate(folder: Path, out: Path) -> None:
@@ -67,16 +94,28 @@ def evaluate(folder: Path, out: Path) -> None:
 
 
 def publish(config: str) -> None:
-    run = best_run(config)
-    if run is None:
-        print(f"{config}: no evaluated runs (python -m benchmarks.results first)")
-        return
+    """Copy the config's best run into the zoo, evaluate it and draw its GIF; an entry that
+    already holds that run is left as it is."""
+    seed = best_seed(config)
     folder = ZOO / entry_name(config)
+    if seed is None:
+        print(f"{config}: no published runs (python -m benchmarks.results --train first)")
+        return
+    if entry_seed(folder) == seed:
+        print(f"{folder.name}: holds the best run (seed {seed}) already")
+        return
+    run = local_runs(config).get(seed)
+    if run is None:
+        print(f"{config}: the best run (seed {seed}) is not on this machine (trained in "
+              f"another session); the zoo keeps seed {entry_seed(folder)}")  # fmt: skip
+        return
     if folder.exists():
         shutil.rmtree(folder)
     folder.mkdir(parents=True)
     for name in FILES:
-        shutil.copy2(run / name, folder / name)
+        if name != "model.zip":
+            shutil.copy2(run / name, folder / name)
+    save_policy(run, folder / "model.zip")
     size = sum(p.stat().st_size for p in folder.iterdir())
     if size > MAX_BYTES:
         raise SystemExit(f"{folder}: {size / 2**20:.1f} MiB, over the zoo's 2 MiB")
@@ -85,7 +124,8 @@ def publish(config: str) -> None:
     cmd = [sys.executable, "-m", "fluidsim_envs.enjoy", str(folder), "--seed", str(EVAL_SEED)]
     cmd += ["--video", str(gif), "--stride", str(GIF["stride"]), "--width", str(GIF["width"])]
     subprocess.run(cmd, check=True, cwd=ROOT)
-    print(f"{folder.name}: from {run.relative_to(ROOT)}, {size / 1024:.0f} KiB; {gif.name}")
+    print(f"{folder.name}: seed {seed} from {run.relative_to(ROOT)}, {size / 1024:.0f} KiB; "
+          f"{gif.name} {gif.stat().st_size / 1024:.0f} KiB")  # fmt: skip
 
 
 def check(folder: Path) -> list[str]:
@@ -95,6 +135,40 @@ def check(folder: Path) -> list[str]:
         _, again = read_csv(Path(tmp) / "evaluation.csv")
     _, kept = read_csv(folder / "evaluation.csv")
     return [f"{a['policy']}: {a} != {k}" for a, k in zip(again, kept, strict=True) if a != k]
+
+
+def markdown() -> str:
+    """The README's zoo table from each entry's evaluation.csv: the trained policy and the
+    tuned pilot on the same episodes, each mean with its 95% interval."""
+    entries = sorted(f for f in ZOO.glob("*") if (f / "evaluation.csv").is_file())
+    if not entries:
+        return "(no zoo entries yet: `python -m benchmarks.zoo`)\n"
+    lines = [
+        "| entry | trained return | trained success | tuned pilot return | tuned pilot success "
+        "| random return |",
+        "|---|---|---|---|---|---|",
+    ]
+    for folder in entries:
+        rows = read_csv(folder / "evaluation.csv")[1]
+        by = {r["policy"]: r for r in rows}
+        trained = next(r for r in rows if r["policy"].startswith("trained"))
+        cells = [
+            _interval(row, key, percent)
+            for row in (trained, by["tuned pilot"])
+            for key, percent in (("return_mean", False), ("success_rate", True))
+        ]
+        lines.append(
+            f"| [`zoo/{folder.name}`](zoo/{folder.name}) (seed {entry_seed(folder)}) | "
+            + " | ".join(cells)
+            + f" | {float(by['random']['return_mean']):.1f} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def _interval(row: dict, key: str, percent: bool) -> str:
+    scale, form, unit = (100.0, ".0f", "%") if percent else (1.0, ".1f", "")
+    mean, lo, hi = (scale * float(row[key + t]) for t in ("", "_lo", "_hi"))
+    return f"{mean:{form}}{unit} [{lo:{form}}, {hi:{form}}]"
 
 
 def main(argv: list[str] | None = None) -> int:
