@@ -82,12 +82,16 @@ class SweepProgress(Callback):
         last = trial.last_result or {}
         steps = int(last.get("timesteps", 0))
         sweep = self.sweep
+        # a run that ended by itself has its final model; one ASHA cut short has none (its
+        # last evaluation may fall short of total_timesteps either way: evaluations come
+        # every eval.freq steps, the end after the last whole rollout)
+        complete = (Path(last.get("run_dir", "")) / "model.zip").is_file()
         if sweep.target is not None and last.get("best_return", -math.inf) >= sweep.target:
             status = "reached target"
-        elif steps >= sweep.total_timesteps:
-            status = "finished"
         elif sweep.target is not None and last.get("wall_s", 0.0) >= sweep.wall_budget_s:
             status = "out of time"
+        elif complete or steps >= sweep.total_timesteps:
+            status = "finished"
         else:
             status = "stopped early"
         self._update(trial, status=status)

@@ -260,3 +260,29 @@ def test_seeds_of_one_sampled_config_race_to_a_target(tmp_path):
         assert (folder / row["run_dir"] / "model.zip").is_file()
     times = [float(r["time_to_target_s"]) for r in rows]
     assert times == sorted(times)
+
+
+@pytest.mark.parametrize(
+    ("steps", "model", "status"),
+    [
+        (2_995_200, True, "finished"),  # the last evaluation before the last rollouts
+        (3_000_000, False, "finished"),
+        (1_000_000, False, "stopped early"),  # ASHA cut it: no final model
+    ],
+)
+def test_a_trial_that_ended_by_itself_is_finished(tmp_path, steps, model, status):
+    from types import SimpleNamespace
+
+    from fluidsim_envs.rl.sweep_results import SweepProgress, read_status
+
+    base = config_to_dict(load_config("paper_airplane_v1_ppo"))  # 3,000,000 steps
+    run_dir = tmp_path / "runs" / "t0"
+    run_dir.mkdir(parents=True)
+    if model:
+        (run_dir / "model.zip").write_bytes(b"")
+    said = []
+    progress = SweepProgress(sweep_cli.Sweep(folder=str(tmp_path), base=base), said.append)
+    last = {"timesteps": steps, "run_dir": str(run_dir), "best_return": 1.0, "wall_s": 9.0}
+    progress.on_trial_complete(0, [], SimpleNamespace(trial_id="t0", last_result=last))
+    assert read_status(tmp_path)["t0"]["status"] == status
+    assert said == [f"trial t0 {status} at {steps:,} steps"]
