@@ -211,6 +211,7 @@ BLOCKS = (
     Block("docs/seed_map.md", "seed-claims", "docs/study_*.csv", "seed_claims:markdown"),
     Block("README.md", "results-table", "docs/results.csv", "results:markdown"),
     Block("README.md", "zoo-table", "zoo/*/evaluation.csv", "zoo:markdown"),
+    Block("README.md", "zoo-gifs", "docs/zoo_*.gif", "zoo:gifs_markdown"),
 )
 # pages written whole by their benchmark from its CSV: page -> renderer (``module:function``)
 PAGES = {

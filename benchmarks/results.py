@@ -565,8 +565,11 @@ from resampling whole runs (a run's episodes share its policy):
 ## The runs
 
 {runs_markdown()}
-Wall time is the run's own clock at its last evaluation on 2 cores, two runs at a time (one
-core each); peak RSS is the training process's. Data: `docs/results_episodes.csv` (every
+Wall time is the run's own clock at its last evaluation, two runs at a time on a 2-core
+machine (one core each; a run alone, or beside other work such as the baselines'
+evaluation, ran slower or faster: these are not benchmarks); peak RSS is the training
+process's (a Ray worker with torch, SB3 and the env). The revision is the commit the run
+was trained at (`+dirty`: with uncommitted changes in the working tree). Data: `docs/results_episodes.csv` (every
 episode of every policy), `docs/results_history.csv` (the curves), `docs/results_runs.csv`,
 `docs/results.csv`.
 """

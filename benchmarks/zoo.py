@@ -158,11 +158,25 @@ def markdown() -> str:
             for key, percent in (("return_mean", False), ("success_rate", True))
         ]
         lines.append(
-            f"| [`zoo/{folder.name}`](zoo/{folder.name}) (seed {entry_seed(folder)}) | "
+            f"| [`zoo/{folder.name}`](zoo/{folder.name}) (training seed {entry_seed(folder)}) | "
             + " | ".join(cells)
             + f" | {float(by['random']['return_mean']):.1f} |"
         )
     return "\n".join(lines) + "\n"
+
+
+def gifs_markdown() -> str:
+    """The README's pictures: each zoo entry's GIF (docs/zoo_<entry>.gif), in a row."""
+    gifs = [ZOO.parent / "docs" / f"zoo_{f.name}.gif" for f in sorted(ZOO.glob("*"))]
+    cells = [
+        f'<img src="docs/{g.name}" width="{GIF["width"]}" alt="{g.stem[4:]}, flown by its '
+        f'zoo policy">'
+        for g in gifs
+        if g.is_file()
+    ]
+    if not cells:
+        return "(no zoo GIFs yet: `python -m benchmarks.zoo`)\n"
+    return "<p>\n" + "\n".join(cells) + "\n</p>\n"
 
 
 def _interval(row: dict, key: str, percent: bool) -> str:
