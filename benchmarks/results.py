@@ -40,6 +40,7 @@ several sessions add up):
 from __future__ import annotations
 
 import argparse
+import hashlib
 import subprocess
 import sys
 from collections.abc import Iterable, Sequence
@@ -71,8 +72,8 @@ PAGE = DOCS / "results.md"
 EPISODE_COLUMNS = ("env", "policy", "run", "episode", "return", "success")
 HISTORY_COLUMNS = ("config", "seed", "timesteps", "wall_s", "mean_return", "success_rate")
 RUN_COLUMNS = (
-    "config", "seed", "revision", "timesteps", "wall_s", "peak_rss_mb", "final_eval_return",
-    "results_return", "folder",
+    "config", "seed", "config_digest", "revision", "timesteps", "wall_s", "peak_rss_mb",
+    "final_eval_return", "results_return", "folder",
 )  # fmt: skip
 COLUMNS = (
     "env", "policy", "runs", "episodes",
@@ -100,9 +101,32 @@ def wanted_seeds(config: str, seeds: int) -> list[int]:
     return list(range(first, first + seeds))
 
 
+def config_digest(config: str | Path) -> str:
+    """What a run trains, as 12 hex digits: the config (a shipped name, or a run's
+    config.yaml) resolved, every env parameter filled in, without its seed and torch's thread
+    count. A shipped config that changes (a new race's values, an env's new default) no
+    longer matches its published runs: they are dropped and trained again."""
+    from fluidsim_envs.rl.config import config_to_dict, load_config, resolved
+
+    plain = config_to_dict(resolved(load_config(config)))
+    for key in ("seed", "torch_threads"):
+        plain.pop(key, None)
+    return hashlib.sha256(yaml.safe_dump(plain, sort_keys=True).encode()).hexdigest()[:12]
+
+
+def published_runs(config: str, digest: str) -> list[dict]:
+    """The config's rows of docs/results_runs.csv trained with the config as it is now."""
+    return [
+        r
+        for r in _published(RUNS_CSV)
+        if r["config"] == config and r.get("config_digest") == digest
+    ]
+
+
 def missing_seeds(config: str, seeds: int) -> list[int]:
-    """The wanted seeds neither published (docs/results_runs.csv) nor finished here."""
-    have = {int(r["seed"]) for r in _published(RUNS_CSV) if r["config"] == config}
+    """The wanted seeds neither published (docs/results_runs.csv, trained with the config as
+    it is now) nor finished here."""
+    have = {int(r["seed"]) for r in published_runs(config, config_digest(config))}
     have |= set(local_runs(config))
     return [s for s in wanted_seeds(config, seeds) if s not in have]
 
@@ -132,10 +156,14 @@ def train(config: str, seeds: list[int]) -> None:
 
 
 def local_runs(config: str) -> dict[int, Path]:
-    """The config's runs finished here (a final model), by seed."""
-    out = {}
+    """The config's runs finished here (a final model) with the config as it is now, by
+    seed."""
+    digest, out = config_digest(config), {}
     for run in sorted((SWEEPS / config).glob("*/runs/*")):
         if (run / "model.zip").is_file():
+            if config_digest(run / "config.yaml") != digest:
+                print(f"{run}: trained with another {config}: left out")
+                continue
             out[int(yaml.safe_load((run / "config.yaml").read_text())["seed"])] = run
     return out
 
@@ -246,7 +274,8 @@ def run_rows(configs: list[str], episodes: int, seed: int) -> list[tuple]:
             rss = [t["peak_rss_mb"] for t in meta.get("timing", []) if "peak_rss_mb" in t]
             git = meta["git"]
             out.append((
-                config, s, git["revision"][:10] + ("+dirty" if git["dirty"] else ""),
+                config, s, config_digest(config),
+                git["revision"][:10] + ("+dirty" if git["dirty"] else ""),
                 int(meta["num_timesteps"]), round(last["wall_s"], 1),
                 round(max(rss), 1) if rss else "", round(last["mean_return"], 4),
                 round(float(np.mean(run_episodes(run, episodes, seed)["return"])), 4),
@@ -255,12 +284,26 @@ def run_rows(configs: list[str], episodes: int, seed: int) -> list[tuple]:
     return out
 
 
+def stale_runs(configs: list[str]) -> list[tuple[str, int]]:
+    """The published runs of ``configs`` trained with another version of their config."""
+    current = {c: config_digest(c) for c in configs}
+    stale = [
+        (r["config"], int(r["seed"]))
+        for r in _published(RUNS_CSV)
+        if r["config"] in current and r.get("config_digest") != current[r["config"]]
+    ]
+    for config, seed in stale:
+        print(f"{config} seed {seed}: published, but trained with another {config}: dropped")
+    return stale
+
+
 def merge(path: Path, columns: Sequence[str], new: Iterable[Sequence], key: Sequence[str],
-          comments: Sequence[str] = ()) -> list[dict]:  # fmt: skip
+          comments: Sequence[str] = (), drop: Iterable[tuple] = ()) -> list[dict]:  # fmt: skip
     """Write ``new`` rows to the committed CSV at ``path``, keeping its rows whose ``key``
-    (columns) no new row has: the rows of runs trained in other sessions."""
+    (columns) no new row has, the rows of runs trained in other sessions, unless ``drop``
+    names that key (runs of a config that has changed since)."""
     fresh = [dict(zip(columns, map(str, r), strict=True)) for r in new]
-    keys = {tuple(r[k] for k in key) for r in fresh}
+    keys = {tuple(r[k] for k in key) for r in fresh} | {tuple(map(str, k)) for k in drop}
     kept = [r for r in _published(path) if tuple(r[k] for k in key) not in keys]
     rows = kept + fresh
     write_csv(path, columns, ([r[c] for c in columns] for r in rows), comments)
@@ -495,13 +538,14 @@ def runs_markdown() -> str:
     if not RUNS_CSV.is_file():
         return "(no runs published yet)\n"
     lines = [
-        "| config | seed | revision | steps | wall (min) | peak RSS (MiB) "
+        "| config | seed | digest | revision | steps | wall (min) | peak RSS (MiB) "
         "| last evaluation during training | return on these episodes |",
-        "|---|--:|---|--:|--:|--:|--:|--:|",
+        "|---|--:|---|---|--:|--:|--:|--:|--:|",
     ]
     for r in _published(RUNS_CSV):
         lines.append(
-            f"| {r['config']} | {r['seed']} | `{r['revision']}` | {int(r['timesteps']):,} | "
+            f"| {r['config']} | {r['seed']} | `{r['config_digest']}` | `{r['revision']}` | "
+            f"{int(r['timesteps']):,} | "
             f"{float(r['wall_s']) / 60:.1f} | {r['peak_rss_mb'] or 'n/a'} | "
             f"{float(r['final_eval_return']):.2f} | {float(r['results_return']):.2f} |"
         )
@@ -569,9 +613,10 @@ Wall time is the run's own clock at its last evaluation, two runs at a time on a
 machine (one core each; a run alone, or beside other work such as the baselines'
 evaluation, ran slower or faster: these are not benchmarks); peak RSS is the training
 process's (a Ray worker with torch, SB3 and the env). The revision is the commit the run
-was trained at (`+dirty`: with uncommitted changes in the working tree). Data: `docs/results_episodes.csv` (every
-episode of every policy), `docs/results_history.csv` (the curves), `docs/results_runs.csv`,
-`docs/results.csv`.
+was trained at (`+dirty`: with uncommitted changes in the working tree); the digest names
+the config it trained with (resolved, without its seed: a changed config's runs are dropped
+and trained again). Data: `docs/results_episodes.csv` (every episode of every policy),
+`docs/results_history.csv` (the curves), `docs/results_runs.csv`, `docs/results.csv`.
 """
 
 
@@ -587,11 +632,21 @@ def main(argv: list[str] | None = None) -> int:
     if args.train:
         for config in args.configs:
             train(config, missing_seeds(config, args.seeds)[: args.max_new])
+    stale = stale_runs(args.configs)
     note = [f"episodes: {EPISODES}, seed {EVAL_SEED}; each run's final model, deterministic"]
-    rows = merge(EPISODES_CSV, EPISODE_COLUMNS, episode_rows(args.configs, EPISODES, EVAL_SEED),
-                 ("env", "policy", "run"), note)  # fmt: skip
-    history = merge(HISTORY_CSV, HISTORY_COLUMNS, history_rows(args.configs), ("config", "seed"))
-    merge(RUNS_CSV, RUN_COLUMNS, run_rows(args.configs, EPISODES, EVAL_SEED), ("config", "seed"))
+    rows = merge(
+        EPISODES_CSV,
+        EPISODE_COLUMNS,
+        episode_rows(args.configs, EPISODES, EVAL_SEED),
+        ("env", "policy", "run"),
+        note,
+        [(CONFIGS[c].split("/")[1], policy_name(c), run_label(s)) for c, s in stale],
+    )
+    history = merge(
+        HISTORY_CSV, HISTORY_COLUMNS, history_rows(args.configs), ("config", "seed"), drop=stale
+    )
+    merge(RUNS_CSV, RUN_COLUMNS, run_rows(args.configs, EPISODES, EVAL_SEED),
+          ("config", "seed"), drop=stale)  # fmt: skip
     matrices = score_matrices(rows)
     summary = summary_rows(matrices)
     write_csv(CSV, COLUMNS, ([r[c] for c in COLUMNS] for r in summary), note)

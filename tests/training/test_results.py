@@ -7,6 +7,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import yaml
+
+from fluidsim_envs.rl.config import config_to_dict, load_config
 
 pytest.importorskip("rliable")
 
@@ -107,16 +110,28 @@ def test_runs_of_several_sessions_add_up(tmp_path, monkeypatch):
     assert [(r["config"], r["seed"], r["value"]) for r in rows] == [
         ("a", "0", "1.0"), ("a", "1", "3.0"), ("b", "0", "4.0"),
     ]  # fmt: skip
-    # the seeds still missing: neither published nor finished on this machine
+    # the seeds still missing: neither published with the config as it is now nor finished
+    # on this machine
     monkeypatch.setattr(results, "RUNS_CSV", path)
     monkeypatch.setattr(results, "SWEEPS", tmp_path / "sweeps")
-    run = tmp_path / "sweeps" / "paper_airplane_v1_ppo" / "seeds3-3" / "runs" / "t0"
+    name = "paper_airplane_v1_ppo"
+    run = tmp_path / "sweeps" / name / "seeds3-3" / "runs" / "t0"
     run.mkdir(parents=True)
-    (run / "config.yaml").write_text("seed: 3\n")
+    shipped = config_to_dict(load_config(name))
+    (run / "config.yaml").write_text(yaml.safe_dump({**shipped, "seed": 3, "torch_threads": 1}))
     (run / "model.zip").write_bytes(b"")
-    path.write_text("config,seed\npaper_airplane_v1_ppo,0\npaper_airplane_v1_ppo,1\n")
-    assert results.missing_seeds("paper_airplane_v1_ppo", 5) == [2, 4]
-    assert "`paper_airplane_v1_ppo`: 2 of 5 runs" in results.missing_markdown()
+    digest = results.config_digest(name)
+    assert results.config_digest(run / "config.yaml") == digest  # seed and threads aside
+    path.write_text(f"config,seed,config_digest\n{name},0,{digest}\n{name},1,{digest}\n"
+                    f"{name},2,0123456789ab\n")  # fmt: skip
+    assert results.missing_seeds(name, 5) == [2, 4]  # seed 2: trained with another config
+    assert results.stale_runs([name]) == [(name, 2)]
+    assert "`paper_airplane_v1_ppo`: 3 of 5 runs" in results.missing_markdown()
+    other = run.parent / "t1"
+    other.mkdir()
+    (other / "config.yaml").write_text(yaml.safe_dump({**shipped, "seed": 4, "n_envs": 128}))
+    (other / "model.zip").write_bytes(b"")
+    assert list(results.local_runs(name)) == [3]  # not the run of another config
 
 
 def test_the_page_is_written_from_the_csvs(tmp_path, monkeypatch):
@@ -126,8 +141,11 @@ def test_the_page_is_written_from_the_csvs(tmp_path, monkeypatch):
     results.write_csv(
         results.RUNS_CSV,
         results.RUN_COLUMNS,
-        [("paper_airplane_v1_ppo", 0, "abc", 3_000_000, 300.0, 640.0, 19.5, 18.25, "f")],
+        [("paper_airplane_v1_ppo", 0, "d1", "abc", 3_000_000, 300.0, 640.0, 19.5, 18.25, "f")],
     )
     page = results.page()
-    assert "| paper_airplane_v1_ppo | 0 | `abc` | 3,000,000 | 5.0 | 640.0 | 19.50 | 18.25 |" in page
+    assert (
+        "| paper_airplane_v1_ppo | 0 | `d1` | `abc` | 3,000,000 | 5.0 | 640.0 | 19.50 | 18.25 |"
+        in page
+    )
     assert "`boat_on_step_v1_ppo`: 0 of 5 runs" in page
