@@ -43,7 +43,11 @@ ZOO = ROOT / "zoo"
 FILES = ("config.yaml", "model.zip", "vecnormalize.pkl", "run.yaml")
 EPISODES = 256
 MAX_BYTES = 2 * 1024 * 1024
-GIF = {"stride": 2, "width": 320}  # every other frame, 320 px wide: a few hundred kB
+#: each env's GIF: (every Nth frame, times real time), 320 px wide, a few dozen frames (each
+#: some 25 kB): the dart's short glide at half its frames in real time; the 60 s episodes of
+#: the UUV (10 Hz) and the boat (20 Hz) as 10 s time-lapses at 5 frames a second
+GIF_WIDTH = 320
+GIF = {"PaperAirplane": (2, 1.0), "SubmarineWake": (12, 6.0), "BoatOnStep": (24, 6.0)}
 
 
 def entry_name(config: str) -> str:
@@ -122,7 +126,9 @@ def publish(config: str) -> None:
     evaluate(folder, folder)
     gif = DOCS / f"zoo_{folder.name}.gif"
     cmd = [sys.executable, "-m", "fluidsim_envs.enjoy", str(folder), "--seed", str(EVAL_SEED)]
-    cmd += ["--video", str(gif), "--stride", str(GIF["stride"]), "--width", str(GIF["width"])]
+    stride, speed = GIF[folder.name.split("-")[0]]
+    cmd += ["--video", str(gif), "--stride", str(stride), "--speed", str(speed)]
+    cmd += ["--width", str(GIF_WIDTH)]
     subprocess.run(cmd, check=True, cwd=ROOT)
     print(f"{folder.name}: seed {seed} from {run.relative_to(ROOT)}, {size / 1024:.0f} KiB; "
           f"{gif.name} {gif.stat().st_size / 1024:.0f} KiB")  # fmt: skip
@@ -169,8 +175,7 @@ def gifs_markdown() -> str:
     """The README's pictures: each zoo entry's GIF (docs/zoo_<entry>.gif), in a row."""
     gifs = [ZOO.parent / "docs" / f"zoo_{f.name}.gif" for f in sorted(ZOO.glob("*"))]
     cells = [
-        f'<img src="docs/{g.name}" width="{GIF["width"]}" alt="{g.stem[4:]}, flown by its '
-        f'zoo policy">'
+        f'<img src="docs/{g.name}" width="{GIF_WIDTH}" alt="{g.stem[4:]}, flown by its zoo policy">'
         for g in gifs
         if g.is_file()
     ]

@@ -2,15 +2,16 @@
 
     python -m fluidsim_envs.enjoy zoo/PaperAirplane-v1-ppo [--episodes N] [--seed S]
                                   [--env KEY=VALUE ...] [--rerun FILE.rrd] [--video FILE.mp4]
-                                  [--stride N] [--width PIXELS]
+                                  [--stride N] [--width PIXELS] [--speed X]
 
 The policy acts deterministically on observations normalized with the statistics saved
 beside it (``fluidsim-evaluate``'s rule), in one env, episode after episode from ``--seed``;
 each episode's return, length and success are printed. ``--video`` writes the episodes'
-``rgb_array`` frames at the env's action rate as an MP4 (moviepy, the ``play`` extra) or,
-for a name ending ``.gif``, a GIF (Pillow); ``--rerun`` records them for the Rerun viewer.
-With neither, the episodes play in a window (pygame, the ``play`` extra); where no display
-exists that is an error that names ``--video`` and ``--rerun``.
+``rgb_array`` frames (every ``--stride``-th, played at ``--speed`` times real time) as an
+MP4 (moviepy, the ``play`` extra) or, for a name ending ``.gif``, a GIF (Pillow);
+``--rerun`` records them for the Rerun viewer. With neither, the episodes play in a window
+(pygame, the ``play`` extra); where no display exists that is an error that names
+``--video`` and ``--rerun``.
 
 A zoo entry is a run folder cut to what flying and checking it needs: ``config.yaml``,
 ``model.zip``, ``vecnormalize.pkl``, and ``evaluation.csv`` (the row the README shows, which
@@ -98,14 +99,20 @@ def fly(venv, policy, episodes: int, seed: int, on_frame=None, say=print) -> lis
 
 
 def write_video(
-    frames: list[np.ndarray], path: str, fps: float, stride: int = 1, width: int | None = None
+    frames: list[np.ndarray],
+    path: str,
+    fps: float,
+    stride: int = 1,
+    width: int | None = None,
+    speed: float = 1.0,
 ) -> None:
     """An MP4 (moviepy) or, for ``.gif``, an animated GIF (Pillow) of every ``stride``-th
-    frame (played at ``fps / stride``: real time), scaled to ``width`` pixels when given."""
+    frame, played at ``speed`` times real time (``fps * speed / stride`` frames a second),
+    scaled to ``width`` pixels when given."""
     from PIL import Image
 
     frames = frames[::stride]
-    fps = fps / stride
+    fps = fps * speed / stride
     if width is not None:
         h, w = frames[0].shape[:2]
         size = (width, max(round(h * width / w), 1))
@@ -179,12 +186,15 @@ def enjoy(
     stride: int = 1,
     width: int | None = None,
     realtime: bool = True,
+    speed: float = 1.0,
 ) -> list[dict]:
     """Fly the folder's policy (see the module docstring); returns the episodes' results."""
     if episodes < 1:
         raise EnjoyError(f"--episodes must be at least 1, got {episodes}")
     if stride < 1 or (width is not None and width < 8):
         raise EnjoyError(f"--stride must be >= 1 and --width >= 8, got {stride} and {width}")
+    if not (np.isfinite(speed) and speed > 0):
+        raise EnjoyError(f"--speed must be a positive number, got {speed}")
     shown = video is None and rerun is None
     if shown:  # pygame: said before the env is built (the play extra)
         from fluidsim_envs.rl.extras import require
@@ -202,9 +212,9 @@ def enjoy(
             on_frame = window(env_id, fps if realtime else 0)
         results = fly(venv, policy, episodes, seed, on_frame, say)
         if video is not None:
-            write_video(frames, video, fps, stride, width)
+            write_video(frames, video, fps, stride, width, speed)
             kept = len(frames[::stride])
-            say(f"wrote {video} ({kept} frames at {fps / stride:g} per second)")
+            say(f"wrote {video} ({kept} frames at {fps * speed / stride:g} per second)")
         if rerun is not None:
             say(f"recorded: rerun {rerun}")
     finally:
@@ -229,6 +239,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--video", metavar="FILE.mp4", help="write the episodes as MP4 or .gif")
     parser.add_argument("--stride", type=int, default=1, help="--video keeps every Nth frame")
     parser.add_argument("--width", type=int, help="--video's width in pixels (default: the env's)")
+    parser.add_argument(
+        "--speed", type=float, default=1.0, help="--video plays at this many times real time"
+    )
     args = parser.parse_args(argv)
     try:
         require("train", prog)
@@ -242,6 +255,7 @@ def main(argv: list[str] | None = None) -> int:
             args.video,
             stride=args.stride,
             width=args.width,
+            speed=args.speed,
         )
     except (EnjoyError, NoDisplay, RunError, ConfigError, ImportError, ValueError) as e:
         print(f"{prog}: error: {e}", file=sys.stderr)

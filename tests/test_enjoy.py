@@ -43,13 +43,17 @@ def test_a_policy_flies_to_a_gif_and_a_recording(run, tmp_path, capsys):
     small = tmp_path / "small.gif"
     assert (
         enjoy.main(
-            [str(run), "--video", str(small), "--seed", "4", "--stride", "3", "--width", "64"]
+            [str(run), "--video", str(small), "--seed", "4", "--stride", "3", "--width", "64",
+             "--speed", "3"]
         )
         == 0
-    )
+    )  # fmt: skip
     capsys.readouterr()
     with Image.open(small) as image:
         assert image.size[0] == 64 and image.n_frames == len(range(0, length + 1, 3))
+        assert image.info["duration"] == round(1000 / 30)  # 30 Hz, every 3rd frame, 3x speed
+    assert enjoy.main([str(run), "--video", str(small), "--speed", "0"]) == 2
+    assert "--speed must be a positive number, got 0.0" in capsys.readouterr().err
     assert enjoy.main([str(run), "--rerun", str(rrd), "--episodes", "2"]) == 0
     assert "episode 2: return" in capsys.readouterr().out and rrd.stat().st_size > 0
 

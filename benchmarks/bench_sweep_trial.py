@@ -1,0 +1,96 @@
+"""Does a sweep trial train as fast as ``fluidsim-train``? One config, the same steps, run in
+turn as ``fluidsim-train`` (torch's default of a thread per core, and one thread) and as a
+one-trial ``fluidsim-sweep`` on local Ray at ``--cpus-per-trial`` 2 and 1, each alone on the
+machine; each run's training env-steps per second and wall time from its ``run.yaml``
+(``timing``: the run's own clock, without Ray's start), and the whole command's wall time.
+
+    python -m benchmarks.bench_sweep_trial                     # dart v1 PPO, 300,000 steps
+    python -m benchmarks.bench_sweep_trial --config submarine_wake_v1_ppo --repeats 2
+
+Why: the v1 races (``benchmarks.sweep_envs``, one trial at a time at ``--cpus-per-trial 2``)
+trained the dart at about 3,800 env-steps/s, while the multi-seed runs (``benchmarks.results``,
+two one-core trials side by side) ran at about 10,000 each. A race's times to the target are
+only as good as the trials' speed. Writes ``docs/bench_sweep_trial.csv``; run it on a quiet
+machine (the load average before and after each run is in the CSV).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import yaml
+
+from benchmarks.common import DOCS, ROOT, describe, write_csv
+
+CSV = DOCS / "bench_sweep_trial.csv"
+COLUMNS = (
+    "config", "variant", "repeat", "timesteps", "run_wall_s", "env_steps_per_s",
+    "command_wall_s", "load_before", "load_after",
+)  # fmt: skip
+#: variant -> (module, its arguments besides the config, the folder and the overrides)
+VARIANTS = {
+    "fluidsim-train, torch threads default": ("fluidsim_envs.rl.train", []),
+    "fluidsim-train, torch threads 1": ("fluidsim_envs.rl.train", ["torch_threads=1"]),
+    "fluidsim-sweep, --cpus-per-trial 2": ("fluidsim_envs.rl.sweep", ["--cpus-per-trial", "2"]),
+    "fluidsim-sweep, --cpus-per-trial 1": ("fluidsim_envs.rl.sweep", ["--cpus-per-trial", "1"]),
+}
+
+
+def command(variant: str, config: str, steps: int, folder: Path) -> list[str]:
+    module, extra = VARIANTS[variant]
+    sets = [f"total_timesteps={steps}", f"eval.freq={steps // 3}", "checkpoint.freq=0"]
+    if module.endswith("train"):
+        tail = ["--set", *sets, *extra, "--run-dir", str(folder), "--no-progress-bar"]
+    else:
+        tail = ["--seeds", "1", *extra, "--set", *sets, "--sweep-dir", str(folder)]
+    return [sys.executable, "-m", module, config, *tail]
+
+
+def run_yaml(folder: Path) -> dict:
+    paths = [folder / "run.yaml", *sorted(folder.glob("runs/*/run.yaml"))]
+    return yaml.safe_load(next(p for p in paths if p.is_file()).read_text())
+
+
+def measure(variant: str, config: str, steps: int, repeat: int) -> tuple:
+    load_before = os.getloadavg()[0]
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp) / "run"
+        start = time.perf_counter()
+        subprocess.run(command(variant, config, steps, folder), check=True, cwd=ROOT,
+                       stdout=subprocess.DEVNULL)  # fmt: skip
+        wall = time.perf_counter() - start
+        meta = run_yaml(folder)
+    timing = meta["timing"][-1]
+    row = (
+        config, variant, repeat, meta["num_timesteps"], timing["wall_s"],
+        timing["env_steps_per_s"], round(wall, 1), load_before, os.getloadavg()[0],
+    )  # fmt: skip
+    print(f"{variant:40s} {timing['env_steps_per_s']:>9,.0f} env-steps/s, run {timing['wall_s']}"
+          f" s, command {wall:.0f} s (load {load_before:.2f})", flush=True)  # fmt: skip
+    return row
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--config", default="paper_airplane_v1_ppo")
+    parser.add_argument("--steps", type=int, default=300_000)
+    parser.add_argument("--repeats", type=int, default=1, help="rounds of every variant")
+    args = parser.parse_args(argv)
+    machine = describe()
+    rows = [
+        measure(variant, args.config, args.steps, r)
+        for r in range(args.repeats)
+        for variant in VARIANTS
+    ]
+    write_csv(CSV, COLUMNS, rows, machine)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
