@@ -3,6 +3,7 @@ evaluation that the README shows.
 
     python -m benchmarks.zoo                 # from benchmarks.results' runs: copy, evaluate, GIFs
     python -m benchmarks.zoo --check         # re-evaluate each entry: it must equal its row
+    python -m benchmarks.zoo --gifs          # draw the entries' GIFs again
 
 For each config of :data:`benchmarks.results.CONFIGS`, the run with the best mean return on
 the results' episodes (``results_eval.npz``, written by ``python -m benchmarks.results``) is
@@ -43,11 +44,12 @@ ZOO = ROOT / "zoo"
 FILES = ("config.yaml", "model.zip", "vecnormalize.pkl", "run.yaml")
 EPISODES = 256
 MAX_BYTES = 2 * 1024 * 1024
-#: each env's GIF: (every Nth frame, times real time), 320 px wide, a few dozen frames (each
-#: some 25 kB): the dart's short glide at half its frames in real time; the 60 s episodes of
-#: the UUV (10 Hz) and the boat (20 Hz) as 10 s time-lapses at 5 frames a second
+#: each env's GIF: (every Nth frame, times real time), 320 px wide, a few dozen frames (25
+#: to 50 kB each: the UUV's wake particles hardly compress): the dart's short glide at half
+#: its frames in real time; the 60 s episodes of the UUV (10 Hz) and the boat (20 Hz) as 6 s
+#: time-lapses at 5 frames a second
 GIF_WIDTH = 320
-GIF = {"PaperAirplane": (2, 1.0), "SubmarineWake": (12, 6.0), "BoatOnStep": (24, 6.0)}
+GIF = {"PaperAirplane": (2, 1.0), "SubmarineWake": (20, 10.0), "BoatOnStep": (40, 10.0)}
 
 
 def entry_name(config: str) -> str:
@@ -124,14 +126,20 @@ def publish(config: str) -> None:
     if size > MAX_BYTES:
         raise SystemExit(f"{folder}: {size / 2**20:.1f} MiB, over the zoo's 2 MiB")
     evaluate(folder, folder)
+    gif = draw_gif(folder)
+    print(f"{folder.name}: seed {seed} from {run.relative_to(ROOT)}, {size / 1024:.0f} KiB; "
+          f"{gif.name} {gif.stat().st_size / 1024:.0f} KiB")  # fmt: skip
+
+
+def draw_gif(folder: Path) -> Path:
+    """docs/zoo_<entry>.gif: the entry's policy on one episode (seed :data:`EVAL_SEED`)."""
     gif = DOCS / f"zoo_{folder.name}.gif"
     cmd = [sys.executable, "-m", "fluidsim_envs.enjoy", str(folder), "--seed", str(EVAL_SEED)]
     stride, speed = GIF[folder.name.split("-")[0]]
     cmd += ["--video", str(gif), "--stride", str(stride), "--speed", str(speed)]
     cmd += ["--width", str(GIF_WIDTH)]
     subprocess.run(cmd, check=True, cwd=ROOT)
-    print(f"{folder.name}: seed {seed} from {run.relative_to(ROOT)}, {size / 1024:.0f} KiB; "
-          f"{gif.name} {gif.stat().st_size / 1024:.0f} KiB")  # fmt: skip
+    return gif
 
 
 def check(folder: Path) -> list[str]:
@@ -194,7 +202,14 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--configs", nargs="+", choices=list(CONFIGS), default=list(CONFIGS))
     parser.add_argument("--check", action="store_true", help="re-evaluate the entries")
+    parser.add_argument("--gifs", action="store_true", help="draw the entries' GIFs again")
     args = parser.parse_args(argv)
+    if args.gifs:
+        for config in args.configs:
+            folder = ZOO / entry_name(config)
+            if (folder / "model.zip").is_file():
+                print(f"{draw_gif(folder).name} drawn")
+        return 0
     if args.check:
         bad = [
             line for f in sorted(ZOO.glob("*")) if (f / "model.zip").is_file() for line in check(f)
