@@ -11,13 +11,14 @@ intervals, performance profiles, learning curves with bands.
 Training: the seeds ``seed .. seed + --seeds - 1`` of each shipped v1 config (its own
 ``seed`` first) that are neither published nor trained here yet, through the real CLI,
 ``fluidsim-sweep CONFIG --seeds N --set seed=FIRST --sweep-dir
-sweeps/results/CONFIG/seedsFIRST-LAST`` (in a subprocess; a folder that holds a sweep is
-resumed). ``--max-new K`` trains at most K of them now: the whole set is hours of compute on
-2 cores, and a session's machine (and its ``sweeps/``) does not outlive it.
+sweeps/results/CONFIG/DIGEST-seedsFIRST-LAST`` (in a subprocess; DIGEST names the config's
+values, :func:`config_digest`; a folder that holds a sweep is resumed). ``--max-new K``
+trains at most K of them now: the whole set is hours of compute on 2 cores, and a session's
+machine (and its ``sweeps/``) does not outlive it.
 
 Evaluation: each run's final model, acting deterministically, and the baselines (the
 planner, an oracle that reads the true state; the tuned pilot; random actions) on the same
-``--episodes`` episodes, seed :data:`EVAL_SEED` (disjoint from the pilots' tuning seeds and
+:data:`EPISODES` episodes, seed :data:`EVAL_SEED` (disjoint from the pilots' tuning seeds and
 from the runs' evaluation seed). A run's per-episode results are cached in its folder
 (``results_eval.npz``), the baselines' in ``sweeps/results/baselines/``.
 
@@ -144,7 +145,7 @@ def chunks(seeds: Sequence[int]) -> list[list[int]]:
 
 def train(config: str, seeds: list[int]) -> None:
     for chunk in chunks(seeds):
-        folder = SWEEPS / config / f"seeds{chunk[0]}-{chunk[-1]}"
+        folder = SWEEPS / config / f"{config_digest(config)}-seeds{chunk[0]}-{chunk[-1]}"
         if (folder / "sweep.yaml").is_file():
             cmd = ["--resume", str(folder)]
         else:

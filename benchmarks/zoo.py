@@ -34,7 +34,14 @@ import numpy as np
 import yaml
 
 from benchmarks.common import DOCS, ROOT, read_csv
-from benchmarks.results import CONFIGS, EPISODES_CSV, _published, local_runs, policy_name
+from benchmarks.results import (
+    CONFIGS,
+    EPISODES_CSV,
+    _published,
+    config_digest,
+    local_runs,
+    policy_name,
+)
 
 #: the zoo's evaluation episodes: not the results' (seed 0), on which its runs were ranked,
 #: so the published row is not the best of five on its own episodes
@@ -79,6 +86,13 @@ def entry_seed(folder: Path) -> int | None:
     return int(yaml.safe_load(path.read_text())["seed"])
 
 
+def holds(folder: Path, config: str, seed: int) -> bool:
+    """Whether the entry holds the run of ``seed`` trained with ``config`` as it is now."""
+    if entry_seed(folder) != seed:
+        return False
+    return config_digest(folder / "config.yaml") == config_digest(config)
+
+
 def save_policy(run: Path, path: Path) -> None:
     """The run's final model without its optimizers' state (Adam's moments: as large again
     as the networks, needed to train on, not to act; SAC's would pass the 2 MiB)."""
@@ -107,7 +121,7 @@ def publish(config: str) -> None:
     if seed is None:
         print(f"{config}: no published runs (python -m benchmarks.results --train first)")
         return
-    if entry_seed(folder) == seed:
+    if holds(folder, config, seed):
         print(f"{folder.name}: holds the best run (seed {seed}) already")
         return
     run = local_runs(config).get(seed)
