@@ -33,17 +33,26 @@ COLUMNS = (
     "config", "variant", "repeat", "timesteps", "run_wall_s", "env_steps_per_s",
     "command_wall_s", "load_before", "load_after",
 )  # fmt: skip
-#: variant -> (module, its arguments besides the config, the folder and the overrides)
+#: variant -> (module, its arguments besides the config, the folder and the overrides, and
+#: environment variables). Ray starts its workers at niceness 15 (``RAY_worker_niceness``) so
+#: that its own processes stay responsive; a trial's threads then yield to any of them.
 VARIANTS = {
-    "fluidsim-train, torch threads default": ("fluidsim_envs.rl.train", []),
-    "fluidsim-train, torch threads 1": ("fluidsim_envs.rl.train", ["torch_threads=1"]),
-    "fluidsim-sweep, --cpus-per-trial 2": ("fluidsim_envs.rl.sweep", ["--cpus-per-trial", "2"]),
-    "fluidsim-sweep, --cpus-per-trial 1": ("fluidsim_envs.rl.sweep", ["--cpus-per-trial", "1"]),
-}
+    "fluidsim-train, torch threads default": ("fluidsim_envs.rl.train", [], {}),
+    "fluidsim-train, torch threads 1": ("fluidsim_envs.rl.train", ["torch_threads=1"], {}),
+    "fluidsim-sweep, --cpus-per-trial 2, Ray's niceness 15": (
+        "fluidsim_envs.rl.sweep", ["--cpus-per-trial", "2"], {"RAY_worker_niceness": "15"}
+    ),
+    "fluidsim-sweep, --cpus-per-trial 2, niceness 0": (
+        "fluidsim_envs.rl.sweep", ["--cpus-per-trial", "2"], {"RAY_worker_niceness": "0"}
+    ),
+    "fluidsim-sweep, --cpus-per-trial 1, Ray's niceness 15": (
+        "fluidsim_envs.rl.sweep", ["--cpus-per-trial", "1"], {"RAY_worker_niceness": "15"}
+    ),
+}  # fmt: skip
 
 
 def command(variant: str, config: str, steps: int, folder: Path) -> list[str]:
-    module, extra = VARIANTS[variant]
+    module, extra, _ = VARIANTS[variant]
     sets = [f"total_timesteps={steps}", f"eval.freq={steps // 3}", "checkpoint.freq=0"]
     if module.endswith("train"):
         tail = ["--set", *sets, *extra, "--run-dir", str(folder), "--no-progress-bar"]
@@ -62,7 +71,8 @@ def measure(variant: str, config: str, steps: int, repeat: int) -> tuple:
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp) / "run"
         start = time.perf_counter()
-        subprocess.run(command(variant, config, steps, folder), check=True, cwd=ROOT,
+        env = {**os.environ, **VARIANTS[variant][2]}
+        subprocess.run(command(variant, config, steps, folder), check=True, cwd=ROOT, env=env,
                        stdout=subprocess.DEVNULL)  # fmt: skip
         wall = time.perf_counter() - start
         meta = run_yaml(folder)
@@ -71,7 +81,7 @@ def measure(variant: str, config: str, steps: int, repeat: int) -> tuple:
         config, variant, repeat, meta["num_timesteps"], timing["wall_s"],
         timing["env_steps_per_s"], round(wall, 1), load_before, os.getloadavg()[0],
     )  # fmt: skip
-    print(f"{variant:40s} {timing['env_steps_per_s']:>9,.0f} env-steps/s, run {timing['wall_s']}"
+    print(f"{variant:55s} {timing['env_steps_per_s']:>9,.0f} env-steps/s, run {timing['wall_s']}"
           f" s, command {wall:.0f} s (load {load_before:.2f})", flush=True)  # fmt: skip
     return row
 
@@ -81,12 +91,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--config", default="paper_airplane_v1_ppo")
     parser.add_argument("--steps", type=int, default=300_000)
     parser.add_argument("--repeats", type=int, default=1, help="rounds of every variant")
+    parser.add_argument("--variants", nargs="+", choices=list(VARIANTS), default=list(VARIANTS))
     args = parser.parse_args(argv)
     machine = describe()
     rows = [
         measure(variant, args.config, args.steps, r)
         for r in range(args.repeats)
-        for variant in VARIANTS
+        for variant in args.variants
     ]
     write_csv(CSV, COLUMNS, rows, machine)
     return 0

@@ -156,6 +156,9 @@ def train(config: str, seeds: list[int]) -> None:
         subprocess.run(cmd, check=True, cwd=ROOT)
 
 
+_SAID: set[Path] = set()  # the runs left out, said once
+
+
 def local_runs(config: str) -> dict[int, Path]:
     """The config's runs finished here (a final model) with the config as it is now, by
     seed."""
@@ -163,7 +166,9 @@ def local_runs(config: str) -> dict[int, Path]:
     for run in sorted((SWEEPS / config).glob("*/runs/*")):
         if (run / "model.zip").is_file():
             if config_digest(run / "config.yaml") != digest:
-                print(f"{run}: trained with another {config}: left out")
+                if run not in _SAID:
+                    _SAID.add(run)
+                    print(f"{run}: trained with another {config}: left out")
                 continue
             out[int(yaml.safe_load((run / "config.yaml").read_text())["seed"])] = run
     return out
