@@ -86,6 +86,28 @@ def measure(variant: str, config: str, steps: int, repeat: int) -> tuple:
     return row
 
 
+def markdown() -> str:
+    """docs/bench_sweep_trial.csv as a table: each variant's env-steps/s against
+    ``fluidsim-train``'s default."""
+    from benchmarks.common import read_csv
+
+    if not CSV.is_file():
+        return "(no docs/bench_sweep_trial.csv yet: `python -m benchmarks.bench_sweep_trial`)\n"
+    _, rows = read_csv(CSV)
+    base = float(rows[0]["env_steps_per_s"])
+    lines = [
+        "| config | variant | env-steps/s | vs fluidsim-train | run (s) | load before |",
+        "|---|---|--:|--:|--:|--:|",
+    ]
+    for r in rows:
+        rate = float(r["env_steps_per_s"])
+        lines.append(
+            f"| {r['config']} | {r['variant']} | {rate:,.0f} | {rate / base:.2f}x | "
+            f"{float(r['run_wall_s']):.1f} | {float(r['load_before']):.2f} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--config", default="paper_airplane_v1_ppo")

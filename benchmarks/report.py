@@ -85,6 +85,12 @@ BLOCKS = (
     ),
     Block("docs/environments.md", "v1-reward", "docs/reward_terms.csv", "reward_terms:markdown"),
     Block("docs/training.md", "sweep-races", "docs/sweep_*.csv", "sweep_envs:markdown"),
+    Block(
+        "docs/training.md",
+        "sweep-trial",
+        "docs/bench_sweep_trial.csv",
+        "bench_sweep_trial:markdown",
+    ),
     Block("docs/reliability.md", "fuzz-table", "docs/fuzz.csv", "report:fuzz_markdown"),
     Block("docs/reliability.md", "fuzz-v1-table", "docs/fuzz_v1.csv", "report:fuzz_v1_markdown"),
     Block("docs/reliability.md", "kill-table", "docs/kill_resume.csv", "report:kill_markdown"),
