@@ -119,7 +119,7 @@ def published_runs(config: str, digest: str) -> list[dict]:
     """The config's rows of docs/results_runs.csv trained with the config as it is now."""
     return [
         r
-        for r in _published(RUNS_CSV)
+        for r in published_rows(RUNS_CSV)
         if r["config"] == config and r.get("config_digest") == digest
     ]
 
@@ -295,7 +295,7 @@ def stale_runs(configs: list[str]) -> list[tuple[str, int]]:
     current = {c: config_digest(c) for c in configs}
     stale = [
         (r["config"], int(r["seed"]))
-        for r in _published(RUNS_CSV)
+        for r in published_rows(RUNS_CSV)
         if r["config"] in current and r.get("config_digest") != current[r["config"]]
     ]
     for config, seed in stale:
@@ -310,13 +310,14 @@ def merge(path: Path, columns: Sequence[str], new: Iterable[Sequence], key: Sequ
     names that key (runs of a config that has changed since)."""
     fresh = [dict(zip(columns, map(str, r), strict=True)) for r in new]
     keys = {tuple(r[k] for k in key) for r in fresh} | {tuple(map(str, k)) for k in drop}
-    kept = [r for r in _published(path) if tuple(r[k] for k in key) not in keys]
+    kept = [r for r in published_rows(path) if tuple(r[k] for k in key) not in keys]
     rows = kept + fresh
     write_csv(path, columns, ([r[c] for c in columns] for r in rows), comments)
     return rows
 
 
-def _published(path: Path) -> list[dict]:
+def published_rows(path: Path) -> list[dict]:
+    """The rows of the committed CSV at ``path`` (none where it does not exist yet)."""
     return read_csv(path)[1] if path.is_file() else []
 
 
@@ -548,7 +549,7 @@ def runs_markdown() -> str:
         "| last evaluation during training | return on these episodes |",
         "|---|--:|---|---|--:|--:|--:|--:|--:|",
     ]
-    for r in _published(RUNS_CSV):
+    for r in published_rows(RUNS_CSV):
         lines.append(
             f"| {r['config']} | {r['seed']} | `{r['config_digest']}` | `{r['revision']}` | "
             f"{int(r['timesteps']):,} | "
@@ -561,7 +562,7 @@ def runs_markdown() -> str:
 def missing_markdown() -> str:
     """The configs with fewer than :data:`SEEDS` published runs, and the command for them."""
     have = {c: 0 for c in CONFIGS}
-    for r in _published(RUNS_CSV):
+    for r in published_rows(RUNS_CSV):
         have[r["config"]] += 1
     lines = [
         f"- `{c}`: {n} of {SEEDS} runs (`python -m benchmarks.results --configs {c} --train`)"

@@ -6,7 +6,8 @@ evaluation that the README shows.
     python -m benchmarks.zoo --gifs          # draw the entries' GIFs again
 
 For each config of :data:`benchmarks.results.CONFIGS`, the run with the best mean return on
-the results' episodes (``results_eval.npz``, written by ``python -m benchmarks.results``) is
+the results' episodes (``docs/results_episodes.csv``, written by ``python -m
+benchmarks.results``: the runs of every session; the run must be on this machine) is
 copied to ``zoo/<Env-vN>-<algo>/``: ``config.yaml``, ``model.zip``, ``vecnormalize.pkl`` and
 ``run.yaml`` (how it was trained: command, revision, seeds, versions), the model without its
 optimizers' state (:func:`save_policy`). Then ``fluidsim-evaluate
@@ -37,10 +38,10 @@ from benchmarks.common import DOCS, ROOT, read_csv
 from benchmarks.results import (
     CONFIGS,
     EPISODES_CSV,
-    _published,
     config_digest,
     local_runs,
     policy_name,
+    published_rows,
 )
 
 #: the zoo's evaluation episodes: not the results' (seed 0), on which its runs were ranked,
@@ -69,7 +70,7 @@ def best_seed(config: str) -> int | None:
     (docs/results_episodes.csv: the runs of every session)."""
     env, policy = CONFIGS[config].split("/")[1], policy_name(config)
     returns: dict[str, list[float]] = {}
-    for r in _published(EPISODES_CSV):
+    for r in published_rows(EPISODES_CSV):
         if r["env"] == env and r["policy"] == policy:
             returns.setdefault(r["run"], []).append(float(r["return"]))
     if not returns:

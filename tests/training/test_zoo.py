@@ -8,10 +8,10 @@ from __future__ import annotations
 import pytest
 
 from benchmarks import zoo
-from benchmarks.results import RUNS_CSV, _published
+from benchmarks.results import RUNS_CSV, published_rows
 
 ENTRIES = sorted(p for p in zoo.ZOO.glob("*") if p.is_dir())
-PUBLISHED = sorted({r["config"] for r in _published(RUNS_CSV)})
+PUBLISHED = sorted({r["config"] for r in published_rows(RUNS_CSV)})
 
 
 @pytest.mark.parametrize("config", PUBLISHED)
