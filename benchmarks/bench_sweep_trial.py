@@ -48,6 +48,19 @@ VARIANTS = {
     "fluidsim-sweep, --cpus-per-trial 1, Ray's niceness 15": (
         "fluidsim_envs.rl.sweep", ["--cpus-per-trial", "1"], {"RAY_worker_niceness": "15"}
     ),
+    # what else a 2-CPU trial's process has that fluidsim-train's has not: Ray's
+    # OMP_NUM_THREADS (the CPUs it was given), and Ray's own processes beside it, which
+    # preempt threads that OpenMP's barriers then wait for while the others spin
+    "fluidsim-train, OMP_NUM_THREADS=2 (as Ray sets it)": (
+        "fluidsim_envs.rl.train", [], {"OMP_NUM_THREADS": "2"}
+    ),
+    "fluidsim-sweep, --cpus-per-trial 2, OMP_WAIT_POLICY=passive": (
+        "fluidsim_envs.rl.sweep", ["--cpus-per-trial", "2"], {"OMP_WAIT_POLICY": "passive"}
+    ),
+    "fluidsim-sweep, --cpus-per-trial 2, numba threads 1": (
+        "fluidsim_envs.rl.sweep", ["--cpus-per-trial", "2"], {"NUMBA_NUM_THREADS": "1"}
+    ),
+    "fluidsim-train, numba threads 1": ("fluidsim_envs.rl.train", [], {"NUMBA_NUM_THREADS": "1"}),
 }  # fmt: skip
 
 

@@ -20,7 +20,10 @@ Evaluation: each run's final model, acting deterministically, and the baselines 
 planner, an oracle that reads the true state; the tuned pilot; random actions) on the same
 :data:`EPISODES` episodes, seed :data:`EVAL_SEED` (disjoint from the pilots' tuning seeds and
 from the runs' evaluation seed). A run's per-episode results are cached in its folder
-(``results_eval.npz``), the baselines' in ``sweeps/results/baselines/``.
+(``results_eval.npz``). The baselines are flown once: later runs read their episodes back
+from ``docs/results_episodes.csv`` (the boat's planner alone takes half an hour), and
+``--fresh-baselines`` flies them again, as a change to a scene's physics, pilot or planner
+needs (``sweeps/results/baselines/`` keeps them until they are committed).
 
 What it writes, and what survives the run folders (committed, merged: the rows of the runs
 found here replace those of the same config and seed, the others are kept, so the seeds of
@@ -207,10 +210,36 @@ def run_episodes(run: Path, episodes: int, seed: int) -> dict[str, np.ndarray]:
     return {k: out[k] for k in ("return", "success")}
 
 
-def baseline_episodes(env_id: str, episodes: int, seed: int) -> dict[str, dict[str, np.ndarray]]:
-    """The baselines on the same episodes (cached per env in sweeps/results/baselines/)."""
-    cache = SWEEPS / "baselines" / f"{env_id.split('/')[1]}-{episodes}-{seed}.npz"
-    if cache.is_file():
+def published_baselines(env: str, episodes: int) -> dict[str, dict[str, np.ndarray]] | None:
+    """The baselines' episodes on ``env`` as docs/results_episodes.csv holds them (flown on
+    :data:`EVAL_SEED`, its header says), or None where any baseline lacks ``episodes``."""
+    got: dict[str, list[dict]] = {b: [] for b in BASELINES}
+    for row in published_rows(EPISODES_CSV):
+        if row["env"] == env and row["policy"] in got and row["run"] == "-":
+            got[row["policy"]].append(row)
+    if any(len(rows) != episodes for rows in got.values()):
+        return None
+    return {
+        b: {
+            "return": np.array([float(r["return"]) for r in rows]),
+            "success": np.array([int(r["success"]) for r in rows]),
+        }
+        for b, rows in got.items()
+    }
+
+
+def baseline_episodes(
+    env_id: str, episodes: int, seed: int, fresh: bool = False
+) -> dict[str, dict[str, np.ndarray]]:
+    """The baselines on the same episodes: the published ones (:func:`published_baselines`,
+    at the results' own seed), else those cached in sweeps/results/baselines/, else flown
+    now; ``fresh``: flown now."""
+    env = env_id.split("/")[1]
+    published = published_baselines(env, episodes) if seed == EVAL_SEED else None
+    if published is not None and not fresh:
+        return published
+    cache = SWEEPS / "baselines" / f"{env}-{episodes}-{seed}.npz"
+    if cache.is_file() and not fresh:
         with np.load(cache) as data:
             return {b: {k: data[f"{b}/{k}"] for k in ("return", "success")} for b in BASELINES}
     from fluidsim_envs.evaluation import first_episodes, random_policy
@@ -236,13 +265,13 @@ def baseline_episodes(env_id: str, episodes: int, seed: int) -> dict[str, dict[s
     return out
 
 
-def episode_rows(configs: list[str], episodes: int, seed: int) -> list[tuple]:
+def episode_rows(configs: list[str], episodes: int, seed: int, fresh: bool) -> list[tuple]:
     """The baselines' episodes on each config's env and its local runs' episodes, as
     :data:`EPISODE_COLUMNS` rows."""
     rows: list[tuple] = []
     for env_id in dict.fromkeys(CONFIGS[c] for c in configs):
         env = env_id.split("/")[1]
-        for name, d in baseline_episodes(env_id, episodes, seed).items():
+        for name, d in baseline_episodes(env_id, episodes, seed, fresh).items():
             rows += _rows(env, name, "-", d)
     for config in configs:
         env = CONFIGS[config].split("/")[1]
@@ -633,6 +662,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seeds", type=int, default=SEEDS, help=f"runs per config ({SEEDS})")
     parser.add_argument("--train", action="store_true", help="train the missing seeds first")
     parser.add_argument("--max-new", type=int, help="train at most this many seeds a config")
+    parser.add_argument(
+        "--fresh-baselines",
+        action="store_true",
+        help="fly the planner, pilot and random again (after a change to a scene's physics, "
+        "pilot or planner), not read from docs/results_episodes.csv",
+    )
     args = parser.parse_args(argv)
     if args.seeds < 1 or (args.max_new is not None and args.max_new < 1):
         parser.error(f"--seeds {args.seeds} --max-new {args.max_new}: each must be at least 1")
@@ -644,7 +679,7 @@ def main(argv: list[str] | None = None) -> int:
     rows = merge(
         EPISODES_CSV,
         EPISODE_COLUMNS,
-        episode_rows(args.configs, EPISODES, EVAL_SEED),
+        episode_rows(args.configs, EPISODES, EVAL_SEED, args.fresh_baselines),
         ("env", "policy", "run"),
         note,
         [(CONFIGS[c].split("/")[1], policy_name(c), run_label(s)) for c, s in stale],

@@ -134,6 +134,32 @@ def test_runs_of_several_sessions_add_up(tmp_path, monkeypatch):
     assert list(results.local_runs(name)) == [3]  # not the run of another config
 
 
+def test_baselines_are_flown_once_and_read_back(tmp_path, monkeypatch):
+    """The baselines' committed episodes are read back, at the results' own seed and episode
+    count; a baseline missing there, another seed, or ``fresh`` flies them again."""
+    monkeypatch.setattr(results, "EPISODES_CSV", tmp_path / "episodes.csv")
+    monkeypatch.setattr(results, "SWEEPS", tmp_path / "sweeps")
+    rows = [r for b in results.BASELINES for r in episodes("Dart-v1", b, "-", [1.0, 7.0])]
+    rows += episodes("Dart-v1", "PPO", "seed 0", [9.0, 9.0])
+    cols = results.EPISODE_COLUMNS
+    results.write_csv(results.EPISODES_CSV, cols, ([int(r[c]) if c == "success" else r[c]
+                                                     for c in cols] for r in rows))  # fmt: skip
+    got = results.baseline_episodes("fluidsim/Dart-v1", 2, results.EVAL_SEED)
+    assert sorted(got) == sorted(results.BASELINES)
+    assert got["random"]["return"].tolist() == [1.0, 7.0]
+    assert got["random"]["success"].tolist() == [0, 1]
+    assert results.published_baselines("Dart-v1", 3) is None  # not the episodes asked for
+    assert results.published_baselines("Boat-v1", 2) is None
+
+    def flown(*args, **kwargs):
+        raise RuntimeError("flown")
+
+    monkeypatch.setattr("fluidsim_envs.rl.evaluate.find_scene", flown)
+    for seed, fresh in ((results.EVAL_SEED + 1, False), (results.EVAL_SEED, True)):
+        with pytest.raises(RuntimeError, match="flown"):
+            results.baseline_episodes("fluidsim/Dart-v1", 2, seed, fresh)
+
+
 def test_the_page_is_written_from_the_csvs(tmp_path, monkeypatch):
     for name in ("CSV", "RUNS_CSV"):
         monkeypatch.setattr(results, name, tmp_path / f"{name}.csv")

@@ -389,7 +389,8 @@ class BoatOnStepEnv(FluidEnv):
 
     - ``speed``: ``w_speed * exp(-|speed error| / speed_scale_mps)`` every step;
     - ``progress``: ``w_progress`` per meter closed on the next gate's center;
-    - ``gate``: ``+w_gate`` for a gate passed between its buoys, ``-w_gate`` for one missed;
+    - ``gate``: ``+w_gate`` for a gate passed bow first between its buoys, ``-w_gate`` for
+      one missed (outside its buoys, or run stern first);
     - ``buoy``: ``-w_buoy`` every step the hull touches a buoy;
     - ``porpoise``: ``-w_porpoise * (oscillation / porpoise_deg - 1)`` while porpoising;
     - ``fuel``: ``-w_fuel`` x the throttle ahead, every step;

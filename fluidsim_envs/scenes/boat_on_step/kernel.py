@@ -359,14 +359,18 @@ def score(
         terms[T_SPEED, e] = cfg[C_W_SPEED] * math.exp(-abs(err) / cfg[C_SPEED_SCALE])
         terms[T_FUEL, e] = -cfg[C_W_FUEL] * max(0.0, actions[e, 0])
 
-        # gates: crossing the current gate's line, inside or outside its buoys
+        # gates: crossing the current gate's line, inside or outside its buoys; a gate is run
+        # bow first (a trained policy found that backing the course, stern first at a crawl,
+        # paid well in waves: no bow to stuff)
         g = int(task[K_GATE, e])
         if g <= last:
             along, across = _gate_frame(course, e, g, px, py)
             dist = math.hypot(course[e, g, G_X] - px, course[e, g, G_Y] - py)
             terms[T_PROGRESS, e] = cfg[C_W_PROGRESS] * (task[K_DIST, e] - dist)
             if task[K_SIDE, e] < 0.0 <= along:
-                if abs(across) <= cfg[C_GATE_HALF]:
+                gh = course[e, g, G_HEADING]
+                bow_first = rot[0] * math.cos(gh) + rot[3] * math.sin(gh) > 0.0
+                if abs(across) <= cfg[C_GATE_HALF] and bow_first:
                     flags[F_PASSED, e] = True
                     task[K_PASSED, e] += 1.0
                     terms[T_GATE, e] = cfg[C_W_GATE]

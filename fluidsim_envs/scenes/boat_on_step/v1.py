@@ -254,7 +254,8 @@ BoatOnStepV1Env.__doc__ = v1_doc(
 
     - ``speed``: ``w_speed * exp(-|speed error| / speed_scale_mps)`` every step;
     - ``progress``: ``w_progress`` per meter closed on the next gate's center;
-    - ``gate``: ``+w_gate`` for a gate passed between its buoys, ``-w_gate`` for one missed;
+    - ``gate``: ``+w_gate`` for a gate passed bow first between its buoys, ``-w_gate`` for
+      one missed (outside its buoys, or run stern first);
     - ``buoy``: ``-w_buoy`` every step the hull touches a buoy;
     - ``fuel``: ``-w_fuel`` x the throttle ahead, every step;
     - ``crash``: ``-w_crash`` on capsizing, stuffing the bow, leaving the course, or a

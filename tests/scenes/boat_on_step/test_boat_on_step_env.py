@@ -74,15 +74,16 @@ def gate_point(venv, e, gate, along, across):
     )
 
 
-def place(venv, e, gate, along, across, speed=0.0, heel_deg=0.0):
+def place(venv, e, gate, along, across, speed=0.0, heel_deg=0.0, astern=False):
     """Put sub-env e's boat at (along, across) of ``gate``, at its floating height and trim,
-    heading along the gate's direction of travel at ``speed``, and re-run the task's start
-    (then aim it at ``gate``)."""
+    moving along the gate's direction of travel at ``speed``, heading that way (``astern``:
+    the other way, making way stern first), and re-run the task's start (then aim it at
+    ``gate``)."""
     h = venv.course[e, gate, TK.G_HEADING]
     x, y = gate_point(venv, e, gate, along, across)
     venv.sim.reset(
         pos=(x, y, venv.rest_height_m),
-        quat=attitude_quat(h, venv.rest_trim_rad, math.radians(heel_deg)),
+        quat=attitude_quat(h + math.pi * astern, venv.rest_trim_rad, math.radians(heel_deg)),
         lin_vel=(speed * math.cos(h), speed * math.sin(h), 0.0),
         env_ids=[e],
     )
@@ -209,6 +210,20 @@ def test_gate_line_crossed_outside_the_buoys_is_missed():
     ix = OBS["gate_x"]
     for e in range(2):
         np.testing.assert_allclose(obs[e, ix : ix + 2], expected_gate_xy(venv, e, 2), atol=1e-3)
+
+
+def test_gate_run_stern_first_is_missed():
+    """A gate counts bow first: sub-env 0 backs through gate 1's middle (its bow pointing back
+    along the course), sub-env 1 runs through it ahead; the one backing it misses it."""
+    venv = BoatOnStepVectorEnv(num_envs=2)
+    venv.reset(seed=3)
+    place(venv, 0, 1, along=-0.2, across=0.0, speed=6.0, astern=True)
+    place(venv, 1, 1, along=-0.2, across=0.0, speed=6.0)
+    obs, r, term, trunc, info = venv.step(np.array([[-1.0, 0.0, 0.0], [0.0, 0.0, 0.0]]))
+    assert info["gate_missed"].tolist() == [True, False]
+    assert info["gate_passed"].tolist() == [False, True]
+    assert info["reward_terms"]["gate"].tolist() == [-venv.params.w_gate, venv.params.w_gate]
+    assert venv.task[TK.K_GATE].tolist() == [2, 2]
 
 
 def test_hull_on_a_buoy_is_flagged_and_penalized():
