@@ -360,8 +360,8 @@ def score(
         terms[T_FUEL, e] = -cfg[C_W_FUEL] * max(0.0, actions[e, 0])
 
         # gates: crossing the current gate's line, inside or outside its buoys; a gate is run
-        # bow first (a trained policy found that backing the course, stern first at a crawl,
-        # paid well in waves: no bow to stuff)
+        # bow first (PPO on v1 learned to back the course stern first: the ride, measured at
+        # the bow, and the fuel, charged for throttle ahead, then cost nothing)
         g = int(task[K_GATE, e])
         if g <= last:
             along, across = _gate_frame(course, e, g, px, py)
