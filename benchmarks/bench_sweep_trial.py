@@ -1,8 +1,9 @@
 """Does a sweep trial train as fast as ``fluidsim-train``? One config, the same steps, run in
 turn as ``fluidsim-train`` (torch's default of a thread per core, and one thread) and as a
-one-trial ``fluidsim-sweep`` on local Ray at ``--cpus-per-trial`` 2 and 1, each alone on the
-machine; each run's training env-steps per second and wall time from its ``run.yaml``
-(``timing``: the run's own clock, without Ray's start), and the whole command's wall time.
+one-trial ``fluidsim-sweep`` on local Ray at ``--cpus-per-trial`` 2 and 1 (:data:`VARIANTS`),
+each alone on the machine; each run's training env-steps per second and wall time from its
+``run.yaml`` (``timing``: the run's own clock, without Ray's start), and the whole command's
+wall time.
 
     python -m benchmarks.bench_sweep_trial                     # dart v1 PPO, 300,000 steps
     python -m benchmarks.bench_sweep_trial --config submarine_wake_v1_ppo --repeats 2
@@ -10,8 +11,11 @@ machine; each run's training env-steps per second and wall time from its ``run.y
 Why: the v1 races (``benchmarks.sweep_envs``, one trial at a time at ``--cpus-per-trial 2``)
 trained the dart at about 3,800 env-steps/s, while the multi-seed runs (``benchmarks.results``,
 two one-core trials side by side) ran at about 10,000 each. A race's times to the target are
-only as good as the trials' speed. Writes ``docs/bench_sweep_trial.csv``; run it on a quiet
-machine (the load average before and after each run is in the CSV).
+only as good as the trials' speed. The variants rule out Ray's worker niceness, the
+``OMP_NUM_THREADS`` Ray sets and numba's threads, and find it in torch's: a trial whose torch
+has one thread (``fluidsim-sweep --torch-threads 1``, now the default) keeps
+``fluidsim-train``'s pace. Writes ``docs/bench_sweep_trial.csv``; run it on a quiet machine
+(the load average before and after each run is in the CSV).
 """
 
 from __future__ import annotations
@@ -33,34 +37,38 @@ COLUMNS = (
     "config", "variant", "repeat", "timesteps", "run_wall_s", "env_steps_per_s",
     "command_wall_s", "load_before", "load_after",
 )  # fmt: skip
+TWO = ("--cpus-per-trial", "2", "--torch-threads")
 #: variant -> (module, its arguments besides the config, the folder and the overrides, and
 #: environment variables). Ray starts its workers at niceness 15 (``RAY_worker_niceness``) so
 #: that its own processes stay responsive; a trial's threads then yield to any of them.
 VARIANTS = {
     "fluidsim-train, torch threads default": ("fluidsim_envs.rl.train", [], {}),
     "fluidsim-train, torch threads 1": ("fluidsim_envs.rl.train", ["torch_threads=1"], {}),
-    "fluidsim-sweep, --cpus-per-trial 2, Ray's niceness 15": (
-        "fluidsim_envs.rl.sweep", ["--cpus-per-trial", "2"], {"RAY_worker_niceness": "15"}
+    # a 2-CPU trial as the races ran it (torch's threads = its CPUs), and what might explain
+    # its slowness: Ray's worker niceness, Ray's OMP_NUM_THREADS (the CPUs it was given),
+    # OpenMP threads spinning at barriers while Ray's own processes preempt one of them,
+    # numba's threads or torch's
+    "fluidsim-sweep, --cpus-per-trial 2 --torch-threads 2, Ray's niceness 15": (
+        "fluidsim_envs.rl.sweep", [*TWO, "2"], {"RAY_worker_niceness": "15"}
     ),
-    "fluidsim-sweep, --cpus-per-trial 2, niceness 0": (
-        "fluidsim_envs.rl.sweep", ["--cpus-per-trial", "2"], {"RAY_worker_niceness": "0"}
+    "fluidsim-sweep, --cpus-per-trial 2 --torch-threads 2, niceness 0": (
+        "fluidsim_envs.rl.sweep", [*TWO, "2"], {"RAY_worker_niceness": "0"}
     ),
-    "fluidsim-sweep, --cpus-per-trial 1, Ray's niceness 15": (
-        "fluidsim_envs.rl.sweep", ["--cpus-per-trial", "1"], {"RAY_worker_niceness": "15"}
-    ),
-    # what else a 2-CPU trial's process has that fluidsim-train's has not: Ray's
-    # OMP_NUM_THREADS (the CPUs it was given), and Ray's own processes beside it, which
-    # preempt threads that OpenMP's barriers then wait for while the others spin
     "fluidsim-train, OMP_NUM_THREADS=2 (as Ray sets it)": (
         "fluidsim_envs.rl.train", [], {"OMP_NUM_THREADS": "2"}
     ),
-    "fluidsim-sweep, --cpus-per-trial 2, OMP_WAIT_POLICY=passive": (
-        "fluidsim_envs.rl.sweep", ["--cpus-per-trial", "2"], {"OMP_WAIT_POLICY": "passive"}
+    "fluidsim-sweep, --cpus-per-trial 2 --torch-threads 2, OMP_WAIT_POLICY=passive": (
+        "fluidsim_envs.rl.sweep", [*TWO, "2"], {"OMP_WAIT_POLICY": "passive"}
     ),
-    "fluidsim-sweep, --cpus-per-trial 2, numba threads 1": (
-        "fluidsim_envs.rl.sweep", ["--cpus-per-trial", "2"], {"NUMBA_NUM_THREADS": "1"}
+    "fluidsim-sweep, --cpus-per-trial 2 --torch-threads 2, numba threads 1": (
+        "fluidsim_envs.rl.sweep", [*TWO, "2"], {"NUMBA_NUM_THREADS": "1"}
     ),
     "fluidsim-train, numba threads 1": ("fluidsim_envs.rl.train", [], {"NUMBA_NUM_THREADS": "1"}),
+    # the fix: one torch thread in a trial (fluidsim-sweep's default)
+    "fluidsim-sweep, --cpus-per-trial 2 --torch-threads 1": (
+        "fluidsim_envs.rl.sweep", [*TWO, "1"], {}
+    ),
+    "fluidsim-sweep, --cpus-per-trial 1": ("fluidsim_envs.rl.sweep", ["--cpus-per-trial", "1"], {}),
 }  # fmt: skip
 
 

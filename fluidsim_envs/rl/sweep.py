@@ -2,7 +2,8 @@
 folder as ``fluidsim-train`` writes it.
 
     fluidsim-sweep CONFIG [--set KEY=VALUE ...] [--seeds N] [--search SPACE.yaml --trials K]
-                   [--address ADDRESS] [--cpus-per-trial C] [--sweep-dir DIR]
+                   [--address ADDRESS] [--cpus-per-trial C [--torch-threads T]]
+                   [--sweep-dir DIR]
                    [--target RETURN --wall-budget-s S] [--grace G]
     fluidsim-sweep --resume DIR
 
@@ -25,8 +26,9 @@ folder as ``fluidsim-train`` writes it.
 - Ray: an embedded local Ray by default (nothing to start; every core of this machine),
   a running cluster with ``--address`` (``ray start --head`` on one machine, ``ray start
   --address=HEAD:6379`` on the others; each needs this package installed and the sweep folder
-  at the same path, e.g. on NFS). Each trial takes ``--cpus-per-trial`` cores: torch and
-  numba run on that many threads.
+  at the same path, e.g. on NFS). Each trial takes ``--cpus-per-trial`` cores: numba's
+  threads run on that many, torch's on ``--torch-threads`` (default 1: two torch threads in
+  a Ray worker trained a 2-CPU trial at a third of the speed, docs/training.md).
 
 The sweep folder holds ``sweep.yaml`` (everything needed to resume: the base config, the
 space, the settings), ``runs/<trial>/`` (the run folders), ``tune/`` (Ray Tune's experiment
@@ -96,6 +98,10 @@ class Sweep:
     seeds: int = 1
     trials: int = 1
     cpus_per_trial: int = 1
+    # torch's threads in a trial (numba's take its cpus): one, since two torch threads in a
+    # Ray worker beside Ray's own processes trained a 2-CPU trial at a third of
+    # fluidsim-train's rate (benchmarks/bench_sweep_trial.py); the policies are small MLPs
+    torch_threads: int = 1
     target: float | None = None
     wall_budget_s: float | None = None  # with a target: a trial's wall-clock limit
     grace: float = 0  # ASHA's first rung, in timesteps (wall-clock seconds with a target)
@@ -189,7 +195,7 @@ def run_trial(params: dict[str, Any], sweep: Sweep) -> None:
     trial_id = tune.get_context().get_trial_id()
     raw = apply_params(sweep.base, searched(params))
     raw["seed"] = trial_seed(sweep, params)
-    raw["torch_threads"] = sweep.cpus_per_trial
+    raw["torch_threads"] = sweep.torch_threads
     cfg = config_from_dict(raw)  # a combination the space's check could not see fails here
     numba.set_num_threads(min(sweep.cpus_per_trial, numba.config.NUMBA_NUM_THREADS))
     run_dir = sweep.dir / "runs" / trial_id
@@ -446,6 +452,13 @@ def parse_args(argv: list[str] | None, prog: str) -> argparse.Namespace:
     parser.add_argument("--trials", type=int, help="configs to sample from --search (default 8)")
     parser.add_argument("--address", help="a running Ray cluster's HOST:PORT (default: local)")
     parser.add_argument("--cpus-per-trial", type=int, default=1, help="cores a trial takes")
+    parser.add_argument(
+        "--torch-threads",
+        type=int,
+        default=1,
+        help="torch's threads in a trial (default 1: more trained a 2-CPU trial at a third "
+        "of the speed, docs/training.md); numba's threads take --cpus-per-trial",
+    )
     parser.add_argument("--sweep-dir", type=Path, help="default sweeps/<env>-<algo>-<time>")
     parser.add_argument("--resume", type=Path, metavar="DIR", help="continue this sweep")
     parser.add_argument(
@@ -481,6 +494,11 @@ def sweep_from_args(args: argparse.Namespace, command: list[str]) -> Sweep:
         raise SweepError(f"--seeds {args.seeds}: a sweep needs at least one seed per config")
     if args.cpus_per_trial < 1:
         raise SweepError(f"--cpus-per-trial {args.cpus_per_trial}: at least 1")
+    if not 1 <= args.torch_threads <= args.cpus_per_trial:
+        raise SweepError(
+            f"--torch-threads {args.torch_threads}: from 1 to --cpus-per-trial "
+            f"({args.cpus_per_trial})"
+        )
     if args.trials is not None and args.search is None:
         raise SweepError(f"--trials {args.trials}: only with --search SPACE.yaml")
     trials = 8 if args.trials is None else args.trials
@@ -521,6 +539,7 @@ def sweep_from_args(args: argparse.Namespace, command: list[str]) -> Sweep:
         seeds=args.seeds,
         trials=trials if space else 1,
         cpus_per_trial=args.cpus_per_trial,
+        torch_threads=args.torch_threads,
         target=args.target,
         wall_budget_s=budget,
         grace=grace,
@@ -574,6 +593,7 @@ _RESUME_FIXED = {
     "trials": None,
     "address": None,
     "cpus_per_trial": 1,
+    "torch_threads": 1,
     "sweep_dir": None,
     "target": None,
     "wall_budget_s": None,

@@ -150,6 +150,7 @@ def closed_port() -> int:
         (["--trials", "3"], "--trials 3: only with --search"),
         (["--search", "missing.yaml"], "--search missing.yaml: file not found, nor a shipped"),
         (["--cpus-per-trial", "0"], "--cpus-per-trial 0"),
+        (["--torch-threads", "2"], "--torch-threads 2: from 1 to --cpus-per-trial (1)"),
         (["--grace", "999999"], "--grace 999999.0: ASHA's first rung must be in (0, total"),
         (["--target", "5"], "--target 5.0 needs --wall-budget-s"),
         (["--wall-budget-s", "60"], "--wall-budget-s 60.0: only with --target"),
@@ -258,6 +259,9 @@ def test_seeds_of_one_sampled_config_race_to_a_target(tmp_path):
         assert float(row["time_to_target_s"]) == float(row["wall_s"]) > 0
         # the trial ended itself and its run finished before Tune heard the last evaluation
         assert (folder / row["run_dir"] / "model.zip").is_file()
+        # two CPUs: numba's threads take them, torch keeps one (docs/training.md)
+        run_config = yaml.safe_load((folder / row["run_dir"] / "config.yaml").read_text())
+        assert run_config["torch_threads"] == 1
     times = [float(r["time_to_target_s"]) for r in rows]
     assert times == sorted(times)
 
