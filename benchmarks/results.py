@@ -68,6 +68,9 @@ WAITING = {
     "boat_on_step_v1_ppo": "first a config that runs the course: at `standard` the shipped "
     "one learns to stay put ([environments.md](environments.md), below the v1 PPO "
     "table)",
+    "paper_airplane_v1_sac": "first a config in wall-clock reach: as shipped, a gradient step "
+    "per transition, a seed is hours on one core; a SAC race (`fluidsim-sweep "
+    "paper_airplane_v1_sac --search sac`) comes first",
 }
 SWEEPS = ROOT / "sweeps" / "results"
 EVAL_SEED = 0  # the pilots were tuned on TUNING_SEEDS (evaluation.py): disjoint
