@@ -21,7 +21,7 @@ planner, an oracle that reads the true state; the tuned pilot; random actions) o
 :data:`EPISODES` episodes, seed :data:`EVAL_SEED` (disjoint from the pilots' tuning seeds and
 from the runs' evaluation seed). A run's per-episode results are cached in its folder
 (``results_eval.npz``). The baselines are flown once: later runs read their episodes back
-from ``docs/results_episodes.csv`` (the boat's planner alone takes half an hour), and
+from ``docs/results_episodes.csv`` (the boat's planner alone takes more than half an hour), and
 ``--fresh-baselines`` flies them again, as a change to a scene's physics, pilot or planner
 needs (``sweeps/results/baselines/`` keeps them until they are committed).
 
@@ -68,9 +68,10 @@ WAITING = {
     "boat_on_step_v1_ppo": "first a config that runs the course: at `standard` the shipped "
     "one learns to stay put ([environments.md](environments.md), below the v1 PPO "
     "table)",
-    "paper_airplane_v1_sac": "first a config in wall-clock reach: as shipped, a gradient step "
-    "per transition, a seed is hours on one core; a SAC race (`fluidsim-sweep "
-    "paper_airplane_v1_sac --search sac`) comes first",
+    "paper_airplane_v1_sac": "first a config in wall-clock reach: as shipped (a gradient "
+    "step per transition) a seed trains far slower than a PPO run, not yet measured by a "
+    "committed benchmark; a SAC race (`fluidsim-sweep paper_airplane_v1_sac --search sac`) "
+    "comes first",
 }
 SWEEPS = ROOT / "sweeps" / "results"
 EVAL_SEED = 0  # the pilots were tuned on TUNING_SEEDS (evaluation.py): disjoint
