@@ -65,9 +65,6 @@ CONFIGS = {
 }
 #: configs whose seeds wait for something first (the page says what)
 WAITING = {
-    "boat_on_step_v1_ppo": "first a config that runs the course: at `standard` the shipped "
-    "one learns to stay put ([environments.md](environments.md), below the v1 PPO "
-    "table)",
     "paper_airplane_v1_sac": "first a config in wall-clock reach: as shipped (a gradient "
     "step per transition) a seed trains far slower than a PPO run, not yet measured by a "
     "committed benchmark; a SAC race (`fluidsim-sweep paper_airplane_v1_sac --search sac`) "
@@ -125,6 +122,8 @@ def config_digest(config: str | Path) -> str:
     plain = config_to_dict(resolved(load_config(config)))
     for key in ("seed", "torch_threads"):
         plain.pop(key, None)
+    if not plain.get("curriculum"):
+        plain.pop("curriculum", None)  # no curriculum: the digest runs had before there was one
     return hashlib.sha256(yaml.safe_dump(plain, sort_keys=True).encode()).hexdigest()[:12]
 
 

@@ -183,4 +183,43 @@ class RunMonitor(VecMonitor):
         return super().step_wait()
 
 
-__all__ = ["Checkpoints", "Evaluations", "RunMonitor"]
+class Curriculum(BaseCallback):
+    """At the first rollout's end at or past each of ``starts``' timesteps (timestep, env
+    parameters, a label that says them), the training env steps episodes of that stage's
+    parameters: ``make(env_kwargs)`` builds its native vector
+    env, which replaces the adapter's (:meth:`~fluidsim_envs.wrappers.sb3.SB3VecEnv.replace`),
+    seeded with ``seed_at(timestep)``; then every env starts afresh (the episodes in flight
+    are dropped, not recorded). Between rollouts, so no rollout mixes two stages; the
+    normalization statistics go on. ``say`` tells the switch."""
+
+    def __init__(
+        self,
+        starts: Sequence[tuple[int, dict, str]],
+        make: Callable[[dict], object],
+        seed_at: Callable[[int], int],
+        say: Callable[[str], None],
+    ) -> None:
+        super().__init__()
+        self.starts, self.make, self.seed_at, self.say = list(starts), make, seed_at, say
+
+    def _on_step(self) -> bool:
+        return True
+
+    def _on_rollout_end(self) -> None:
+        if not self.starts or self.num_timesteps < self.starts[0][0]:
+            return
+        _, env_kwargs, label = self.starts.pop(0)
+        while self.starts and self.num_timesteps >= self.starts[0][0]:
+            _, env_kwargs, label = self.starts.pop(0)  # a stage shorter than a rollout: skipped
+        adapter = self.training_env.unwrapped
+        adapter.replace(self.make(env_kwargs))
+        adapter.seed(self.seed_at(self.num_timesteps))
+        model = self.model
+        model._last_obs = self.training_env.reset()
+        model._last_episode_starts = np.ones(self.training_env.num_envs, dtype=bool)
+        if getattr(model, "_last_original_obs", None) is not None:  # off-policy + VecNormalize
+            model._last_original_obs = self.training_env.get_original_obs()
+        self.say(f"curriculum: from {self.num_timesteps:,} timesteps on, {label}")
+
+
+__all__ = ["Checkpoints", "Curriculum", "Evaluations", "RunMonitor"]

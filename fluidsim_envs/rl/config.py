@@ -277,6 +277,18 @@ class CheckpointConfig:
 
 
 @dataclass(frozen=True)
+class StageConfig:
+    """A curriculum stage: ``timesteps`` env steps (all envs together) trained on episodes
+    of ``env_kwargs`` (set on top of the run's own ``env_kwargs``). The evaluations fly the
+    run's own episodes throughout, so the learning curve is the task's."""
+
+    timesteps: int
+    env_kwargs: dict[str, Any] = field(default_factory=dict)
+
+    RANGES: ClassVar[dict[str, Range]] = {"timesteps": AT_LEAST_1}
+
+
+@dataclass(frozen=True)
 class TrainConfig:
     """One training run: an env, an algorithm and how to train and evaluate it."""
 
@@ -295,6 +307,10 @@ class TrainConfig:
     normalize: NormalizeConfig = NormalizeConfig()
     eval: EvalConfig = EvalConfig()
     checkpoint: CheckpointConfig = CheckpointConfig()
+    # stages trained in order before the run's own episodes (e.g. an easier difficulty first,
+    # where a policy finds the task that the full one hides behind its costs); the stages
+    # together must leave steps for the run's own env_kwargs
+    curriculum: tuple[StageConfig, ...] = ()
 
     RANGES: ClassVar[dict[str, Range]] = {
         "n_envs": AT_LEAST_1,
@@ -651,6 +667,38 @@ def _check(cfg: TrainConfig, joint: bool = True) -> None:
     _check_policy(cfg.policy, cfg.algorithm.name)
     check_device(cfg.device)
     _check_env(cfg.env_id, cfg.env_kwargs)
+    _check_curriculum(cfg)
+
+
+def _check_curriculum(cfg: TrainConfig) -> None:
+    """Each stage's numbers are in range and its env parameters build; the stages leave
+    steps for the run's own episodes."""
+    for i, stage in enumerate(cfg.curriculum):
+        _check_numbers(stage, f"curriculum[{i}]")
+        _check_env(cfg.env_id, {**cfg.env_kwargs, **stage.env_kwargs}, f"curriculum[{i}].")
+    staged = sum(stage.timesteps for stage in cfg.curriculum)
+    if staged >= cfg.total_timesteps:
+        raise ConfigError(
+            f"curriculum: its stages take {staged:,} timesteps, leaving none of "
+            f"total_timesteps ({cfg.total_timesteps:,}) for the run's own env_kwargs"
+        )
+
+
+def stage_starts(cfg: TrainConfig) -> list[tuple[int, dict[str, Any]]]:
+    """(first timestep, env parameters) of each curriculum stage in order, the run's own
+    ``env_kwargs`` last (from the stages' end on).
+
+    >>> cfg = config_from_dict({"env_id": "fluidsim/PaperAirplane-v0",
+    ...     "algorithm": {"name": "ppo"}, "total_timesteps": 10,
+    ...     "curriculum": [{"timesteps": 4, "env_kwargs": {"max_episode_steps": 50}}]})
+    >>> stage_starts(cfg)
+    [(0, {'max_episode_steps': 50}), (4, {})]
+    """
+    starts, at = [], 0
+    for stage in cfg.curriculum:
+        starts.append((at, {**cfg.env_kwargs, **stage.env_kwargs}))
+        at += stage.timesteps
+    return [*starts, (at, dict(cfg.env_kwargs))]
 
 
 def _check_numbers(section: Any, prefix: str) -> None:
@@ -729,14 +777,25 @@ def _check_policy(policy: PolicyConfig, algo: str) -> None:
 def resolved(cfg: TrainConfig) -> TrainConfig:
     """``cfg`` with ``env_kwargs`` holding every parameter of the env, defaults filled in: a
     run folder's config then replays the same env whatever the defaults become."""
-    params = _check_env(cfg.env_id, cfg.env_kwargs)
-    kwargs = {f.name: getattr(params, f.name) for f in dataclasses.fields(params)}
-    return dataclasses.replace(cfg, env_kwargs=config_to_dict(kwargs))
+
+    def every(env_kwargs: dict[str, Any]) -> dict[str, Any]:
+        params = _check_env(cfg.env_id, env_kwargs)
+        kwargs = {f.name: getattr(params, f.name) for f in dataclasses.fields(params)}
+        return config_to_dict(kwargs)
+
+    # each stage resolved from its own parameters over the run's as given (over the run's
+    # resolved ones, a stage's `difficulty` would be overridden by the knobs written down)
+    stages = tuple(
+        dataclasses.replace(stage, env_kwargs=every({**cfg.env_kwargs, **stage.env_kwargs}))
+        for stage in cfg.curriculum
+    )
+    return dataclasses.replace(cfg, env_kwargs=every(cfg.env_kwargs), curriculum=stages)
 
 
-def _check_env(env_id: str, env_kwargs: dict[str, Any]):
+def _check_env(env_id: str, env_kwargs: dict[str, Any], where: str = ""):
     """The env id is registered and its parameters accept ``env_kwargs`` (built here, so a
-    bad parameter is reported before any training starts); returns the parameters."""
+    bad parameter is reported before any training starts); returns the parameters. ``where``
+    prefixes the error's key (``curriculum[0].``)."""
     import gymnasium as gym
     from gymnasium.envs.registration import load_env_creator
 
@@ -750,4 +809,4 @@ def _check_env(env_id: str, env_kwargs: dict[str, Any]):
     try:
         return make_params(vector_cls.Params, env_kwargs)
     except (TypeError, ValueError) as e:
-        raise ConfigError(f"env_kwargs: {e}") from None
+        raise ConfigError(f"{where}env_kwargs: {e}") from None

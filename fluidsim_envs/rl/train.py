@@ -65,6 +65,7 @@ from .config import (  # noqa: E402
     dump_config,
     load_config,
     resolved,
+    stage_starts,
 )
 from .files import RunError  # noqa: E402
 from .runs import (  # noqa: E402, F401  (CHECKPOINT_PREFIX ... are this module's names too)
@@ -134,8 +135,10 @@ def make_env(
     append: bool = False,
     start_timesteps: int = 0,
     time_offset_s: float = 0.0,
+    env_kwargs: dict[str, Any] | None = None,
 ):
-    """The SB3 vector env of a run: our native vector env through the adapter, its episodes
+    """The SB3 vector env of a run (of ``env_kwargs``: a curriculum stage's; None: the
+    run's own): our native vector env through the adapter, its episodes
     recorded by ``VecMonitor`` (raw returns; with ``monitor_file``, a :class:`RunMonitor`
     writing there, appended to when ``append``, its rows stamped with the run's timesteps from
     ``start_timesteps`` on and its times going on from ``time_offset_s``), then
@@ -155,7 +158,7 @@ def make_env(
         n_envs,
         seed=seed,
         success_key="success",  # SB3 reads is_success: success rates in TensorBoard
-        **cfg.env_kwargs,
+        **(cfg.env_kwargs if env_kwargs is None else env_kwargs),
     )
     if monitor_file is None:
         venv = VecMonitor(venv, info_keywords=("success",))
@@ -335,6 +338,61 @@ def _callbacks(
     return callbacks
 
 
+def _stage_at(cfg: TrainConfig, timesteps: int) -> dict[str, Any]:
+    """The env parameters a run trains on at ``timesteps``: its curriculum's stage then."""
+    return [kwargs for start, kwargs in stage_starts(cfg) if start <= timesteps][-1]
+
+
+def _stage_label(cfg: TrainConfig, env_kwargs: dict[str, Any]) -> str:
+    """What a stage changes of the run's own parameters, in a few words."""
+    changed = [
+        f"{k}: {v}" if len(repr(v)) < 40 else f"{k} (its own)"
+        for k, v in env_kwargs.items()
+        if cfg.env_kwargs.get(k) != v
+    ]
+    return f"episodes of {', '.join(changed)}" if changed else "the run's own episodes"
+
+
+def _curriculum(cfg: TrainConfig, done_steps: int, say) -> list:
+    """The callback that moves the training env to each stage still ahead (none without)."""
+    from fluidsim_envs.wrappers.sb3 import make_vector_env
+
+    from .callbacks import Curriculum
+
+    ahead = [
+        (start, kwargs, _stage_label(cfg, kwargs))
+        for start, kwargs in stage_starts(cfg)
+        if start > done_steps
+    ]
+    if not ahead:
+        return []
+    return [
+        Curriculum(
+            ahead,
+            lambda kwargs: make_vector_env(cfg.env_id, cfg.n_envs, **kwargs),
+            lambda timesteps: resumed_seed(cfg.seed, timesteps),
+            say,
+        )
+    ]
+
+
+def _check_stage_spaces(cfg: TrainConfig, venv) -> None:
+    """Every curriculum stage's env has the spaces of ``venv`` (the policy reads and acts on
+    both): a mismatch is an error before training, not at the stage's start."""
+    from fluidsim_envs.wrappers.sb3 import make_vector_env
+
+    for i, (_, kwargs) in enumerate(stage_starts(cfg)):
+        env = make_vector_env(cfg.env_id, 1, **kwargs)
+        spaces = (env.single_observation_space, env.single_action_space)
+        env.close()
+        if spaces != (venv.observation_space, venv.action_space):
+            where = f"curriculum[{i}]" if i < len(cfg.curriculum) else "env_kwargs"
+            raise ConfigError(
+                f"{where}: its env's (observation, action) spaces {spaces} differ from the "
+                f"first stage's {(venv.observation_space, venv.action_space)}"
+            )
+
+
 def _timing(venv, eval_env, wall: float) -> dict[str, float]:
     """Where this session's training time went: the vector envs' reset and step (training and
     evaluation) against everything else (the policy's forward passes, the updates, SB3's
@@ -479,11 +537,10 @@ def _train(
     start = time.perf_counter()
     try:
         if planned > 0:
+            callbacks = _callbacks(cfg, run_dir, venv, eval_env, say, resume, time_offset, on_eval)
             model.learn(
                 total_timesteps=planned,
-                callback=_callbacks(
-                    cfg, run_dir, venv, eval_env, say, resume, time_offset, on_eval
-                ),
+                callback=callbacks + _curriculum(cfg, done_steps, say),
                 tb_log_name=cfg.algorithm.name.upper(),
                 reset_num_timesteps=restart is None,
                 progress_bar=progress_bar,
@@ -562,19 +619,23 @@ def resumed_seed(seed: int, done_steps: int) -> int:
 def _build(cfg: TrainConfig, run_dir: Path, restart: Restart | None, env_seed: int, offset: float):
     """The training env, the eval env (None without evaluations) and the model."""
     stats = restart.stats if restart is not None and cfg.normalize.enabled else None
+    steps = restart.steps if restart else 0
     venv = make_env(
         cfg,
         cfg.n_envs,
         env_seed,
+        env_kwargs=_stage_at(cfg, steps),
         stats=stats,
         monitor_file=run_dir / "monitor.csv",
         # a resumed run goes on with monitor.csv, unless trim_logs found none worth keeping
         append=restart is not None and (run_dir / "monitor.csv").is_file(),
-        start_timesteps=restart.steps if restart else 0,
+        start_timesteps=steps,
         time_offset_s=offset,
     )
     eval_env = None
     try:
+        if cfg.curriculum:
+            _check_stage_spaces(cfg, venv)
         if cfg.eval.freq > 0:
             eval_env = make_env(cfg, cfg.eval.n_episodes, cfg.eval.seed, evaluation=True)
         return venv, eval_env, _model(cfg, run_dir, venv, restart, env_seed)
@@ -686,9 +747,15 @@ def _plan(cfg: TrainConfig, run_dir: Path, remaining: int, planned: int) -> str:
         if cfg.eval.freq > 0
         else "no evaluation (eval.freq 0)"
     )
+    stages = ", ".join(
+        f"{_stage_label(cfg, kwargs)} for {stage.timesteps:,} steps"
+        for stage, (_, kwargs) in zip(cfg.curriculum, stage_starts(cfg), strict=False)
+    )
+    if stages:  # the run's own episodes after the stages; evaluations fly those throughout
+        stages = f" (a curriculum: {stages}, then the run's own)"
     return (
         f"training {a.name.upper()} on {cfg.env_id} with {cfg.n_envs} envs: {planned:,} env "
-        f"steps{rounded}; {evals}; into {run_dir}"
+        f"steps{rounded}{stages}; {evals}; into {run_dir}"
     )
 
 

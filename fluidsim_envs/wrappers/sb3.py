@@ -215,6 +215,21 @@ class SB3VecEnv(VecEnv):
     def close(self) -> None:
         self.venv.close()
 
+    def replace(self, venv: VectorEnv) -> None:
+        """Step ``venv`` from now on in place of the vector env (closed here): a curriculum's
+        next stage. It must have the same number of sub-envs and the same spaces (a policy
+        reads and acts on both); the counters go on, the next :meth:`reset` starts it."""
+        theirs = (venv.num_envs, venv.single_observation_space, venv.single_action_space)
+        ours = (self.num_envs, self.observation_space, self.action_space)
+        if theirs != ours:
+            raise ValueError(
+                "SB3VecEnv.replace: the new vector env's (num_envs, observation space, action "
+                f"space) {theirs} differ from this one's {ours}"
+            )
+        self.venv.close()
+        self.venv = venv
+        self._actions = None
+
     # ---- rendering ------------------------------------------------------------------------
 
     def get_images(self) -> Sequence[np.ndarray | None]:
@@ -280,6 +295,15 @@ class SB3VecEnv(VecEnv):
         return [wrapped for _ in self._get_indices(indices)]
 
 
+def make_vector_env(env_id: str, n_envs: int, **env_kwargs: Any) -> VectorEnv:
+    """``n_envs`` sub-envs of ``env_id`` in one native vector env (its vector entry point)."""
+    import fluidsim_envs  # noqa: F401  (registers the ids)
+
+    return gym.make_vec(
+        env_id, num_envs=n_envs, vectorization_mode="vector_entry_point", **env_kwargs
+    )
+
+
 def make_sb3_vec_env(
     env_id: str,
     n_envs: int,
@@ -295,12 +319,7 @@ def make_sb3_vec_env(
     ``venv.reset(seed=seed)`` does (see :meth:`SB3VecEnv.seed`).
     ``success_key``: see :class:`SB3VecEnv`.
     """
-    import fluidsim_envs  # noqa: F401  (registers the ids)
-
-    venv = gym.make_vec(
-        env_id, num_envs=n_envs, vectorization_mode="vector_entry_point", **env_kwargs
-    )
-    sb3_venv = SB3VecEnv(venv, success_key=success_key)
+    sb3_venv = SB3VecEnv(make_vector_env(env_id, n_envs, **env_kwargs), success_key=success_key)
     if seed is not None:
         sb3_venv.seed(seed)
     return sb3_venv

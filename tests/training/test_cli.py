@@ -22,6 +22,7 @@ from fluidsim_envs.rl import cli
 from fluidsim_envs.rl import evaluate as evaluate_cli
 from fluidsim_envs.rl import train as train_cli
 from fluidsim_envs.rl.config import shipped_configs
+from fluidsim_envs.rl.runs import MONITOR_STEPS
 
 REPO = Path(__file__).resolve().parents[2]
 CONFIG = shipped_configs()["paper_airplane_ppo"]
@@ -306,6 +307,30 @@ def monitor_rows(run: Path) -> list[dict[str, str]]:
 def history_rows(run: Path) -> list[dict[str, str]]:
     with (run / "eval" / "history.csv").open() as f:
         return list(csv.DictReader(f))
+
+
+def test_a_curriculum_trains_its_stages_in_order_and_says_so(tmp_path):
+    """Episodes cut at 20 steps for the first rollout, then the run's own: the monitor's
+    episodes before the switch are all short, after it some are longer; the evaluations fly
+    the run's own episodes throughout; the plan and the switch are told; the run folder's
+    config writes the stage's parameters down."""
+    stage = "curriculum=[{timesteps: 1000, env_kwargs: {max_episode_steps: 20}}]"
+    args = ("paper_airplane_ppo", "--set", *TINY, stage, "--run-dir", tmp_path / "run")
+    done = run_script("train.py", *args, "--no-progress-bar", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr[-3000:]
+    lines = done.stdout.splitlines()
+    assert "(a curriculum: episodes of max_episode_steps: 20 for 1,000 steps, then " in lines[0]
+    assert "curriculum: from 1,024 timesteps on, the run's own episodes" in lines
+    rows = monitor_rows(tmp_path / "run")
+    before = [int(r["l"]) for r in rows if int(r[MONITOR_STEPS]) <= 1024]
+    after = [int(r["l"]) for r in rows if int(r[MONITOR_STEPS]) > 1024]
+    assert before and max(before) == 20 and max(after) > 20, (before, after)
+    assert float(history_rows(tmp_path / "run")[0]["mean_length"]) > 20  # during the stage
+    cfg = yaml.safe_load((tmp_path / "run" / "config.yaml").read_text())
+    (written,) = cfg["curriculum"]
+    assert written["timesteps"] == 1000 and written["env_kwargs"]["max_episode_steps"] == 20
+    assert set(written["env_kwargs"]) == set(cfg["env_kwargs"])  # every parameter, resolved
+    assert cfg["env_kwargs"]["max_episode_steps"] > 20
 
 
 def test_resume_continues_an_interrupted_run(run, tmp_path, capsys):

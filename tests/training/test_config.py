@@ -89,6 +89,17 @@ def test_overrides_reach_nested_keys_and_read_values_as_yaml():
         (["env_id=fluidsim/Nope-v0"], r"env_id must be one of \['fluidsim/BoatOnStep-v0'"),
         (["env_kwargs.wingspan_m=1"], r"env_kwargs: .*unknown parameter\(s\) \['wingspan_m'\]"),
         (["env_kwargs.max_episode_steps=0"], r"env_kwargs: .*max_episode_steps must be"),
+        (["curriculum=[{timesteps: 0}]"], r"curriculum\[0\].timesteps must be an integer >= 1"),
+        (["curriculum=[{steps: 10}]"], r"unknown key 'curriculum\[0\].steps'"),
+        (["curriculum={timesteps: 10}"], r"curriculum must be a list of a mapping"),
+        (
+            ["curriculum=[{timesteps: 10}, {timesteps: 10, env_kwargs: {wingspan_m: 1}}]"],
+            r"curriculum\[1\].env_kwargs: .*unknown parameter\(s\) \['wingspan_m'\]",
+        ),
+        (
+            ["total_timesteps=1000", "curriculum=[{timesteps: 600}, {timesteps: 400}]"],
+            r"curriculum: its stages take 1,000 timesteps, leaving none of total_timesteps",
+        ),
     ],
 )
 def test_bad_values_are_errors_that_name_them(overrides, message):
@@ -137,3 +148,16 @@ def test_an_exponent_without_a_dot_is_a_number_on_the_command_line_not_in_a_file
     raw = {**MINIMAL, "algorithm": {"name": "ppo", "learning_rate": "3e-4"}}
     with pytest.raises(ConfigError, match=r"must be a number, got '3e-4' \(YAML reads"):
         config_from_dict(raw)
+
+
+def test_a_run_trains_on_the_stage_of_its_timesteps():
+    """What a resumed run rebuilds its training env with: the stage its timesteps are in."""
+    from fluidsim_envs.rl.train import _stage_at
+
+    stages = [
+        {"timesteps": 100, "env_kwargs": {"max_episode_steps": 20}},
+        {"timesteps": 50, "env_kwargs": {"max_episode_steps": 30}},
+    ]
+    cfg = config_from_dict({**MINIMAL, "total_timesteps": 1000, "curriculum": stages})
+    steps = [_stage_at(cfg, t).get("max_episode_steps") for t in (0, 99, 100, 149, 150, 999)]
+    assert steps == [20, 20, 30, 30, None, None]

@@ -199,3 +199,27 @@ def test_under_vec_normalize_and_vec_monitor():
     raw = venv.get_original_obs()
     assert raw.shape == (4, 15) and not np.allclose(raw, obs)
     venv.close()
+
+
+def test_replace_steps_the_new_vector_env_and_refuses_other_spaces():
+    """A curriculum's next stage: the adapter steps the new env (its own parameters) with
+    the counters going on; a different count of envs or spaces is refused, naming both."""
+    from fluidsim_envs.wrappers.sb3 import make_vector_env
+
+    adapter = make_sb3_vec_env("fluidsim/PaperAirplane-v1", 2, seed=0)
+    adapter.reset()
+    adapter.step(np.zeros((2, *adapter.action_space.shape), np.float32))
+    adapter.replace(make_vector_env("fluidsim/PaperAirplane-v1", 2, difficulty="easy"))
+    assert adapter.venv.unwrapped.params.difficulty == "easy" and adapter.env_steps == 2
+    adapter.seed(1)
+    adapter.reset()
+    adapter.step(np.zeros((2, *adapter.action_space.shape), np.float32))
+    assert adapter.env_steps == 4
+    for other in (
+        make_vector_env("fluidsim/PaperAirplane-v1", 3),
+        make_vector_env("fluidsim/PaperAirplane-v1", 2, observe_samples=False),
+    ):
+        with pytest.raises(ValueError, match=r"replace: the new vector env's \(num_envs"):
+            adapter.replace(other)
+        other.close()
+    adapter.close()
