@@ -20,10 +20,11 @@ Evaluation: each run's final model, acting deterministically, and the baselines 
 planner, an oracle that reads the true state; the tuned pilot; random actions) on the same
 :data:`EPISODES` episodes, seed :data:`EVAL_SEED` (disjoint from the pilots' tuning seeds and
 from the runs' evaluation seed). A run's per-episode results are cached in its folder
-(``results_eval.npz``). The baselines are flown once: later runs read their episodes back
-from ``docs/results_episodes.csv`` (the boat's planner alone takes more than half an hour), and
-``--fresh-baselines`` flies them again, as a change to a scene's physics, pilot or planner
-needs (``sweeps/results/baselines/`` keeps them until they are committed).
+(``results_eval.npz``). The baselines are flown once, each on its own: later runs read
+their episodes back from ``docs/results_episodes.csv`` (the boat's planner alone takes more
+than an hour), ``--fresh-baselines`` flies them again, as a change to a scene's physics,
+pilot or planner needs, and ``--no-planner`` leaves out a planner not yet flown (the page
+lists it, with its command); ``sweeps/results/baselines/`` keeps each until it is committed.
 
 What it writes, and what survives the run folders (committed, merged: the rows of the runs
 found here replace those of the same config and seed, the others are kept, so the seeds of
@@ -219,38 +220,50 @@ def run_episodes(run: Path, episodes: int, seed: int) -> dict[str, np.ndarray]:
     return {k: out[k] for k in ("return", "success")}
 
 
-def published_baselines(env: str, episodes: int) -> dict[str, dict[str, np.ndarray]] | None:
+def published_baselines(env: str, episodes: int) -> dict[str, dict[str, np.ndarray]]:
     """The baselines' episodes on ``env`` as docs/results_episodes.csv holds them (flown on
-    :data:`EVAL_SEED`, its header says), or None where any baseline lacks ``episodes``."""
+    :data:`EVAL_SEED`, its header says): those with all ``episodes`` of them."""
     got: dict[str, list[dict]] = {b: [] for b in BASELINES}
     for row in published_rows(EPISODES_CSV):
         if row["env"] == env and row["policy"] in got and row["run"] == "-":
             got[row["policy"]].append(row)
-    if any(len(rows) != episodes for rows in got.values()):
-        return None
     return {
         b: {
             "return": np.array([float(r["return"]) for r in rows]),
             "success": np.array([int(r["success"]) for r in rows]),
         }
         for b, rows in got.items()
+        if len(rows) == episodes
     }
 
 
 def baseline_episodes(
-    env_id: str, episodes: int, seed: int, fresh: bool = False
+    env_id: str, episodes: int, seed: int, fresh: bool = False, planner: bool = True
 ) -> dict[str, dict[str, np.ndarray]]:
-    """The baselines on the same episodes: the published ones (:func:`published_baselines`,
-    at the results' own seed), else those cached in sweeps/results/baselines/, else flown
-    now; ``fresh``: flown now."""
+    """The baselines on the same episodes, each the published one
+    (:func:`published_baselines`, at the results' own seed), else the one cached in
+    sweeps/results/baselines/, else flown now; ``fresh``: each flown now. ``planner`` False:
+    the planner is left out unless published or cached (on the boat it takes hours of the
+    machine's two cores; the page lists what is left out: :func:`missing_markdown`)."""
     env = env_id.split("/")[1]
-    published = published_baselines(env, episodes) if seed == EVAL_SEED else None
-    if published is not None and not fresh:
-        return published
-    cache = SWEEPS / "baselines" / f"{env}-{episodes}-{seed}.npz"
-    if cache.is_file() and not fresh:
-        with np.load(cache) as data:
-            return {b: {k: data[f"{b}/{k}"] for k in ("return", "success")} for b in BASELINES}
+    published = published_baselines(env, episodes) if seed == EVAL_SEED and not fresh else {}
+    out = {}
+    for name in BASELINES:
+        cache = SWEEPS / "baselines" / f"{env}-{episodes}-{seed}-{name.split()[0]}.npz"
+        if name in published:
+            out[name] = published[name]
+        elif cache.is_file() and not fresh:
+            with np.load(cache) as data:
+                out[name] = {k: data[k] for k in ("return", "success")}
+        elif planner or name != "planner (oracle)":
+            out[name] = fly_baseline(env_id, name, episodes, seed)
+            cache.parent.mkdir(parents=True, exist_ok=True)
+            np.savez(cache, **out[name])
+    return out
+
+
+def fly_baseline(env_id: str, name: str, episodes: int, seed: int) -> dict[str, np.ndarray]:
+    """One baseline's ``return`` and ``success`` on the seeded episodes."""
     from fluidsim_envs.evaluation import first_episodes, random_policy
     from fluidsim_envs.rl.evaluate import _make_venv, find_scene
 
@@ -260,27 +273,24 @@ def baseline_episodes(
         "tuned pilot": lambda venv: scene.pilot(venv),
         "random": lambda venv: random_policy(venv, seed),
     }
-    out = {}
-    for name in BASELINES:
-        venv = _make_venv(env_id, episodes, {})
-        try:
-            print(f"{env_id}: {name} on {episodes} episodes ...", flush=True)
-            got = first_episodes(venv, make[name](venv), seed=seed)
-        finally:
-            venv.close()
-        out[name] = {k: got[k] for k in ("return", "success")}
-    cache.parent.mkdir(parents=True, exist_ok=True)
-    np.savez(cache, **{f"{b}/{k}": v for b, d in out.items() for k, v in d.items()})
-    return out
+    venv = _make_venv(env_id, episodes, {})
+    try:
+        print(f"{env_id}: {name} on {episodes} episodes ...", flush=True)
+        got = first_episodes(venv, make[name](venv), seed=seed)
+    finally:
+        venv.close()
+    return {k: got[k] for k in ("return", "success")}
 
 
-def episode_rows(configs: list[str], episodes: int, seed: int, fresh: bool) -> list[tuple]:
+def episode_rows(
+    configs: list[str], episodes: int, seed: int, fresh: bool, planner: bool = True
+) -> list[tuple]:
     """The baselines' episodes on each config's env and its local runs' episodes, as
-    :data:`EPISODE_COLUMNS` rows."""
+    :data:`EPISODE_COLUMNS` rows (``planner``: see :func:`baseline_episodes`)."""
     rows: list[tuple] = []
     for env_id in dict.fromkeys(CONFIGS[c] for c in configs):
         env = env_id.split("/")[1]
-        for name, d in baseline_episodes(env_id, episodes, seed, fresh).items():
+        for name, d in baseline_episodes(env_id, episodes, seed, fresh, planner).items():
             rows += _rows(env, name, "-", d)
     for config in configs:
         env = CONFIGS[config].split("/")[1]
@@ -598,11 +608,23 @@ def runs_markdown() -> str:
 
 
 def missing_markdown() -> str:
-    """The configs with fewer than :data:`SEEDS` published runs, and the command for them."""
+    """The baselines not yet published on an env that has results, and the configs with
+    fewer than :data:`SEEDS` published runs, each with the command that adds them."""
+    flown = {(r["env"], r["policy"]) for r in published_rows(EPISODES_CSV) if r["run"] == "-"}
+    lines = []
+    for env_id, config in {e: c for c, e in reversed(CONFIGS.items())}.items():
+        env = env_id.split("/")[1]
+        if not any(e == env for e, _ in flown):
+            continue  # no results on this env yet: its configs' lines say so
+        lines += [
+            f"- {env}: the {name}'s episodes (`python -m benchmarks.results --configs {config}`)"
+            for name in BASELINES
+            if (env, name) not in flown
+        ]
     have = {c: 0 for c in CONFIGS}
     for r in published_rows(RUNS_CSV):
         have[r["config"]] += 1
-    lines = [
+    lines += [
         f"- `{c}`: {n} of {SEEDS} runs "
         + (f"({WAITING[c]})" if c in WAITING else
            f"(`python -m benchmarks.results --configs {c} --train`)")
@@ -635,8 +657,10 @@ says **below** where the trained IQM's interval lies wholly under the pilot's, *
 where wholly over it, and *overlaps* otherwise.
 
 {markdown()}
-Still to train (each line is the command that adds the missing seeds; runs of several
-sessions add up, the CSVs keep each run's revision):
+Still to fly and to train (each line is the command that adds the missing episodes or seeds;
+runs of several sessions add up, the CSVs keep each run's revision; `--no-planner` leaves out
+a planner not yet flown, the slowest baseline by far: it plans each action over the env's
+own model):
 
 {missing_markdown()}
 ## Learning curves
@@ -679,6 +703,13 @@ def main(argv: list[str] | None = None) -> int:
         help="fly the planner, pilot and random again (after a change to a scene's physics, "
         "pilot or planner), not read from docs/results_episodes.csv",
     )
+    parser.add_argument(
+        "--no-planner",
+        dest="planner",
+        action="store_false",
+        help="leave out the planner where it is not yet published (on the boat: hours); the "
+        "page lists it as still to fly",
+    )
     args = parser.parse_args(argv)
     if args.seeds < 1 or (args.max_new is not None and args.max_new < 1):
         parser.error(f"--seeds {args.seeds} --max-new {args.max_new}: each must be at least 1")
@@ -690,7 +721,7 @@ def main(argv: list[str] | None = None) -> int:
     rows = merge(
         EPISODES_CSV,
         EPISODE_COLUMNS,
-        episode_rows(args.configs, EPISODES, EVAL_SEED, args.fresh_baselines),
+        episode_rows(args.configs, EPISODES, EVAL_SEED, args.fresh_baselines, args.planner),
         ("env", "policy", "run"),
         note,
         [(CONFIGS[c].split("/")[1], policy_name(c), run_label(s)) for c, s in stale],

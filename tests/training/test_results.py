@@ -148,16 +148,26 @@ def test_baselines_are_flown_once_and_read_back(tmp_path, monkeypatch):
     assert sorted(got) == sorted(results.BASELINES)
     assert got["random"]["return"].tolist() == [1.0, 7.0]
     assert got["random"]["success"].tolist() == [0, 1]
-    assert results.published_baselines("Dart-v1", 3) is None  # not the episodes asked for
-    assert results.published_baselines("Boat-v1", 2) is None
+    assert results.published_baselines("Dart-v1", 3) == {}  # not the episodes asked for
+    assert results.published_baselines("Boat-v1", 2) == {}
 
-    def flown(*args, **kwargs):
-        raise RuntimeError("flown")
+    flown = []
 
-    monkeypatch.setattr("fluidsim_envs.rl.evaluate.find_scene", flown)
+    def fly(env_id, name, episodes, seed):
+        flown.append(name)
+        return {"return": np.full(episodes, 2.0), "success": np.ones(episodes, dtype=int)}
+
+    monkeypatch.setattr(results, "fly_baseline", fly)
     for seed, fresh in ((results.EVAL_SEED + 1, False), (results.EVAL_SEED, True)):
-        with pytest.raises(RuntimeError, match="flown"):
-            results.baseline_episodes("fluidsim/Dart-v1", 2, seed, fresh)
+        results.baseline_episodes("fluidsim/Dart-v1", 2, seed, fresh)
+        assert flown == list(results.BASELINES), (seed, fresh)
+        flown.clear()
+    # the boat's planner left out (hours): the others flown, the planner not, and then each
+    # read back from its cache
+    got = results.baseline_episodes("fluidsim/Boat-v1", 2, results.EVAL_SEED, planner=False)
+    assert flown == ["tuned pilot", "random"] and sorted(got) == ["random", "tuned pilot"]
+    assert results.baseline_episodes("fluidsim/Boat-v1", 2, results.EVAL_SEED) and flown == [
+        "tuned pilot", "random", "planner (oracle)"]  # fmt: skip
 
 
 def test_the_page_is_written_from_the_csvs(tmp_path, monkeypatch):
@@ -175,3 +185,20 @@ def test_the_page_is_written_from_the_csvs(tmp_path, monkeypatch):
         in page
     )
     assert "`boat_on_step_v1_ppo`: 0 of 5 runs" in page
+
+
+def test_the_page_lists_the_baselines_not_yet_flown(tmp_path, monkeypatch):
+    """An env with results but without its planner's episodes gets the line that flies it;
+    an env without results gets none (its configs' lines say what to train)."""
+    for name in ("EPISODES_CSV", "RUNS_CSV"):
+        monkeypatch.setattr(results, name, tmp_path / f"{name}.csv")
+    rows = [r for b in ("tuned pilot", "random") for r in episodes("BoatOnStep-v1", b, "-", [1.0])]
+    cols = results.EPISODE_COLUMNS
+    results.write_csv(results.EPISODES_CSV, cols, ([int(r[c]) if c == "success" else r[c]
+                                                     for c in cols] for r in rows))  # fmt: skip
+    lines = results.missing_markdown().splitlines()
+    assert lines[0] == (
+        "- BoatOnStep-v1: the planner (oracle)'s episodes "
+        "(`python -m benchmarks.results --configs boat_on_step_v1_ppo`)"
+    )
+    assert not any("SubmarineWake-v1:" in line or "PaperAirplane-v1:" in line for line in lines)
