@@ -612,8 +612,9 @@ def missing_markdown() -> str:
     fewer than :data:`SEEDS` published runs, each with the command that adds them."""
     flown = {(r["env"], r["policy"]) for r in published_rows(EPISODES_CSV) if r["run"] == "-"}
     lines = []
-    for env_id, config in {e: c for c, e in reversed(CONFIGS.items())}.items():
+    for env_id in dict.fromkeys(CONFIGS.values()):
         env = env_id.split("/")[1]
+        config = next(c for c, e in CONFIGS.items() if e == env_id)
         if not any(e == env for e, _ in flown):
             continue  # no results on this env yet: its configs' lines say so
         lines += [
@@ -711,6 +712,11 @@ def main(argv: list[str] | None = None) -> int:
         "page lists it as still to fly",
     )
     args = parser.parse_args(argv)
+    if args.fresh_baselines and not args.planner:
+        parser.error(
+            "--fresh-baselines --no-planner would keep the planner's old episodes beside "
+            "the others' fresh ones: fly them all, or none"
+        )
     if args.seeds < 1 or (args.max_new is not None and args.max_new < 1):
         parser.error(f"--seeds {args.seeds} --max-new {args.max_new}: each must be at least 1")
     if args.train:

@@ -217,8 +217,10 @@ class Curriculum(BaseCallback):
         model = self.model
         model._last_obs = self.training_env.reset()
         model._last_episode_starts = np.ones(self.training_env.num_envs, dtype=bool)
-        if getattr(model, "_last_original_obs", None) is not None:  # off-policy + VecNormalize
-            model._last_original_obs = self.training_env.get_original_obs()
+        if hasattr(model, "_last_original_obs") and model.get_vec_normalize_env() is not None:
+            # off-policy: the replay buffer stores the unnormalized observation (without
+            # VecNormalize, SB3 sets it from _last_obs at the next step)
+            model._last_original_obs = model.get_vec_normalize_env().get_original_obs()
         self.say(f"curriculum: from {self.num_timesteps:,} timesteps on, {label}")
 
 

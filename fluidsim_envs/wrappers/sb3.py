@@ -219,6 +219,10 @@ class SB3VecEnv(VecEnv):
         """Step ``venv`` from now on in place of the vector env (closed here): a curriculum's
         next stage. It must have the same number of sub-envs and the same spaces (a policy
         reads and acts on both); the counters go on, the next :meth:`reset` starts it."""
+        if venv.metadata.get("autoreset_mode") != AutoresetMode.SAME_STEP:
+            raise ValueError(
+                "SB3VecEnv.replace: the new vector env must autoreset in the same step"
+            )
         theirs = (venv.num_envs, venv.single_observation_space, venv.single_action_space)
         ours = (self.num_envs, self.observation_space, self.action_space)
         if theirs != ours:
@@ -228,6 +232,7 @@ class SB3VecEnv(VecEnv):
             )
         self.venv.close()
         self.venv = venv
+        self.metadata = venv.metadata
         self._actions = None
 
     # ---- rendering ------------------------------------------------------------------------

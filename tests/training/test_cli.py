@@ -575,3 +575,25 @@ def test_sac_config_trains_and_evaluates(tmp_path):
     assert model.num_timesteps == 200 and model.policy.actor.latent_pi[0].out_features == 256
     rows = evaluate_cli.evaluate(run, 2, 0, planner=False)
     assert [r["policy"] for r in rows] == ["trained SAC", *baselines()]
+
+
+@pytest.mark.parametrize("normalize", [True, False])
+def test_sac_goes_through_a_curriculum(tmp_path, capsys, normalize):
+    """Off-policy, with and without VecNormalize: the switch gives SAC the new episodes'
+    first observations (the replay buffer's unnormalized copy too) and training goes on."""
+    run = tmp_path / "sac"
+    overrides = [
+        "total_timesteps=120",
+        "n_envs=2",
+        "algorithm.learning_starts=40",
+        "algorithm.buffer_size=1000",
+        "eval.freq=0",
+        "checkpoint.freq=0",
+        f"normalize.enabled={str(normalize).lower()}",
+        "curriculum=[{timesteps: 60, env_kwargs: {max_episode_steps: 5}}]",
+    ]
+    args = ["paper_airplane_sac", "--set", *overrides, "--run-dir", str(run), "--no-progress-bar"]
+    assert train_cli.main(args) == 0
+    assert "curriculum: from 60 timesteps on, the run's own episodes" in capsys.readouterr().out
+    lengths = [int(r["l"]) for r in monitor_rows(run)]
+    assert lengths and max(lengths) == 5  # after the switch: episodes still in flight
