@@ -376,20 +376,27 @@ def _curriculum(cfg: TrainConfig, done_steps: int, say) -> list:
     ]
 
 
-def _check_stage_spaces(cfg: TrainConfig, venv) -> None:
-    """Every curriculum stage's env has the spaces of ``venv`` (the policy reads and acts on
-    both): a mismatch is an error before training, not at the stage's start."""
+def _check_stage_spaces(cfg: TrainConfig) -> None:
+    """Every curriculum stage's env has the spaces of the run's own (the policy reads and
+    acts on both): a mismatch is an error naming the stage before training, not at its
+    start."""
     from fluidsim_envs.wrappers.sb3 import make_vector_env
 
-    for i, (_, kwargs) in enumerate(stage_starts(cfg)):
-        env = make_vector_env(cfg.env_id, 1, **kwargs)
-        spaces = (env.single_observation_space, env.single_action_space)
-        env.close()
-        if spaces != (venv.observation_space, venv.action_space):
-            where = f"curriculum[{i}]" if i < len(cfg.curriculum) else "env_kwargs"
+    def spaces(env_kwargs: dict[str, Any]) -> tuple:
+        env = make_vector_env(cfg.env_id, 1, **env_kwargs)
+        try:
+            return env.single_observation_space, env.single_action_space
+        finally:
+            env.close()
+
+    *stages, (_, own_kwargs) = stage_starts(cfg)
+    own = spaces(own_kwargs)
+    for i, (_, kwargs) in enumerate(stages):
+        theirs = spaces(kwargs)
+        if theirs != own:
             raise ConfigError(
-                f"{where}: its env's (observation, action) spaces {spaces} differ from the "
-                f"first stage's {(venv.observation_space, venv.action_space)}"
+                f"curriculum[{i}]: its env's (observation, action) spaces {theirs} differ "
+                f"from those of the run's own env_kwargs {own}"
             )
 
 
@@ -635,7 +642,7 @@ def _build(cfg: TrainConfig, run_dir: Path, restart: Restart | None, env_seed: i
     eval_env = None
     try:
         if cfg.curriculum:
-            _check_stage_spaces(cfg, venv)
+            _check_stage_spaces(cfg)
         if cfg.eval.freq > 0:
             eval_env = make_env(cfg, cfg.eval.n_episodes, cfg.eval.seed, evaluation=True)
         return venv, eval_env, _model(cfg, run_dir, venv, restart, env_seed)

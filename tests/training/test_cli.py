@@ -597,3 +597,14 @@ def test_sac_goes_through_a_curriculum(tmp_path, capsys, normalize):
     assert "curriculum: from 60 timesteps on, the run's own episodes" in capsys.readouterr().out
     lengths = [int(r["l"]) for r in monitor_rows(run)]
     assert lengths and max(lengths) == 5  # after the switch: episodes still in flight
+
+
+def test_a_stage_with_other_spaces_is_refused_before_training(tmp_path, capsys):
+    """A stage whose env observes otherwise (no probe columns) cannot feed the policy: an
+    error naming the stage, and the failed start leaves no folder behind."""
+    stage = "curriculum=[{timesteps: 1000, env_kwargs: {observe_samples: false}}]"
+    run = tmp_path / "run"
+    args = ["paper_airplane_v1_ppo", "--set", *TINY, stage, "--run-dir", str(run)]
+    assert train_cli.main([*args, "--no-progress-bar"]) == 2
+    assert "curriculum[0]: its env's (observation, action) spaces" in capsys.readouterr().err
+    assert not run.exists()
