@@ -1,8 +1,9 @@
-"""A wall-clock race per v1 env: the shipped PPO config on its scene's v1 at ``standard``,
-searched over the shipped PPO space (``--search ppo``) for the config that reaches the tuned
+"""A wall-clock race per v1 env and algorithm: the shipped PPO config on its scene's v1 at
+``standard``, searched over the shipped PPO space (``--search ppo``), and PaperAirplane-v1's
+SAC config over the SAC space (``--search sac``), for the config that reaches the tuned
 pilot's return soonest on this machine's cores.
 
-    python -m benchmarks.sweep_envs                                  # all three (hours)
+    python -m benchmarks.sweep_envs                                  # all four (hours)
     python -m benchmarks.sweep_envs --configs paper_airplane_ppo --trials 12 --wall-budget-s 240
     python -m benchmarks.sweep_envs --csv-only                       # docs from the sweeps
 
@@ -10,9 +11,12 @@ The target is the tuned pilot's mean return at ``standard`` over 256 seeded epis
 (``docs/study_v1_ppo.csv``, the ``probes`` rows: the pilot flies v1 with the probes on, as
 PPO does). Each sweep is the real CLI in a subprocess: ``fluidsim-sweep CONFIG --set
 env_id=<v1> total_timesteps=<far> --search ppo --trials K --cpus-per-trial 2 --target T
---wall-budget-s B`` (one trial at a time, so every trial's clock runs on the same two
+--wall-budget-s B`` (PPO: one trial at a time, so every trial's clock runs on the same two
 cores; ``total_timesteps`` far beyond what the budget allows, so only the target and the
-budget end a trial). A sweep folder that holds a sweep is resumed, not started again.
+budget end a trial). SAC's trials take one core each, two at a time: a SAC trial steps a
+few envs and makes its gradient steps on one torch thread, so a second core would sit
+idle, and each trial's clock still runs on a core of its own. A sweep folder that holds a
+sweep is resumed, not started again.
 
 The in-training evaluations that decide "reached" fly the config's ``eval.n_episodes``
 episodes (32), not the pilot's 256: a trial's first evaluation at the target is a claim the
@@ -27,18 +31,47 @@ import math
 import shutil
 import subprocess
 import sys
+from dataclasses import dataclass
 
 from benchmarks.common import DOCS, ROOT, read_csv
 from benchmarks.study_v1_ppo import CONFIGS
 
 SWEEPS = ROOT / "sweeps" / "v1"
 PILOT_CSV = DOCS / "study_v1_ppo.csv"
-BUDGET_S = {  # a trial's wall-clock budget: a few times the shipped config's time to 3-5 M steps
-    "paper_airplane_ppo": 240.0,
-    "submarine_wake_ppo": 480.0,
-    "boat_on_step_ppo": 1500.0,
-}
 FAR = 1_000_000_000  # total_timesteps: never reached within a budget
+
+
+@dataclass(frozen=True)
+class Race:
+    """One config's race: the v1 env it flies, the shipped search space, a trial's wall-clock
+    budget, the cores a trial takes and the settings every trial shares."""
+
+    env_id: str
+    search: str
+    budget_s: float
+    cpus_per_trial: int = 2
+    sets: tuple[str, ...] = ()
+    grace_s: float | None = None  # ASHA's first rung (default: a ninth of the budget)
+
+
+#: PPO's budgets: a few times the shipped config's time to 3-5 M steps. SAC's: what a trial
+#: at a quarter of a gradient step per transition needs for ~300 k transitions on one core
+#: (a probe of 64x64 nets, 8 envs, 2 gradient steps a step: ~420 transitions/s), with
+#: evaluations every 10 k steps so that "reached" is seen soon after it happens, and ASHA's
+#: first cut at a third of the budget (at a ninth, SAC's returns are still warm-up noise).
+RACES = {
+    "paper_airplane_ppo": Race(CONFIGS["paper_airplane_ppo"], "ppo", 240.0),
+    "submarine_wake_ppo": Race(CONFIGS["submarine_wake_ppo"], "ppo", 480.0),
+    "boat_on_step_ppo": Race(CONFIGS["boat_on_step_ppo"], "ppo", 1500.0),
+    "paper_airplane_v1_sac": Race(
+        "fluidsim/PaperAirplane-v1",
+        "sac",
+        720.0,
+        cpus_per_trial=1,
+        sets=("eval.freq=10000",),
+        grace_s=240.0,
+    ),
+}
 
 
 def pilot_return(env_id: str) -> float:
@@ -52,16 +85,18 @@ def pilot_return(env_id: str) -> float:
 
 
 def sweep_command(config: str, trials: int, budget_s: float) -> list[str]:
-    env_id = CONFIGS[config]
+    race = RACES[config]
     folder = SWEEPS / config
     if (folder / "sweep.yaml").is_file():
         return [sys.executable, "-m", "fluidsim_envs.rl.sweep", "--resume", str(folder)]
     return [
         sys.executable, "-m", "fluidsim_envs.rl.sweep", config,
-        "--set", f"env_id={env_id}", f"total_timesteps={FAR}",
-        "--search", "ppo", "--trials", str(trials), "--cpus-per-trial", "2",
-        "--target", str(pilot_return(env_id)), "--wall-budget-s", str(budget_s),
+        "--set", f"env_id={race.env_id}", f"total_timesteps={FAR}", *race.sets,
+        "--search", race.search, "--trials", str(trials),
+        "--cpus-per-trial", str(race.cpus_per_trial),
+        "--target", str(pilot_return(race.env_id)), "--wall-budget-s", str(budget_s),
         "--sweep-dir", str(folder),
+        *(["--grace", str(race.grace_s)] if race.grace_s else []),
     ]  # fmt: skip
 
 
@@ -73,7 +108,7 @@ def publish(config: str, command: str) -> None:
         return
     import yaml
 
-    target = pilot_return(CONFIGS[config])
+    target = pilot_return(RACES[config].env_id)
     budget = yaml.safe_load((folder / "sweep.yaml").read_text())["wall_budget_s"]
     head = [
         f"# command: {command}",
@@ -94,16 +129,25 @@ def _base_values(config: str) -> dict[str, object]:
     from fluidsim_envs.rl.config import config_to_dict, load_config
     from fluidsim_envs.rl.space import base_point, find_space, parse_space
 
-    path = find_space("ppo")
+    race = RACES[config]
+    path = find_space(race.search)
     space = parse_space(yaml.safe_load(path.read_text()), str(path))
-    cfg = load_config(config, [f"env_id={CONFIGS[config]}"])
+    cfg = load_config(config, [f"env_id={race.env_id}"])
     return base_point(space, config_to_dict(cfg))[0]
 
 
 def _same(row: dict, values: dict) -> bool:
     """The row's values are ``values`` (a trial that errored before drawing any: not)."""
+    return all(_equal(row[k], v) for k, v in values.items())
+
+
+def _equal(cell: str, value: object) -> bool:
+    """A results-CSV cell holds ``value``: numbers to rounding, anything else (a net_arch
+    mapping) as the sweep wrote it."""
+    if isinstance(value, dict | list):
+        return cell == str(value)
     try:
-        return all(math.isclose(float(row[k]), float(v), rel_tol=1e-9) for k, v in values.items())
+        return math.isclose(float(cell), float(value), rel_tol=1e-9)
     except ValueError:
         return False
 
@@ -119,7 +163,7 @@ def markdown() -> str:
         "|---|--:|--:|--:|--:|--:|---|",
     ]
     found = False
-    for config, env_id in CONFIGS.items():
+    for config, race in RACES.items():
         path = DOCS / f"sweep_{config}.csv"
         if not path.is_file():
             continue
@@ -135,12 +179,11 @@ def markdown() -> str:
 
         best = rows[0]  # the search's ranking: the soonest, then the best return
         change = ", ".join(
-            f"{k.split('.')[-1]} {_fmt(best[k])}"
-            for k, v in base.items()
-            if not math.isclose(float(best[k]), float(v), rel_tol=1e-9)
+            f"{k.split('.')[-1]} {_fmt(best[k])}" for k, v in base.items() if not _equal(best[k], v)
         )
         lines.append(
-            f"| {env_id.split('/')[1]} | {target.split(' ')[0]} | {len(rows)} | {len(reached)} | "
+            f"| {race.env_id.split('/')[1]} {race.search.upper()} | {target.split(' ')[0]} | "
+            f"{len(rows)} | {len(reached)} | "
             f"{_when(shipped, budget)} | {_when(best, budget)} | "
             f"{change or 'nothing: it is the shipped config'} |"
         )
@@ -160,21 +203,32 @@ def _when(row: dict | None, budget: float) -> str:
 
 
 def _fmt(text: str) -> str:
-    x = float(text)
+    """A searched value as the summary shows it: a number briefly, a net_arch as its layers
+    (``{'pi': [64, 64], 'qf': [64, 64]}`` as ``64x64``)."""
+    try:
+        x = float(text)
+    except ValueError:
+        import ast
+
+        arch = ast.literal_eval(text)
+        layers = {tuple(v) for v in arch.values()} if isinstance(arch, dict) else {tuple(arch)}
+        if len(layers) == 1:
+            return "x".join(map(str, layers.pop()))
+        return " / ".join(f"{k} " + "x".join(map(str, v)) for k, v in arch.items())
     return f"{x:.3g}" if x != int(x) else str(int(x))
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--configs", nargs="+", choices=list(CONFIGS), default=list(CONFIGS))
+    parser.add_argument("--configs", nargs="+", choices=list(RACES), default=list(RACES))
     parser.add_argument("--trials", type=int, default=12)
-    parser.add_argument("--wall-budget-s", type=float, help="default: BUDGET_S per config")
+    parser.add_argument("--wall-budget-s", type=float, help="default: the race's budget_s")
     parser.add_argument("--csv-only", action="store_true", help="publish the sweeps as they are")
     args = parser.parse_args(argv)
     command = "python -m benchmarks.sweep_envs " + " ".join(argv or sys.argv[1:])
     for config in args.configs:
         if not args.csv_only:
-            budget = args.wall_budget_s or BUDGET_S[config]
+            budget = args.wall_budget_s or RACES[config].budget_s
             cmd = sweep_command(config, args.trials, budget)
             print("$", " ".join(cmd), flush=True)
             subprocess.run(cmd, check=True, cwd=ROOT)

@@ -277,6 +277,8 @@ def start_ray(address: str | None) -> None:
     # a resumed trial reports its evaluations from its checkpoint on again: Optuna keeps the
     # first value of each step and warns of the second
     warnings.filterwarnings("ignore", "The reported value is ignored", UserWarning)
+    # a choice of mappings (SAC's net_arch) is fine in memory; Optuna warns for its databases
+    warnings.filterwarnings("ignore", "Choices for a categorical distribution", UserWarning)
     quiet = {"include_dashboard": False, "log_to_driver": False, "logging_level": "WARNING"}
     if address is None:
         ray.init(num_cpus=os.cpu_count(), **quiet)
