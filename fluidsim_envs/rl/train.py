@@ -754,16 +754,25 @@ def _plan(cfg: TrainConfig, run_dir: Path, remaining: int, planned: int) -> str:
         if cfg.eval.freq > 0
         else "no evaluation (eval.freq 0)"
     )
-    stages = ", ".join(
-        f"{_stage_label(cfg, kwargs)} for {stage.timesteps:,} steps"
-        for stage, (_, kwargs) in zip(cfg.curriculum, stage_starts(cfg), strict=False)
-    )
+    stages = _stages_left(cfg, done=cfg.total_timesteps - remaining)
     if stages:  # the run's own episodes after the stages; evaluations fly those throughout
         stages = f" (a curriculum: {stages}, then the run's own)"
     return (
         f"training {a.name.upper()} on {cfg.env_id} with {cfg.n_envs} envs: {planned:,} env "
         f"steps{rounded}{stages}; {evals}; into {run_dir}"
     )
+
+
+def _stages_left(cfg: TrainConfig, done: int) -> str:
+    """The curriculum's stages not yet finished at ``done`` timesteps (a resumed run: the
+    one under way with its steps left), as the plan line names them."""
+    left = []
+    for stage, (start, kwargs) in zip(cfg.curriculum, stage_starts(cfg), strict=False):
+        steps = start + stage.timesteps - max(done, start)
+        if steps > 0:
+            more = " more" if done > start else ""
+            left.append(f"{_stage_label(cfg, kwargs)} for {steps:,}{more} steps")
+    return ", ".join(left)
 
 
 def _next_steps(run_dir: Path, timing: dict, best: bool) -> list[str]:

@@ -161,3 +161,21 @@ def test_a_run_trains_on_the_stage_of_its_timesteps():
     cfg = config_from_dict({**MINIMAL, "total_timesteps": 1000, "curriculum": stages})
     steps = [_stage_at(cfg, t).get("max_episode_steps") for t in (0, 99, 100, 149, 150, 999)]
     assert steps == [20, 20, 30, 30, None, None]
+
+
+def test_a_resumed_run_plans_only_the_stages_left():
+    """The plan line of a run resumed inside its curriculum names the stage under way with
+    its steps left and the stages ahead, not the finished ones."""
+    from fluidsim_envs.rl.train import _stages_left
+
+    stages = [
+        {"timesteps": 100, "env_kwargs": {"max_episode_steps": 20}},
+        {"timesteps": 50, "env_kwargs": {"max_episode_steps": 30}},
+    ]
+    cfg = config_from_dict({**MINIMAL, "total_timesteps": 1000, "curriculum": stages})
+    assert _stages_left(cfg, done=0) == (
+        "episodes of max_episode_steps: 20 for 100 steps, "
+        "episodes of max_episode_steps: 30 for 50 steps"
+    )
+    assert _stages_left(cfg, done=120) == "episodes of max_episode_steps: 30 for 30 more steps"
+    assert _stages_left(cfg, done=150) == ""
