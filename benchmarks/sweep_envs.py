@@ -27,6 +27,8 @@ multi-seed results check on the full episodes. Writes ``docs/sweep_<config>.csv`
 from __future__ import annotations
 
 import argparse
+import csv
+import io
 import math
 import shutil
 import subprocess
@@ -108,15 +110,21 @@ def publish(config: str, command: str) -> None:
         return
     import yaml
 
+    from fluidsim_envs.rl.space import base_point, parse_space
+
     target = pilot_return(RACES[config].env_id)
-    budget = yaml.safe_load((folder / "sweep.yaml").read_text())["wall_budget_s"]
+    sweep = yaml.safe_load((folder / "sweep.yaml").read_text())
+    body = (folder / "results.csv").read_text()
+    first = base_point(parse_space(sweep["space"], "sweep.yaml"), sweep["base"])[0]
+    rows = list(csv.DictReader(io.StringIO(body)))
+    first_trial = next((r["trial"] for r in rows if _same(r, first)), "none")
     head = [
         f"# command: {command}",
         f"# target: the tuned pilot's mean return at standard, {target} (docs/study_v1_ppo.csv)",
-        f"# budget: a trial's wall-clock limit, {budget:g} s",
+        f"# budget: a trial's wall-clock limit, {sweep['wall_budget_s']:g} s",
         f"# sweep: {folder.relative_to(ROOT)}",
+        f"# first trial: {first_trial} (the config as it was when raced)",
     ]
-    body = (folder / "results.csv").read_text()
     (DOCS / f"sweep_{config}.csv").write_text("\n".join(head) + "\n" + body)
     shutil.copyfile(folder / "results.md", DOCS / f"sweep_{config}.md")
     print(f"wrote docs/sweep_{config}.csv and .md")
@@ -144,19 +152,17 @@ def _same(row: dict, values: dict) -> bool:
 def _equal(cell: str, value: object) -> bool:
     """A results-CSV cell holds ``value``: numbers to rounding, anything else (a net_arch
     mapping) as the sweep wrote it."""
-    if isinstance(value, dict | list):
-        return cell == str(value)
     try:
         return math.isclose(float(cell), float(value), rel_tol=1e-9)
-    except ValueError:
-        return False
+    except (TypeError, ValueError):
+        return cell == str(value)
 
 
 def markdown() -> str:
     """Each env's race: the trials, how many reached the tuned pilot's return within the
-    budget, the shipped config's time to it (the sweep's first trial) and the search's best
-    trial's (the soonest; where none reached it, the best return), with what that config
-    changes (docs/sweep_<config>.csv)."""
+    budget, the shipped config's time to it (the sweep's first trial: the config as it was
+    when raced) and the search's best trial's (the soonest; where none reached it, the best
+    return), with what that config changes (docs/sweep_<config>.csv)."""
     lines = [
         "| env | target (tuned pilot) | trials | reached | shipped config | the search's best | "
         "what the best changes |",
@@ -170,12 +176,11 @@ def markdown() -> str:
         found = True
         comments, rows = read_csv(path)
         target = next(c for c in comments if c.startswith("target:")).rsplit(", ", 1)[1]
-        base = _base_values(config)
         budget = float(next(c for c in comments if c.startswith("budget:")).split(", ")[1][:-2])
         reached = [
             r for r in rows if r["time_to_target_s"] and float(r["time_to_target_s"]) <= budget
         ]
-        shipped = next((r for r in rows if _same(r, base)), None)
+        shipped, base = _first_trial(config, comments, rows)
 
         best = rows[0]  # the search's ranking: the soonest, then the best return
         change = ", ".join(
@@ -190,6 +195,18 @@ def markdown() -> str:
     if not found:
         return "(no docs/sweep_*.csv yet: `python -m benchmarks.sweep_envs`)\n"
     return "\n".join(lines) + "\n"
+
+
+def _first_trial(config: str, comments: list[str], rows: list[dict]) -> tuple[dict | None, dict]:
+    """The race's first trial (the config as it was) and its searched values: named in the
+    CSV's header, or (a CSV from before the header said it) the trial with the shipped
+    config's values."""
+    named = next((c.split()[2] for c in comments if c.startswith("first trial:")), None)
+    base = _base_values(config)
+    if named is None:
+        return next((r for r in rows if _same(r, base)), None), base
+    row = next((r for r in rows if r["trial"] == named), None)
+    return row, ({k: row[k] for k in base} if row else base)
 
 
 def _when(row: dict | None, budget: float) -> str:
