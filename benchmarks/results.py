@@ -65,12 +65,7 @@ CONFIGS = {
     "paper_airplane_v1_sac": "fluidsim/PaperAirplane-v1",
 }
 #: configs whose seeds wait for something first (the page says what)
-WAITING = {
-    "paper_airplane_v1_sac": "first a config in wall-clock reach: as shipped (a gradient "
-    "step per transition) a seed trains far slower than a PPO run, not yet measured by a "
-    "committed benchmark; a SAC race (`fluidsim-sweep paper_airplane_v1_sac --search sac`) "
-    "comes first",
-}
+WAITING: dict[str, str] = {}  # config: why its runs are not trained yet (the page says)
 SWEEPS = ROOT / "sweeps" / "results"
 EVAL_SEED = 0  # the pilots were tuned on TUNING_SEEDS (evaluation.py): disjoint
 EPISODES = 256
