@@ -1,7 +1,8 @@
 """A wall-clock race per v1 env and algorithm: the shipped PPO config on its scene's v1 at
-``standard``, searched over the shipped PPO space (``--search ppo``), and PaperAirplane-v1's
-SAC config over the SAC space (``--search sac``), for the config that reaches the tuned
-pilot's return soonest on this machine's cores.
+``standard`` (the boat: its v1 curriculum config), searched over the shipped PPO space
+(``--search ppo``), and PaperAirplane-v1's SAC config over the SAC space (``--search
+sac``), for the config that reaches the tuned pilot's return soonest on this machine's
+cores.
 
     python -m benchmarks.sweep_envs                                  # all four (hours)
     python -m benchmarks.sweep_envs --configs paper_airplane_ppo --trials 12 --wall-budget-s 240
@@ -56,7 +57,9 @@ class Race:
     grace_s: float | None = None  # ASHA's first rung (default: a ninth of the budget)
 
 
-#: PPO's budgets: a few times the shipped config's time to 3-5 M steps. SAC's: what a trial
+#: PPO's budgets: a few times the shipped config's time to 3-5 M steps; the boat's races its
+#: curriculum config (2 M steps at easy first), with ASHA's first cut after that stage, at
+#: standard. SAC's: what a trial
 #: at a quarter of a gradient step per transition needs for ~300 k transitions on one core
 #: (a probe of 64x64 nets, 8 envs, 2 gradient steps a step: ~420 transitions/s), with
 #: evaluations every 10 k steps so that "reached" is seen soon after it happens, and ASHA's
@@ -64,7 +67,7 @@ class Race:
 RACES = {
     "paper_airplane_ppo": Race(CONFIGS["paper_airplane_ppo"], "ppo", 240.0),
     "submarine_wake_ppo": Race(CONFIGS["submarine_wake_ppo"], "ppo", 480.0),
-    "boat_on_step_ppo": Race(CONFIGS["boat_on_step_ppo"], "ppo", 1500.0),
+    "boat_on_step_v1_ppo": Race("fluidsim/BoatOnStep-v1", "ppo", 2700.0, grace_s=900.0),
     "paper_airplane_v1_sac": Race(
         "fluidsim/PaperAirplane-v1",
         "sac",
@@ -160,13 +163,14 @@ def _equal(cell: str, value: object) -> bool:
 
 def markdown() -> str:
     """Each env's race: the trials, how many reached the tuned pilot's return within the
-    budget, the shipped config's time to it (the sweep's first trial: the config as it was
-    when raced) and the search's best trial's (the soonest; where none reached it, the best
-    return), with what that config changes (docs/sweep_<config>.csv)."""
+    budget, the time to it of the config raced from (the sweep's first trial: the config as
+    it was when raced; a config that ships a race's winner was raced from another) and of
+    the search's best trial (the soonest; where none reached it, the best return), each
+    trial's env steps a second, and what the best changes (docs/sweep_<config>.csv)."""
     lines = [
-        "| env | target (tuned pilot) | trials | reached | shipped config | the search's best | "
-        "what the best changes |",
-        "|---|--:|--:|--:|--:|--:|---|",
+        "| env | target (tuned pilot) | trials | reached | config raced from | the search's best "
+        "| env steps/s (from, best) | what the best changes |",
+        "|---|--:|--:|--:|--:|--:|--:|---|",
     ]
     found = False
     for config, race in RACES.items():
@@ -190,7 +194,8 @@ def markdown() -> str:
             f"| {race.env_id.split('/')[1]} {race.search.upper()} | {target.split(' ')[0]} | "
             f"{len(rows)} | {len(reached)} | "
             f"{_when(shipped, budget)} | {_when(best, budget)} | "
-            f"{change or 'nothing: it is the shipped config'} |"
+            f"{_rate(shipped)}, {_rate(best)} | "
+            f"{change or 'nothing: it is the config raced from'} |"
         )
     if not found:
         return "(no docs/sweep_*.csv yet: `python -m benchmarks.sweep_envs`)\n"
@@ -210,13 +215,24 @@ def _first_trial(config: str, comments: list[str], rows: list[dict]) -> tuple[di
 
 
 def _when(row: dict | None, budget: float) -> str:
-    """A trial's time to the target, or that it did not reach it within its budget."""
+    """A trial's time to the target, or that it did not reach it: within its budget, or
+    before ASHA stopped it."""
     if row is None:
         return "not run"
     t = row["time_to_target_s"]
     if t and float(t) <= budget:
         return f"{float(t):.0f} s"
-    return f"not in {budget:.0f} s (best {float(row['best_return']):.3g})"
+    best = f"best {float(row['best_return']):.3g}"
+    if row["status"] == "stopped early":
+        return f"stopped by ASHA at {float(row['wall_s']):.0f} s ({best})"
+    return f"not in {budget:.0f} s ({best})"
+
+
+def _rate(row: dict | None) -> str:
+    """A trial's env steps a second over its whole run (evaluations and updates included)."""
+    if row is None or not row["wall_s"] or not float(row["wall_s"]):
+        return "-"
+    return f"{float(row['timesteps']) / float(row['wall_s']):,.0f}"
 
 
 def _fmt(text: str) -> str:

@@ -61,6 +61,7 @@ from typing import Any
 
 import numpy as np
 
+from ..physics.jit import target_cpu
 from . import files
 from .config import ConfigError, TrainConfig, load_config, load_yaml, parse_assignment
 from .files import RunError
@@ -556,6 +557,8 @@ def _method_lines(rows: list[dict[str, Any]], skipped: list[str]) -> list[str]:
         f"intervals: each mean's {CONFIDENCE:.0%} bootstrap interval over the episodes "
         f"(_lo, _hi; scipy.stats.bootstrap, BCa, percentile where BCa fails; {RESAMPLES} "
         "resamples, seeded; all-equal values give [mean, mean])",
+        f"cpu: {target_cpu()} (the kernels' target: on such a CPU these numbers again to the "
+        "bit; another rounds the last bits differently)",
     ]
     return lines
 

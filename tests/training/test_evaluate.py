@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from benchmarks import report
+from fluidsim_envs.physics.jit import target_cpu
 from fluidsim_envs.rl import evaluate as evaluate_cli
 from fluidsim_envs.scenes import SCENES, Scene
 
@@ -51,6 +52,8 @@ def test_the_baselines_alone(tmp_path, capsys):
     assert comments[0].startswith(f"# command: fluidsim-evaluate --env-id {BOAT} --episodes 4")
     assert any(c.startswith(f"# baselines only: {BOAT}, git ") for c in comments)
     assert any("skipped: planner (oracle) (--no-planner)" in c for c in comments)
+    # the CPU the kernels were compiled for: the zoo's check holds a table to the bit on it
+    assert any(c.startswith(f"# cpu: {target_cpu()} (the kernels' target") for c in comments)
     for policy in rows:  # what it evaluates and how long it took
         assert f"{policy}: 4 episodes ..." in out and f"{policy}: done in " in out
     for r in rows.values():

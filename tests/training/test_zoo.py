@@ -44,3 +44,30 @@ def test_the_best_run_is_chosen_on_the_published_episodes(tmp_path, monkeypatch)
     monkeypatch.setattr(zoo, "EPISODES_CSV", path)
     assert zoo.best_seed("paper_airplane_v1_ppo") == 1
     assert zoo.best_seed("paper_airplane_v1_sac") is None
+
+
+def _rows(trained_return: float, trained_success: float) -> list[dict]:
+    rows = [("trained SAC", trained_return, trained_success), ("random", -4.9, 0.0078125)]
+    return [
+        {"policy": p, "episodes": "256", "return_mean": repr(r), "success_rate": repr(s)}
+        for p, r, s in rows
+    ]
+
+
+def test_on_its_own_cpu_an_entry_reproduces_to_the_bit_on_another_to_its_rounding():
+    kept = _rows(18.448012, 0.8125)
+    # the last bits moved (as a rocketlake moved the PPO entries'): only another CPU forgives
+    nudged = _rows(18.448012 * (1 + 1e-6), 0.8125)
+    assert zoo.compare(kept, nudged, "rocketlake", "rocketlake") != []
+    assert zoo.compare(kept, nudged, "rocketlake", "skylake-avx512") == []
+    assert zoo.compare(kept, nudged, None, "rocketlake") == []  # a table that names no CPU
+    assert zoo.compare(kept, kept, "rocketlake", "rocketlake") == []
+    # further than a CPU's rounding moves it: a different policy
+    moved_return = _rows(18.448012 * (1 + 3 * zoo.OTHER_CPU_RETURN_REL), 0.8125)
+    moved_success = _rows(18.448012, 0.8125 + (zoo.OTHER_CPU_SUCCESS_EPISODES + 1) / 256)
+    for again in (moved_return, moved_success):
+        (line,) = zoo.compare(kept, again, "rocketlake", "skylake-avx512")
+        assert line.startswith("trained SAC on skylake-avx512 (evaluated on rocketlake)")
+    assert zoo.compare(kept, kept[::-1], "rocketlake", "skylake-avx512") == [
+        "policies ['random', 'trained SAC'] != ['trained SAC', 'random']"
+    ]
