@@ -55,6 +55,7 @@ require("train", "fluidsim_envs.rl.train")
 import numpy as np  # noqa: E402
 import yaml  # noqa: E402  (after the check that names the missing extra)
 
+from ..physics.jit import target_cpu  # noqa: E402
 from . import files  # noqa: E402
 from .config import (  # noqa: E402
     ACTIVATIONS,
@@ -680,6 +681,10 @@ def _meta(
             "git": git_revision(),
             "started": now,
             "versions": versions(),
+            # the CPU it trained on (the kernels' target): a seed trains the same policy again,
+            # to the bit, on such a CPU only (the kernels and torch round differently on
+            # another, and training carries it into another policy)
+            "cpu": target_cpu(),
             "seeds": seeds,
         }
     else:

@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 import yaml
 
+from fluidsim_envs.physics.jit import target_cpu
 from fluidsim_envs.rl import cli
 from fluidsim_envs.rl import evaluate as evaluate_cli
 from fluidsim_envs.rl import train as train_cli
@@ -115,6 +116,7 @@ def test_train_writes_a_self_describing_run_folder(run):
     assert meta["git"]["revision"] is None or len(meta["git"]["revision"]) == 40
     assert meta["seeds"]["model"] == 0 and meta["num_timesteps"] == 2048
     assert meta["versions"]["stable_baselines3"]
+    assert meta["cpu"] == target_cpu()  # a seed's policy repeats to the bit on this CPU only
     (timing,) = meta["timing"]  # where the time went: the envs against the learner
     assert timing["env_steps"] == 2048 and 0.0 < timing["env_share"] < 1.0
     assert timing["train_env_s"] + timing["eval_env_s"] < timing["wall_s"]
