@@ -1,19 +1,24 @@
-"""Where PPO's wall time goes, per shipped PPO config, before and after the wall-clock retune;
-and the grid of settings the retune was chosen from.
+"""Where training's wall time goes, per shipped v1 config, before and after issue 43 (threads
+with one owner, lean infos, the wall-clock retune), on a quiet machine and beside busy
+processes; and the grid of settings an earlier retune (of the v0 configs) was chosen from.
 
-Each measurement trains one config for ``--steps`` env steps (seed 0) through the trainer's
-own building blocks (the envs, ``VecMonitor``, ``VecNormalize``, the model, the evaluation and
-checkpoint callbacks, TensorBoard logging: :mod:`fluidsim_envs.rl.train`) into a temporary run
-folder, with timers around SB3's methods (not a sampling profiler):
+Each measurement trains one config for ``--steps`` env steps (seed 0; SAC ``--sac-steps``,
+learning from its 1,000th step on, not its config's 10,000th, so that its updates are in the
+window) through the trainer's own building blocks (the envs, ``VecMonitor``, ``VecNormalize``,
+the model, the evaluation and checkpoint callbacks, TensorBoard logging:
+:mod:`fluidsim_envs.rl.train`) into a temporary run folder, on the threads
+:mod:`fluidsim_envs.threads` chooses, with timers around SB3's methods (not a sampling
+profiler):
 
 ================  ============================================================================
 ``env``           the training ``VecEnv``'s ``step_wait``: the native vector env, the SB3
                   adapter, ``VecMonitor`` and ``VecNormalize``
-``forward``       the policy's forward pass in the rollout (``policy.forward`` under no_grad)
+``forward``       the policy in the rollout (PPO: ``policy.forward`` under no_grad; SAC:
+                  ``_sample_action``)
 ``bookkeeping``   the rest of ``collect_rollouts``: tensors from and to NumPy, action clipping,
-                  the rollout buffer's adds, value bootstraps of truncated episodes, GAE, the
-                  callbacks' per-step calls
-``update``        ``PPO.train``: the epochs of minibatch gradient steps
+                  the rollout or replay buffer's adds, value bootstraps of truncated episodes,
+                  GAE, the callbacks' per-step calls
+``update``        ``PPO.train`` / ``SAC.train``: the gradient steps
 ``eval``          the periodic evaluations (``Evaluations._on_step``, eval env and saves);
                   when the budget is shorter than ``eval.freq``, one evaluation timed after
                   training, times the budget over ``eval.freq`` (added to the wall time)
@@ -21,50 +26,64 @@ folder, with timers around SB3's methods (not a sampling profiler):
 ``other``         the rest of ``learn``: its set-up, the logger's dumps
 ================  ============================================================================
 
-``before`` is each config with the settings it shipped with before the retune
-(:data:`BEFORE`); ``after`` is the shipped config as it is. Both are measured in turn, round
-after round (``--repeats``), so that a change of load on the machine hits them alike; each
-row is its fastest round. torch's and numba's thread counts and the load average are written
-with every row.
+``before`` is each config as it shipped before issue 43 (:data:`BEFORE`: its settings then,
+torch's own default of a thread per core, and the SB3 adapter handing SB3 every info entry of
+every sub-env); ``after`` is the shipped config as it is. Each is measured quiet and beside
+``--busy`` busy processes (a Python loop each, started before the measurement and stopped
+after it: a browser, a second run). Subjects are measured in turn, round after round
+(``--repeats``), so that a change of load on the machine hits them alike; each row is its
+fastest round, with the load average at its start and end.
 
     python -m benchmarks.bench_training              # docs/bench_training.csv, .png
-    python -m benchmarks.bench_training --quick      # the dart alone, 2 rollouts each: < 1 min
-    python -m benchmarks.bench_training --grid       # docs/bench_training_grid.csv
+    python -m benchmarks.bench_training --quick      # the dart alone, quiet, 2 rollouts each
+    python -m benchmarks.bench_training --grid       # the v0 grid: docs/bench_training_grid.csv
     python -m benchmarks.bench_training --md-only    # the table and chart from the CSV
 """
 
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import os
+import subprocess
+import sys
 import tempfile
 import time
 from collections import defaultdict
 from pathlib import Path
 
-import numba
-
 from benchmarks.common import DOCS, arguments, describe, load_average, read_csv, write_csv
 
-CONFIGS = ("paper_airplane_ppo", "boat_on_step_ppo", "submarine_wake_ppo")
-#: the wall-clock settings every shipped PPO config had before the retune (issue 21): a
-#: variant is a list of ``--set`` overrides on top of the shipped config
-BEFORE = (
+CONFIGS = ("paper_airplane_v1_ppo", "submarine_wake_v1_ppo", "boat_on_step_v1_ppo",
+           "paper_airplane_v1_sac")  # fmt: skip
+#: what each config shipped with before issue 43, as ``--set`` overrides on the config as it
+#: ships now (``torch_threads`` and the adapter's full infos are the ``before`` variant's own)
+BEFORE: dict[str, tuple[str, ...]] = {
+    "paper_airplane_v1_ppo": (),
+    "submarine_wake_v1_ppo": (),
+    "boat_on_step_v1_ppo": (),
+    "paper_airplane_v1_sac": (),
+}
+#: SAC's first update at this step in every measurement (its configs: 10,000)
+SAC_LEARNING_STARTS = 1_000
+#: the v0 configs and the settings they shipped with before their retune (issue 21): the
+#: grid (``--grid``) and ``benchmarks.train_wallclock`` start from them
+V0_CONFIGS = ("paper_airplane_ppo", "boat_on_step_ppo", "submarine_wake_ppo")
+V0_BEFORE = (
     "n_envs=64",
     "algorithm.n_steps=256",
     "algorithm.batch_size=2048",
     "algorithm.n_epochs=10",
-    "torch_threads=null",
 )
 PHASES = ("env", "forward", "bookkeeping", "update", "eval", "checkpoint", "other")
 COLUMNS = (
-    "config", "variant", "overrides", "n_envs", "n_steps", "batch_size", "n_epochs",
+    "config", "variant", "busy", "overrides", "n_envs", "n_steps", "batch_size", "n_epochs",
     "torch_threads", "numba_threads", "env_steps", "wall_s", "env_steps_per_s",
     *(f"{p}_s" for p in PHASES), "load_start", "load_end",
 )  # fmt: skip
-#: the grid (``--grid``): label -> overrides on top of BEFORE, measured on each --configs
+#: the grid (``--grid``): label -> overrides on top of V0_BEFORE, measured on each --configs
 GRID = {
-    "before": (),
+    "before": ("torch_threads=2",),
     "threads 1": ("torch_threads=1",),
     **{
         f"threads 1, {label}": ("torch_threads=1", *sets)
@@ -89,7 +108,6 @@ GRID = {
     "256 x 64, threads 2": ("n_envs=256", "algorithm.n_steps=64", "torch_threads=2"),
 }
 CSV = DOCS / "bench_training.csv"
-TORCH_DEFAULT_THREADS = 0  # torch's thread count before any measurement set it (main)
 GRID_CSV = DOCS / "bench_training_grid.csv"
 
 
@@ -102,7 +120,8 @@ def timers(train_env):
     SB3's and our classes' methods wrapped for the duration: at class level, so that a model
     saved meanwhile pickles nothing of this. Only the training env's ``step_wait`` counts as
     ``env`` (the eval env is inside ``eval``)."""
-    from stable_baselines3 import PPO
+    from stable_baselines3 import PPO, SAC
+    from stable_baselines3.common.off_policy_algorithm import OffPolicyAlgorithm
     from stable_baselines3.common.on_policy_algorithm import OnPolicyAlgorithm
     from stable_baselines3.common.policies import ActorCriticPolicy
 
@@ -127,8 +146,11 @@ def timers(train_env):
         patched.append((cls, name, original))
 
     wrap(OnPolicyAlgorithm, "collect_rollouts", "rollout")
+    wrap(OffPolicyAlgorithm, "collect_rollouts", "rollout")
     wrap(PPO, "train", "update")
+    wrap(SAC, "train", "update")
     wrap(ActorCriticPolicy, "forward", "forward")
+    wrap(OffPolicyAlgorithm, "_sample_action", "forward")
     wrap(type(train_env), "step_wait", "env", only=train_env)
     wrap(Evaluations, "_on_step", "eval")
     wrap(Checkpoints, "_on_step", "checkpoint")
@@ -137,6 +159,35 @@ def timers(train_env):
     finally:
         for cls, name, original in reversed(patched):
             setattr(cls, name, original)
+
+
+@contextlib.contextmanager
+def busy_processes(n: int):
+    """``n`` processes, each a Python loop that keeps a core busy, for the block."""
+    procs = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(n)]
+    try:
+        if procs:
+            time.sleep(1.0)  # scheduled before the clock starts
+        yield
+    finally:
+        for p in procs:
+            p.kill()
+            p.wait()
+
+
+@contextlib.contextmanager
+def full_infos(on: bool):
+    """With ``on``, the SB3 adapter as it was before issue 43: every info entry of every
+    sub-env handed to SB3 (``info_keys=None``), not only those training reads."""
+    from fluidsim_envs.wrappers import sb3
+
+    original = sb3.make_sb3_vec_env
+    if on:
+        sb3.make_sb3_vec_env = lambda *a, **k: original(*a, **{**k, "info_keys": None})
+    try:
+        yield
+    finally:
+        sb3.make_sb3_vec_env = original
 
 
 def warm_up(*venvs) -> None:
@@ -153,38 +204,61 @@ def warm_up(*venvs) -> None:
         native.step(np.zeros(native.action_space.shape, dtype=np.float32))
 
 
-def measure(config: str, overrides: tuple[str, ...], steps: int) -> dict:
-    """Train ``config`` with ``overrides`` for ``steps`` env steps (rounded up to whole
-    rollouts) and return a CSV row: the settings, the rate and the seconds per phase."""
+@dataclasses.dataclass(frozen=True)
+class Subject:
+    """One measurement's settings: a config with ``--set`` overrides, ``old`` (torch's own
+    thread default and the adapter's full infos, as before issue 43), beside ``busy``
+    processes."""
+
+    config: str
+    variant: str
+    overrides: tuple[str, ...] = ()
+    old: bool = False
+    busy: int = 0
+
+
+def measure(subject: Subject, steps: int) -> dict:
+    """Train ``subject`` for ``steps`` env steps (rounded up to whole rollouts) and return a
+    CSV row: the settings, the rate and the seconds per phase."""
+    from fluidsim_envs import threads
     from fluidsim_envs.rl import train as T
     from fluidsim_envs.rl.config import load_config, resolved
 
-    cfg = resolved(load_config(config, [*overrides]))
-    # null: torch's default, as a fresh process has it (an earlier measurement set others)
-    threads = T.set_torch_threads(cfg.torch_threads or TORCH_DEFAULT_THREADS)
+    overrides = list(subject.overrides)
+    if subject.config.endswith("_sac"):
+        overrides.append(f"algorithm.learning_starts={SAC_LEARNING_STARTS}")
+    cfg = resolved(load_config(subject.config, overrides))
+    plan = T._threads(cfg)
+    if subject.old:  # torch's own default then: a thread per core
+        plan = dataclasses.replace(plan, torch=plan.cores)
     planned = T.planned_timesteps(cfg, steps)
-    with tempfile.TemporaryDirectory(prefix="bench_training_") as tmp:
+    with (
+        tempfile.TemporaryDirectory(prefix="bench_training_") as tmp,
+        threads.owned(plan),
+        full_infos(subject.old),
+    ):
         run_dir = Path(tmp)
         venv, eval_env, model = T._build(cfg, run_dir, None, cfg.seed, 0.0)
         warm_up(venv, eval_env)
         callbacks = T._callbacks(cfg, run_dir, venv, eval_env, lambda line: None, resumed=False)
-        load_start = os.getloadavg()[0]
-        with timers(venv) as s:
-            t0 = time.perf_counter()
-            model.learn(total_timesteps=planned, callback=callbacks, progress_bar=False)
-            wall = time.perf_counter() - t0
-        from fluidsim_envs.rl.callbacks import Evaluations
+        with busy_processes(subject.busy):
+            load_start = os.getloadavg()[0]
+            with timers(venv) as s:
+                t0 = time.perf_counter()
+                model.learn(total_timesteps=planned, callback=callbacks, progress_bar=False)
+                wall = time.perf_counter() - t0
+            from fluidsim_envs.rl.callbacks import Evaluations
 
-        evaluations = next((c for c in callbacks if isinstance(c, Evaluations)), None)
-        if evaluations is not None and not len(evaluations.log.timesteps):
-            # a budget shorter than eval.freq: one evaluation timed now, counted as the share
-            # of one that these steps bring in a real run (one per eval.freq steps)
-            t0 = time.perf_counter()
-            evaluations._episodes()
-            s["eval"] = (time.perf_counter() - t0) * model.num_timesteps / evaluations.period
-            s["rollout"] += s["eval"]
-            wall += s["eval"]
-        load_end = os.getloadavg()[0]
+            evaluations = next((c for c in callbacks if isinstance(c, Evaluations)), None)
+            if evaluations is not None and not len(evaluations.log.timesteps):
+                # a budget shorter than eval.freq: one evaluation timed now, counted as the
+                # share of one that these steps bring in a real run (one per eval.freq steps)
+                t0 = time.perf_counter()
+                evaluations._episodes()
+                s["eval"] = (time.perf_counter() - t0) * model.num_timesteps / evaluations.period
+                s["rollout"] += s["eval"]
+                wall += s["eval"]
+            load_end = os.getloadavg()[0]
         venv.close()
         if eval_env is not None:
             eval_env.close()
@@ -199,14 +273,16 @@ def measure(config: str, overrides: tuple[str, ...], steps: int) -> dict:
         "other": wall - s["rollout"] - s["update"],
     }
     return {
-        "config": config,
-        "overrides": " ".join(overrides),
+        "config": subject.config,
+        "variant": subject.variant,
+        "busy": subject.busy,
+        "overrides": " ".join(subject.overrides),
         "n_envs": cfg.n_envs,
-        "n_steps": a.n_steps,
+        "n_steps": getattr(a, "n_steps", ""),
         "batch_size": a.batch_size,
-        "n_epochs": a.n_epochs,
-        "torch_threads": threads,
-        "numba_threads": numba.get_num_threads(),
+        "n_epochs": getattr(a, "n_epochs", ""),
+        "torch_threads": plan.torch,
+        "numba_threads": plan.numba,
         "env_steps": int(model.num_timesteps),
         "wall_s": round(wall, 3),
         "env_steps_per_s": round(model.num_timesteps / wall, 1),
@@ -216,25 +292,25 @@ def measure(config: str, overrides: tuple[str, ...], steps: int) -> dict:
     }
 
 
-def interleaved(subjects: dict[tuple[str, str], tuple[str, ...]], steps: int, repeats: int):
-    """Every subject ``(config, variant) -> overrides`` measured once per round, in turn (the
-    order reversed every other round); each subject's fastest round."""
-    best: dict[tuple[str, str], dict] = {}
-    keys = list(subjects)
+def interleaved(subjects: list[Subject], steps: dict[str, int], repeats: int) -> list[dict]:
+    """Every subject measured once per round, in turn (the order reversed every other round);
+    each subject's fastest round. ``steps``: the budget per config."""
+    best: dict[Subject, dict] = {}
     for r in range(repeats):
-        for key in keys if r % 2 == 0 else keys[::-1]:
-            row = {**measure(key[0], subjects[key], steps), "variant": key[1]}
+        for subject in subjects if r % 2 == 0 else subjects[::-1]:
+            row = measure(subject, steps[subject.config])
             print(_line(row), flush=True)
-            if key not in best or row["wall_s"] < best[key]["wall_s"]:
-                best[key] = row
-    return [best[k] for k in keys]
+            if subject not in best or row["wall_s"] < best[subject]["wall_s"]:
+                best[subject] = row
+    return [best[s] for s in subjects]
 
 
 def _line(r: dict) -> str:
     split = " ".join(f"{p} {float(r[f'{p}_s']):6.1f}" for p in PHASES)
     return (
-        f"{r['config']:<20} {r['variant']:<32} {float(r['env_steps_per_s']):>9,.0f} env-steps/s  "
-        f"torch {r['torch_threads']}  {split}  (s; load {r['load_start']})"
+        f"{r['config']:<22} {r['variant']:<8} busy {r['busy']} "
+        f"{float(r['env_steps_per_s']):>9,.0f} env-steps/s  torch {r['torch_threads']}  "
+        f"{split}  (s; load {r['load_start']})"
     )
 
 
@@ -242,38 +318,45 @@ def _line(r: dict) -> str:
 
 
 def markdown(path: Path = CSV) -> str:
-    """docs/bench_training.csv as a table: per config and variant, the settings, the rate and
-    each phase's share of the wall time."""
+    """docs/bench_training.csv as a table: per config, variant and load, the settings, the
+    rate, what it kept of its quiet rate, and each phase's share of the wall time."""
     if not path.is_file():
         return "(no docs/bench_training.csv yet: run python -m benchmarks.bench_training)"
     comments, rows = read_csv(path)
+    rate = {(r["config"], r["variant"], r["busy"]): float(r["env_steps_per_s"]) for r in rows}
     lines = [
-        "| config | variant | n_envs x n_steps | batch | epochs | torch threads | env-steps/s | "
-        + " | ".join(PHASES)
-        + " |",
-        "|---|---|---:|---:|---:|---:|---:|" + "---:|" * len(PHASES),
+        "| config | variant | beside busy processes | n_envs x n_steps, batch, epochs | "
+        "torch threads | env-steps/s | of its quiet rate | " + " | ".join(PHASES) + " |",
+        "|---|---|---:|---|---:|---:|---:|" + "---:|" * len(PHASES),
     ]
     for r in rows:
         wall = float(r["wall_s"])
         shares = " | ".join(f"{100 * float(r[f'{p}_s']) / wall:.0f}%" for p in PHASES)
-        lines.append(
-            f"| {r['config']} | {r['variant']} | {r['n_envs']} x {r['n_steps']} | "
-            f"{r['batch_size']} | {r['n_epochs']} | {r['torch_threads']} | "
-            f"{float(r['env_steps_per_s']):,.0f} | {shares} |"
+        quiet = rate.get((r["config"], r["variant"], "0"))
+        kept = f"{float(r['env_steps_per_s']) / quiet:.2f}" if quiet else ""
+        shape = (
+            f"{r['n_envs']} x {r['n_steps'] or 'n/a'}, {r['batch_size']}, {r['n_epochs'] or 'n/a'}"
         )
-    rate = {(r["config"], r["variant"]): float(r["env_steps_per_s"]) for r in rows}
-    gains = [
-        f"{c} {rate[(c, 'after')] / rate[(c, 'before')]:.1f}x"
-        for c in dict.fromkeys(r["config"] for r in rows)
-        if (c, "before") in rate and (c, "after") in rate
-    ]
-    lines += ["", f"- After over before, env-steps/s: {', '.join(gains)}."]
+        lines.append(
+            f"| {r['config']} | {r['variant']} | {r['busy']} | {shape} | {r['torch_threads']} | "
+            f"{float(r['env_steps_per_s']):,.0f} | {kept} | {shares} |"
+        )
+    lines.append("")
+    for config in dict.fromkeys(r["config"] for r in rows):
+        said = []
+        for busy in sorted({r["busy"] for r in rows if r["config"] == config}, key=int):
+            after, before = rate.get((config, "after", busy)), rate.get((config, "before", busy))
+            if after and before:
+                where = "quiet" if busy == "0" else f"beside {busy} busy processes"
+                said.append(f"{after / before:.1f}x {where}")
+        if said:
+            lines.append(f"- {config}, after over before: {', '.join(said)}.")
     for r in rows:
-        if r["variant"] == "after":
+        if r["variant"] == "after" and r["busy"] == "0":
             wall = float(r["wall_s"])
             top = sorted(PHASES, key=lambda p: -float(r[f"{p}_s"]))[:3]
             shares = ", ".join(f"{p} {100 * float(r[f'{p}_s']) / wall:.0f}%" for p in top)
-            lines.append(f"- After, {r['config']} spends the most in: {shares}.")
+            lines.append(f"- After, quiet, {r['config']} spends the most in: {shares}.")
     lines += _provenance(comments)
     return "\n".join(lines)
 
@@ -321,8 +404,8 @@ def grid_markdown(path: Path = GRID_CSV) -> str:
 
 
 def plot(path: Path = CSV, png: Path | None = None) -> Path:
-    """Stacked bars: seconds per million env steps in each phase, before and after, per
-    config."""
+    """Stacked bars: seconds per million env steps in each phase, per config, variant and
+    load, the rate above each bar."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -330,7 +413,7 @@ def plot(path: Path = CSV, png: Path | None = None) -> Path:
 
     _, rows = read_csv(path)
     png = png or path.with_suffix(".png")
-    fig, ax = plt.subplots(figsize=(8, 4.2), dpi=100)
+    fig, ax = plt.subplots(figsize=(10, 4.6), dpi=100)
     colors = dict(zip(PHASES, plt.get_cmap("tab10").colors, strict=False))
     labels, top = [], 0.0
     for i, r in enumerate(rows):
@@ -342,12 +425,14 @@ def plot(path: Path = CSV, png: Path | None = None) -> Path:
             bottom += h
         top = max(top, bottom)
         ax.text(i, bottom, f"{float(r['env_steps_per_s']) / 1e3:.1f}k/s", ha="center",
-                va="bottom", fontsize=8)  # fmt: skip
-        labels.append(f"{r['config'].removesuffix('_ppo')}\n{r['variant']}")
-    ax.set_xticks(range(len(rows)), labels, fontsize=7)
+                va="bottom", fontsize=7)  # fmt: skip
+        load = "quiet" if r["busy"] == "0" else f"{r['busy']} busy"
+        labels.append(f"{r['config'].removesuffix('_ppo')}\n{r['variant']}, {load}")
+    ax.set_xticks(range(len(rows)), labels, fontsize=6, rotation=90)
     ax.set_ylabel("seconds per million env steps")
-    ax.set_title("PPO's wall time by phase, before and after, measured in turn (2 shared cores)")
-    ax.set_ylim(0, 1.3 * top)
+    ax.set_yscale("log")
+    ax.set_title("Training's wall time by phase, before and after, quiet and beside busy processes")
+    ax.set_ylim(top=3 * top)
     ax.legend(fontsize=7, ncol=len(PHASES), loc="upper center")
     ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()
@@ -360,11 +445,15 @@ def plot(path: Path = CSV, png: Path | None = None) -> Path:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = arguments(__doc__, "the dart alone, two rollouts each (< 1 min)", "bench_training.csv")
-    parser.add_argument("--steps", type=int, default=500_000, help="env steps per measurement")
+    parser = arguments(__doc__, "the dart alone, quiet, two rollouts each", "bench_training.csv")
+    parser.add_argument("--steps", type=int, default=131_072, help="PPO env steps per measurement")
+    parser.add_argument("--sac-steps", type=int, default=12_000, help="SAC env steps (likewise)")
     parser.add_argument("--repeats", type=int, default=2, help="rounds (each row: its best)")
-    parser.add_argument("--configs", nargs="+", default=list(CONFIGS), choices=CONFIGS)
-    parser.add_argument("--grid", action="store_true", help=f"the grid into {GRID_CSV.name}")
+    parser.add_argument(
+        "--busy", type=int, nargs="+", default=[0, 2], help="busy processes beside each (0 2)"
+    )
+    parser.add_argument("--configs", nargs="+", default=None, choices=CONFIGS + V0_CONFIGS)
+    parser.add_argument("--grid", action="store_true", help=f"the v0 grid into {GRID_CSV.name}")
     parser.add_argument("--variants", nargs="+", choices=list(GRID), help="--grid: only these")
     parser.add_argument("--md-only", action="store_true", help="table and chart from the CSV")
     parser.add_argument(
@@ -377,25 +466,26 @@ def main(argv: list[str] | None = None) -> int:
         print(markdown(args.out))
         print(f"written: {plot(args.out)}")
         return 0
-    import torch
-
-    global TORCH_DEFAULT_THREADS
-    TORCH_DEFAULT_THREADS = torch.get_num_threads()
-    steps, repeats, configs = args.steps, args.repeats, args.configs
+    configs = args.configs or list(V0_CONFIGS if args.grid else CONFIGS)
+    steps = {c: args.sac_steps if c.endswith("_sac") else args.steps for c in configs}
+    repeats, busy = args.repeats, args.busy
     if args.quick:
-        steps, repeats, configs = 2 * 16_384, 1, ["paper_airplane_ppo"]
+        configs, repeats, busy = ["paper_airplane_v1_ppo"], 1, [0]
+        steps = {configs[0]: 2 * 16_384}
     machine = describe()
     if args.grid:
-        subjects = {
-            (c, label): (*BEFORE, *GRID[label])
+        subjects = [
+            Subject(c, label, (*V0_BEFORE, *GRID[label]))
             for c in configs
             for label in (args.variants or GRID)
-        }
+        ]
     else:
-        subjects = {}
-        for c in configs:
-            subjects[(c, "before")] = BEFORE
-            subjects[(c, "after")] = ()
+        subjects = [
+            Subject(c, variant, BEFORE[c] if old else (), old=old, busy=b)
+            for c in configs
+            for b in busy
+            for variant, old in (("before", True), ("after", False))
+        ]
     rows = interleaved(subjects, steps, repeats)
     out = args.out
     if args.grid and out == CSV:
@@ -407,19 +497,22 @@ def main(argv: list[str] | None = None) -> int:
     git = git_revision()
     notes = [
         f"git {git['revision']}" + (" (dirty)" if git["dirty"] else ""),
-        f"each row: the fastest of {repeats} rounds of {steps:,} env steps (whole rollouts), "
+        f"each row: the fastest of {repeats} rounds of {args.steps:,} env steps (SAC "
+        f"{args.sac_steps:,}, learning from step {SAC_LEARNING_STARTS:,}; whole rollouts), "
         "subjects in turn; seconds per phase (see benchmarks/bench_training.py)",
-        f"before: {' '.join(BEFORE)}",
+        "before: each config's settings before issue 43 (BEFORE), torch on a thread per core, "
+        "every info entry handed to SB3",
     ]
     comments = [*machine, load_average(), *notes]
     if args.merge and out.is_file():  # the rows of the other configs, and where they came from
         kept_comments, kept = read_csv(out)
         rows = [r for r in kept if r["config"] not in configs] + rows
-        order = {c: i for i, c in enumerate(CONFIGS)}
+        order = {c: i for i, c in enumerate(CONFIGS + V0_CONFIGS)}
         rows.sort(key=lambda r: order[r["config"]])
         comments += [f"rows of {', '.join(sorted({r['config'] for r in kept} - set(configs)))}"
                      " from:", *(f"  {c}" for c in kept_comments)]  # fmt: skip
-    write_csv(out, COLUMNS, ([r[c] for c in COLUMNS] for r in rows), comments)
+    columns = COLUMNS if not args.grid else tuple(c for c in COLUMNS if c != "busy")
+    write_csv(out, columns, ([r[c] for c in columns] for r in rows), comments)
     print(f"written: {out}")
     if not args.grid:
         print(markdown(out))

@@ -3,7 +3,7 @@ trained to the same ``total_timesteps`` from the same seeds, each final model ev
 the project's evaluator on the same 256 seeded episodes.
 
 For each seed, config and variant (``before``: the shipped config with
-:data:`benchmarks.bench_training.BEFORE` set, the settings it had before the retune, but torch
+:data:`benchmarks.bench_training.V0_BEFORE` set, the settings it had before the retune, but torch
 on one thread; ``256x64``: the same with 256 envs x 64 steps: :data:`VARIANTS`), in that
 order, so that both variants of a config run one after the other under much the same load:
 
@@ -37,7 +37,8 @@ from pathlib import Path
 
 import yaml
 
-from benchmarks.bench_training import BEFORE, CONFIGS
+from benchmarks.bench_training import V0_BEFORE as BEFORE
+from benchmarks.bench_training import V0_CONFIGS as CONFIGS
 from benchmarks.common import DOCS, ROOT, read_csv, write_csv
 
 CSV = DOCS / "training_wallclock.csv"

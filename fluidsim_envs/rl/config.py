@@ -299,10 +299,12 @@ class TrainConfig:
     total_timesteps: int = 1_000_000
     seed: int = 0  # the model's seed; env i gets SeedSequence(seed).spawn(n_envs)[i]
     device: str = "cpu"  # auto, cpu, cuda, cuda:N or mps; checked against what torch sees
-    # torch's intra-op threads for the policy's forward passes and updates (torch.set_num_threads
-    # before the model is built); null: torch's default, one per core. The env's numba kernels
-    # want the same cores (benchmarks/bench_training.py --grid measures both)
+    # the run's threads (fluidsim_envs.threads owns them): torch's intra-op threads for the
+    # policy's forward passes and updates, and numba's for the env kernels; null: one torch
+    # thread and numba on every core this process may use, so that the two pools never spin
+    # against each other (benchmarks/bench_threads.py). At most the cores there are.
     torch_threads: int | None = None
+    numba_threads: int | None = None
     policy: PolicyConfig = PolicyConfig()
     normalize: NormalizeConfig = NormalizeConfig()
     eval: EvalConfig = EvalConfig()
@@ -317,6 +319,7 @@ class TrainConfig:
         "total_timesteps": AT_LEAST_1,
         "seed": SEED,
         "torch_threads": AT_LEAST_1,
+        "numba_threads": AT_LEAST_1,
     }
 
     @property

@@ -61,6 +61,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import threads
 from ..physics.jit import target_cpu
 from . import files
 from .config import ConfigError, TrainConfig, load_config, load_yaml, parse_assignment
@@ -774,6 +775,9 @@ def main(argv: list[str] | None = None, prog: str = "fluidsim-evaluate") -> int:
         say=lambda text: print(text, flush=True),
     )
     which = args.model or "final"
+    plan = threads.choose()  # the policy on one torch thread, the envs and planner on numba's
+    threads.apply(plan)
+    print(plan.describe(), flush=True)
     try:
         check_output_paths(args)
         env = parse_env_overrides(args.env)

@@ -45,7 +45,7 @@ KINDS = {
 }
 
 #: keys a sweep sets itself (``--seeds``, ``--cpus-per-trial``), never searched
-RESERVED = ("seed", "torch_threads")
+RESERVED = ("seed", "torch_threads", "numba_threads")
 
 
 @dataclass(frozen=True)

@@ -187,17 +187,18 @@ def run_trial(params: dict[str, Any], sweep: Sweep) -> None:
     """Tune's trainable: train the config with ``params`` into ``runs/<trial id>``, reporting
     each evaluation to Tune. A trial Tune restarts (a resumed sweep) continues its run folder
     from its newest checkpoint, or starts it again when it had none."""
-    import numba
     from ray import tune
 
+    from ..threads import numba_pool_size
     from .train import train
 
     trial_id = tune.get_context().get_trial_id()
     raw = apply_params(sweep.base, searched(params))
     raw["seed"] = trial_seed(sweep, params)
+    # the trial's threads (fluidsim_envs.threads, through train): its cpus, torch's share
     raw["torch_threads"] = sweep.torch_threads
+    raw["numba_threads"] = min(sweep.cpus_per_trial, numba_pool_size())
     cfg = config_from_dict(raw)  # a combination the space's check could not see fails here
-    numba.set_num_threads(min(sweep.cpus_per_trial, numba.config.NUMBA_NUM_THREADS))
     run_dir = sweep.dir / "runs" / trial_id
     resume = _resumable(run_dir)
     if not resume and run_dir.exists():  # killed before its first checkpoint: start again

@@ -55,6 +55,7 @@ require("train", "fluidsim_envs.rl.train")
 import numpy as np  # noqa: E402
 import yaml  # noqa: E402  (after the check that names the missing extra)
 
+from .. import threads  # noqa: E402
 from ..physics.jit import target_cpu  # noqa: E402
 from . import files  # noqa: E402
 from .config import (  # noqa: E402
@@ -159,6 +160,7 @@ def make_env(
         n_envs,
         seed=seed,
         success_key="success",  # SB3 reads is_success: success rates in TensorBoard
+        info_keys=("success",),  # all that training reads (VecMonitor, SB3's success rate)
         **(cfg.env_kwargs if env_kwargs is None else env_kwargs),
     )
     if monitor_file is None:
@@ -496,15 +498,20 @@ def train(
 
     Nothing is written before the config and the folder are checked, and a new folder whose
     envs or model cannot be built is removed again: a start that failed leaves nothing that
-    blocks the next. torch runs on ``cfg.torch_threads`` threads for the run and on as many
-    as before it afterwards (the count is process-wide: an evaluation in the same process
-    then computes as it would have)."""
-    before = set_torch_threads(None)
-    set_torch_threads(cfg.torch_threads)
+    blocks the next. The run's threads are :func:`fluidsim_envs.threads.choose`'s for the
+    config's ``torch_threads`` and ``numba_threads`` (null: one torch thread, numba on every
+    core), and the counts before it again afterwards."""
+    plan = _threads(cfg)
+    with threads.owned(plan):
+        return _train(cfg, run_dir, command, resume, progress_bar, say, on_eval, plan)
+
+
+def _threads(cfg: TrainConfig) -> threads.Threads:
+    """The run's threads, or a :class:`ConfigError` naming the count that cannot be had."""
     try:
-        return _train(cfg, run_dir, command, resume, progress_bar, say, on_eval)
-    finally:
-        set_torch_threads(before)
+        return threads.choose(torch=cfg.torch_threads, numba=cfg.numba_threads)
+    except threads.ThreadError as e:
+        raise ConfigError(str(e)) from None
 
 
 def _train(
@@ -515,6 +522,7 @@ def _train(
     progress_bar: bool,
     say,
     on_eval: EvalHook | None,
+    plan: threads.Threads,
 ) -> Path:
     cfg = resolved(cfg)  # every env parameter written down: the run replays whatever changes
     files.check_writable_folder(run_dir, "--resume" if resume else "--run-dir")
@@ -528,7 +536,8 @@ def _train(
     # said before the envs are built: a cold numba cache compiles there (and says so)
     remaining = cfg.total_timesteps - done_steps
     planned = planned_timesteps(cfg, remaining) if remaining > 0 else 0
-    for line in (_plan(cfg, run_dir, remaining, planned), *schedule_warnings(cfg, planned)):
+    opening = (_plan(cfg, run_dir, remaining, planned), plan.describe())
+    for line in (*opening, *schedule_warnings(cfg, planned)):
         say(line)
     created = _first_missing(run_dir)
     run_dir.mkdir(parents=True, exist_ok=True)
@@ -538,7 +547,7 @@ def _train(
         if created is not None:
             shutil.rmtree(created, ignore_errors=True)
         raise
-    meta = _meta(run_dir, cfg, command, restart, env_seed, str(model.device))
+    meta = _meta(run_dir, cfg, command, restart, env_seed, str(model.device), plan)
     dump_config(cfg, run_dir / "config.yaml")
     files.write_text(run_dir / "run.yaml", yaml.safe_dump(meta, sort_keys=False))
 
@@ -565,16 +574,6 @@ def _train(
     return _finish(
         model, cfg, run_dir, meta, _timing(venv, eval_env, time.perf_counter() - start), say
     )
-
-
-def set_torch_threads(threads: int | None) -> int:
-    """torch's intra-op threads set to ``threads`` (None: left as they are, torch's default
-    of one per core unless something set them); returns the count in force."""
-    import torch
-
-    if threads is not None:
-        torch.set_num_threads(threads)
-    return torch.get_num_threads()
 
 
 def _first_missing(path: Path) -> Path | None:
@@ -661,9 +660,10 @@ def _meta(
     restart: Restart | None,
     env_seed: int,
     device: str,
+    plan: threads.Threads,
 ) -> dict:
     """``run.yaml``'s contents: a new run's description, or the run's own with this resume
-    added. ``device`` is where the model is (``auto`` resolved)."""
+    added. ``device`` is where the model is (``auto`` resolved); ``plan`` its threads."""
     now = datetime.datetime.now().isoformat(timespec="seconds")
     seeds = {
         "model": cfg.seed,
@@ -697,10 +697,12 @@ def _meta(
                 "timesteps": restart.steps,
                 "seeds": seeds,
                 "device": device,
+                "threads": plan.as_dict(),
             }
         )
     meta["device"] = device
-    meta["torch_threads"] = set_torch_threads(None)  # the count in force (null resolved)
+    meta["torch_threads"] = plan.torch  # the counts in force (nulls resolved)
+    meta["threads"] = plan.as_dict()
     meta["total_timesteps"] = cfg.total_timesteps
     return meta
 

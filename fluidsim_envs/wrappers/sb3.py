@@ -54,12 +54,19 @@ def _row(value: Any, i: int) -> Any:
     return value
 
 
-def _env_info(info: dict[str, Any], i: int) -> dict[str, Any]:
-    """Sub-env ``i``'s dict from a batched info dict, honoring Gymnasium's ``_key`` masks."""
+def _carried(info: dict[str, Any], keys: Sequence[str] | None):
+    """The (key, value) entries of a batched info dict that become per-env entries: all but
+    the masks and the autoreset bookkeeping, or only ``keys`` (None: all)."""
+    if keys is not None:
+        return [(k, info[k]) for k in keys if k in info]
+    return [(k, v) for k, v in info.items() if not k.startswith("_") and k not in _AUTORESET_KEYS]
+
+
+def _env_info(info: dict[str, Any], i: int, keys: Sequence[str] | None = None) -> dict[str, Any]:
+    """Sub-env ``i``'s dict from a batched info dict (only ``keys``' entries unless None),
+    honoring Gymnasium's ``_key`` masks."""
     out = {}
-    for key, value in info.items():
-        if key.startswith("_") or key in _AUTORESET_KEYS:
-            continue
+    for key, value in _carried(info, keys):
         mask = info.get(f"_{key}")
         if mask is not None and not mask[i]:
             continue
@@ -80,12 +87,12 @@ def _column(value: Any, n: int) -> list[Any]:
     return [_row(value, i) for i in range(n)]
 
 
-def _env_infos(info: dict[str, Any], n: int) -> list[dict[str, Any]]:
-    """``[_env_info(info, i) for i in range(n)]``, a key at a time (:func:`_column`)."""
+def _env_infos(
+    info: dict[str, Any], n: int, keys: Sequence[str] | None = None
+) -> list[dict[str, Any]]:
+    """``[_env_info(info, i, keys) for i in range(n)]``, a key at a time (:func:`_column`)."""
     out: list[dict[str, Any]] = [{} for _ in range(n)]
-    for key, value in info.items():
-        if key.startswith("_") or key in _AUTORESET_KEYS:
-            continue
+    for key, value in _carried(info, keys):
         mask = info.get(f"_{key}")
         column = _column(value, n)
         if mask is None:
@@ -113,9 +120,21 @@ class SB3VecEnv(VecEnv):
     success_key
         An info key to copy into ``"is_success"`` at an episode's end, the key SB3 reads for
         success rates (``EvalCallback``); None (the default) adds nothing, as DummyVecEnv.
+    info_keys
+        The env's info entries each sub-env's dict carries (besides SB3's own
+        ``terminal_observation``, ``TimeLimit.truncated`` and ``is_success``); None (the
+        default): all of them, as DummyVecEnv. Training reads only a few, and a dict per
+        sub-env of every nested entry (reward terms, the drawn physics) cost more than the
+        env's own step at 256 envs.
     """
 
-    def __init__(self, venv: VectorEnv, *, success_key: str | None = None) -> None:
+    def __init__(
+        self,
+        venv: VectorEnv,
+        *,
+        success_key: str | None = None,
+        info_keys: Sequence[str] | None = None,
+    ) -> None:
         mode = venv.metadata.get("autoreset_mode")
         if mode != AutoresetMode.SAME_STEP:
             raise ValueError(
@@ -124,6 +143,9 @@ class SB3VecEnv(VecEnv):
             )
         self.venv = venv
         self.success_key = success_key
+        self.info_keys = None if info_keys is None else tuple(info_keys)
+        if success_key is not None and self.info_keys is not None:
+            self.info_keys = tuple(dict.fromkeys((*self.info_keys, success_key)))
         self._actions: np.ndarray | None = None
         self._batch_seed: int | None = None  # from seed(), for the next reset()
         self.env_seconds = 0.0  # wall time inside the vector env's reset and step
@@ -175,7 +197,7 @@ class SB3VecEnv(VecEnv):
         t = time.perf_counter()
         obs, info = self.venv.reset(seed=seed, options=options[0] or None)
         self.env_seconds += time.perf_counter() - t
-        self.reset_infos = [_env_info(info, i) for i in range(self.num_envs)]
+        self.reset_infos = _env_infos(info, self.num_envs, self.info_keys)
         self._batch_seed = None
         self._reset_seeds()
         self._reset_options()
@@ -197,9 +219,9 @@ class SB3VecEnv(VecEnv):
         dones = terminated | truncated
         ended = np.flatnonzero(dones).tolist()
         # the running envs' infos column by column; an ended env's is its final info
-        infos = _env_infos(info, self.num_envs)
+        infos = _env_infos(info, self.num_envs, self.info_keys)
         for i in ended:
-            infos[i] = _env_info(info["final_info"], i)
+            infos[i] = _env_info(info["final_info"], i, self.info_keys)
         # SB3's reading of Gymnasium's flags (DummyVecEnv.step_wait)
         time_limit = (truncated & ~terminated).tolist()
         for env_info, flag in zip(infos, time_limit, strict=True):
@@ -315,6 +337,7 @@ def make_sb3_vec_env(
     seed: int | None = None,
     *,
     success_key: str | None = None,
+    info_keys: Sequence[str] | None = None,
     **env_kwargs: Any,
 ) -> SB3VecEnv:
     """``n_envs`` sub-envs of ``env_id`` in one native vector env, as an SB3 ``VecEnv``.
@@ -322,9 +345,11 @@ def make_sb3_vec_env(
     ``env_kwargs`` set the env's parameters (an unknown one is an error listing the valid
     ones). With ``seed``, the first ``reset()`` seeds the sub-envs as
     ``venv.reset(seed=seed)`` does (see :meth:`SB3VecEnv.seed`).
-    ``success_key``: see :class:`SB3VecEnv`.
+    ``success_key``, ``info_keys``: see :class:`SB3VecEnv`.
     """
-    sb3_venv = SB3VecEnv(make_vector_env(env_id, n_envs, **env_kwargs), success_key=success_key)
+    sb3_venv = SB3VecEnv(
+        make_vector_env(env_id, n_envs, **env_kwargs), success_key=success_key, info_keys=info_keys
+    )
     if seed is not None:
         sb3_venv.seed(seed)
     return sb3_venv

@@ -223,3 +223,35 @@ def test_replace_steps_the_new_vector_env_and_refuses_other_spaces():
             adapter.replace(other)
         other.close()
     adapter.close()
+
+
+def test_info_keys_carry_only_those_entries_and_sb3s_own():
+    """With ``info_keys`` (what training passes), each sub-env's dict holds those entries and
+    SB3's own (``TimeLimit.truncated``; at an episode's end ``terminal_observation`` and
+    ``is_success``), with the values the full dicts hold, across episode boundaries."""
+    env_id = "fluidsim/PaperAirplane-v0"
+    kwargs = SHORT[env_id]
+    full = make_sb3_vec_env(env_id, N_ENVS, seed=5, success_key="success", **kwargs)
+    lean = make_sb3_vec_env(
+        env_id, N_ENVS, seed=5, success_key="success", info_keys=("success",), **kwargs
+    )
+    np.testing.assert_array_equal(full.reset(), lean.reset())
+    assert all(info.keys() <= {"success"} for info in lean.reset_infos)
+    rng = np.random.default_rng(1)
+    ends = 0
+    for _ in range(60):
+        actions = rng.uniform(-1.0, 1.0, (N_ENVS, 3)).astype(np.float32)
+        o1, r1, d1, i1 = full.step(actions)
+        o2, r2, d2, i2 = lean.step(actions)
+        np.testing.assert_array_equal(o1, o2)
+        np.testing.assert_array_equal(r1, r2)
+        np.testing.assert_array_equal(d1, d2)
+        for a, b, done in zip(i1, i2, d1, strict=True):
+            sb3 = {"TimeLimit.truncated"} | (
+                {"terminal_observation", "is_success"} if done else set()
+            )
+            assert b.keys() == {"success"} | sb3, sorted(b)
+            assert_same_info({k: a[k] for k in b}, b, "lean info")
+            ends += int(done)
+    assert ends >= 2  # the comparison crossed episode boundaries
+    full.close(), lean.close()
