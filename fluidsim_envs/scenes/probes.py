@@ -28,9 +28,11 @@ add the instruments' noise to their columns like to any other.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from ..physics.kernels import SENSE_FIELDS
 
@@ -81,6 +83,11 @@ def probe_columns(probes) -> tuple[tuple[str, str, str], ...]:
     )
 
 
+# what a column reads, as the kernel's codes (READS' order)
+_CODE = {read: k for k, read in enumerate(READS)}
+AOA, Q, WETTED, PRESSURE, FLOW_X, FLOW_Y, FLOW_Z = (_CODE[r] for r in READS)
+
+
 class ProbeArray:
     """A scene's probes on one simulator: :meth:`read` writes their columns for every
     sub-env from one ``sample_flows`` call."""
@@ -91,50 +98,81 @@ class ProbeArray:
         at = {s: j for j, s in enumerate(self.samples)}
         self.at = [[at[s] for s in p.samples] for p in self.probes]  # each probe's samples
         self.columns = [(p.name, r) for p in self.probes for r in p.reads]
+        # the kernel's tables: probe k averages samples members[first[k]:first[k + 1]];
+        # column c reads READS' code[c] of probe owner[c]
+        self.first = np.cumsum([0] + [len(a) for a in self.at]).astype(np.int64)
+        self.members = np.array([j for a in self.at for j in a], dtype=np.int64)
+        self.owner = np.array([k for k, p in enumerate(self.probes) for _ in p.reads],
+                              dtype=np.int64)  # fmt: skip
+        self.code = np.array([_CODE[r] for p in self.probes for r in p.reads], dtype=np.int64)
         w = sim.world
         self.rho_air, self.rho_water = w.air_density_kgm3, w.water_density_kgm3
         self.gravity_mps2 = w.gravity_mps2
+        self.fluid = np.array([self.rho_air, self.rho_water, self.gravity_mps2])
 
     def read(self, density_scale: np.ndarray, env_ids=None) -> np.ndarray:
         """The probe columns [n, len(columns)] (float64) of sub-envs ``env_ids`` (None: all),
         at the current state. ``density_scale`` [n]: each one's fluid density factor (a v1
         episode's draw): the physics scales the samples' areas by it, so q and pressure are
         scaled here."""
-        with np.errstate(invalid="ignore", over="ignore"):  # diverged rows: masked after
-            return self._columns(self.sim.sample_flows(self.samples, env_ids=env_ids),
-                                 density_scale)  # fmt: skip
+        return self._columns(self.sim.sample_flows(self.samples, env_ids=env_ids),
+                             density_scale)  # fmt: skip
 
     def _columns(self, flows: np.ndarray, density_scale: np.ndarray) -> np.ndarray:
-        """The probe columns from ``sample_flows``' [n, samples, fields]."""
-        rows = flows.transpose(1, 2, 0)  # [samples, fields, n]
-        out = np.empty((rows.shape[2], len(self.columns)))
-        c = 0
-        for at, probe in zip(self.at, self.probes, strict=True):
-            # the probe's mean sensed fields [fields, E] (no BLAS: its threads would spin
-            # beside numba's)
-            m = rows[at[0]] if len(at) == 1 else rows[at].mean(axis=0)
-            u = m[_F["inflow_x_mps"] : _F["inflow_z_mps"] + 1]
-            speed = np.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
-            for r in probe.reads:
-                out[:, c] = self._reading(r, m, speed, density_scale)
-                c += 1
+        """The probe columns from ``sample_flows``' [n, samples, fields] (one compiled call:
+        a numpy expression per column and probe cost a small batch more than the physics)."""
+        out = np.empty((flows.shape[0], len(self.columns)))
+        columns(flows, np.asarray(density_scale, dtype=np.float64), self.first, self.members,
+                self.owner, self.code, self.fluid, out)  # fmt: skip
         return out
 
-    def _reading(self, read: str, m, speed, density_scale) -> np.ndarray:
-        """One reading of one probe from its mean sensed fields ``m`` [fields, E]."""
-        if read == "aoa":
-            ratio = np.divide(m[_F["inflow_normal_mps"]], speed, out=np.zeros_like(speed),
-                              where=speed > 1e-9)  # fmt: skip
-            return np.arcsin(np.clip(ratio, -1.0, 1.0))  # |ratio| <= 1 but for rounding
-        if read == "q":
-            return 0.5 * m[_F["density_kgm3"]] * speed * speed * density_scale
-        if read == "wetted":
-            return (m[_F["density_kgm3"]] - self.rho_air) / (self.rho_water - self.rho_air)
-        if read == "pressure":
-            depth = np.maximum(-m[_F["height_m"]], 0.0)
-            static = self.rho_water * self.gravity_mps2 * depth
-            return 1e-3 * (m[_F["pressure_pa"]] + static) * density_scale
-        return m[_AXIS[read]]
+
+_INFLOW = _F["inflow_x_mps"]
+_NORMAL, _DENSITY = _F["inflow_normal_mps"], _F["density_kgm3"]
+_HEIGHT, _PRESSURE = _F["height_m"], _F["pressure_pa"]
+assert _AXIS == {"flow_x": _INFLOW, "flow_y": _INFLOW + 1, "flow_z": _INFLOW + 2}
+
+
+@njit(cache=True, error_model="numpy")
+def columns(flows, density_scale, first, members, owner, code, fluid, out):
+    """:meth:`ProbeArray._columns`, compiled: for each sub-env (row of ``flows`` [n, P,
+    fields]) and column, its probe's mean sensed fields (its samples summed in order, then
+    divided by their count, as numpy's mean over them) and the reading of them. The same
+    operations in the same order as the readings' formulas in the module docstring, so the
+    columns are the numpy expressions' to the bit; a diverged row gives NaN (masked after)."""
+    m = np.empty(flows.shape[2])
+    rho_air, rho_water, g = fluid[0], fluid[1], fluid[2]
+    for e in range(flows.shape[0]):
+        for c in range(code.size):
+            k = owner[c]
+            lo, hi = first[k], first[k + 1]
+            for f in range(m.size):
+                m[f] = flows[e, members[lo], f]
+            for s in range(lo + 1, hi):
+                for f in range(m.size):
+                    m[f] += flows[e, members[s], f]
+            if hi - lo > 1:
+                for f in range(m.size):
+                    m[f] /= hi - lo
+            out[e, c] = _reading(code[c], m, density_scale[e], rho_air, rho_water, g)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _reading(read, m, density_scale, rho_air, rho_water, g):
+    """One reading (a code of READS) from a probe's mean sensed fields ``m``."""
+    u0, u1, u2 = m[_INFLOW], m[_INFLOW + 1], m[_INFLOW + 2]
+    speed = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+    if read == AOA:  # 0 where the sample does not move through the fluid
+        ratio = m[_NORMAL] / speed if speed > 1e-9 else 0.0
+        return math.asin(min(max(ratio, -1.0), 1.0))  # |ratio| <= 1 but for rounding
+    if read == Q:
+        return 0.5 * m[_DENSITY] * speed * speed * density_scale
+    if read == WETTED:
+        return (m[_DENSITY] - rho_air) / (rho_water - rho_air)
+    if read == PRESSURE:
+        static = rho_water * g * max(-m[_HEIGHT], 0.0)
+        return 1e-3 * (m[_PRESSURE] + static) * density_scale
+    return m[_INFLOW + read - FLOW_X]
 
 
 __all__ = ["READS", "Probe", "ProbeArray", "probe_columns"]

@@ -146,6 +146,7 @@ def _read_range(lo, hi, ids, start, counter, keys, truth, bias, history, head, n
         k, t = keys[e], counter[e]
         head[e] = 0 if start else (head[e] + 1) % slots
         h = head[e]
+        late = (h + 1) % slots  # the slot read: ``latency`` steps ago (once per sub-env)
         for j in range(truth.shape[1]):
             if not read_by[j]:
                 out[e, j] = truth[e, j]
@@ -162,7 +163,7 @@ def _read_range(lo, hi, ids, start, counter, keys, truth, bias, history, head, n
             if start:
                 for s in range(slots):
                     history[e, s, j] = x
-            out[e, j] = history[e, (h + 1) % slots, j]
+            out[e, j] = history[e, late, j]
 
 
 @njit(cache=True)
