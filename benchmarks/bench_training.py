@@ -30,7 +30,8 @@ profiler):
 torch's own default of a thread per core, and the SB3 adapter handing SB3 every info entry of
 every sub-env); ``after`` is the shipped config as it is. Each is measured quiet and beside
 ``--busy`` busy processes (a Python loop each, started before the measurement and stopped
-after it: a browser, a second run). Subjects are measured in turn, round after round
+after it: a browser, a second run). Each measurement runs in a process of its own (thread
+pools start there as in a user's run), subjects in turn, round after round
 (``--repeats``), so that a change of load on the machine hits them alike; each row is its
 fastest round, with the load average at its start and end.
 
@@ -42,8 +43,10 @@ fastest round, with the load average at its start and end.
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import dataclasses
+import json
 import os
 import subprocess
 import sys
@@ -52,14 +55,14 @@ import time
 from collections import defaultdict
 from pathlib import Path
 
-from benchmarks.common import DOCS, arguments, describe, load_average, read_csv, write_csv
+from benchmarks.common import DOCS, ROOT, arguments, describe, load_average, read_csv, write_csv
 
 CONFIGS = ("paper_airplane_v1_ppo", "submarine_wake_v1_ppo", "boat_on_step_v1_ppo",
            "paper_airplane_v1_sac")  # fmt: skip
 #: what each config shipped with before issue 43, as ``--set`` overrides on the config as it
 #: ships now (``torch_threads`` and the adapter's full infos are the ``before`` variant's own)
 BEFORE: dict[str, tuple[str, ...]] = {
-    "paper_airplane_v1_ppo": (),
+    "paper_airplane_v1_ppo": ("algorithm.n_epochs=10", "algorithm.learning_rate=3.0e-4"),
     "submarine_wake_v1_ppo": (),
     "boat_on_step_v1_ppo": (),
     "paper_airplane_v1_sac": (),
@@ -176,6 +179,21 @@ def busy_processes(n: int):
 
 
 @contextlib.contextmanager
+def old_threads(plan):
+    """The threads before issue 43: torch's set (its default, a thread per core), numba's
+    left alone, so that its pool starts only if a kernel runs in parallel (setting its count,
+    as the owner does, starts it; beside torch's pool of two it is what collapses)."""
+    import torch
+
+    before = torch.get_num_threads()
+    torch.set_num_threads(plan.torch)
+    try:
+        yield
+    finally:
+        torch.set_num_threads(before)
+
+
+@contextlib.contextmanager
 def full_infos(on: bool):
     """With ``on``, the SB3 adapter as it was before issue 43: every info entry of every
     sub-env handed to SB3 (``info_keys=None``), not only those training reads."""
@@ -229,12 +247,12 @@ def measure(subject: Subject, steps: int) -> dict:
         overrides.append(f"algorithm.learning_starts={SAC_LEARNING_STARTS}")
     cfg = resolved(load_config(subject.config, overrides))
     plan = T._threads(cfg)
-    if subject.old:  # torch's own default then: a thread per core
+    if subject.old:  # torch's own default then, a thread per core, and numba's untouched
         plan = dataclasses.replace(plan, torch=plan.cores)
     planned = T.planned_timesteps(cfg, steps)
     with (
         tempfile.TemporaryDirectory(prefix="bench_training_") as tmp,
-        threads.owned(plan),
+        old_threads(plan) if subject.old else threads.owned(plan),
         full_infos(subject.old),
     ):
         run_dir = Path(tmp)
@@ -292,13 +310,28 @@ def measure(subject: Subject, steps: int) -> dict:
     }
 
 
+def measure_apart(subject: Subject, steps: int) -> dict:
+    """:func:`measure` in a process of its own, as a user's ``fluidsim-train`` runs: numba's
+    and torch's thread pools start there only if the run starts them (this one's numba pool
+    is started by :func:`describe`, and a pool left beside torch's changes what is measured)."""
+    args = json.dumps({**dataclasses.asdict(subject), "steps": steps})
+    done = subprocess.run(
+        [sys.executable, "-m", "benchmarks.bench_training", "--child", args],
+        capture_output=True, text=True, cwd=ROOT,
+    )  # fmt: skip
+    if done.returncode != 0:
+        raise SystemExit(f"measuring {subject} failed:\n{done.stderr[-4000:]}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
 def interleaved(subjects: list[Subject], steps: dict[str, int], repeats: int) -> list[dict]:
-    """Every subject measured once per round, in turn (the order reversed every other round);
-    each subject's fastest round. ``steps``: the budget per config."""
+    """Every subject measured once per round, each in a process of its own, in turn (the
+    order reversed every other round); each subject's fastest round. ``steps``: the budget
+    per config."""
     best: dict[Subject, dict] = {}
     for r in range(repeats):
         for subject in subjects if r % 2 == 0 else subjects[::-1]:
-            row = measure(subject, steps[subject.config])
+            row = measure_apart(subject, steps[subject.config])
             print(_line(row), flush=True)
             if subject not in best or row["wall_s"] < best[subject]["wall_s"]:
                 best[subject] = row
@@ -456,12 +489,19 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--grid", action="store_true", help=f"the v0 grid into {GRID_CSV.name}")
     parser.add_argument("--variants", nargs="+", choices=list(GRID), help="--grid: only these")
     parser.add_argument("--md-only", action="store_true", help="table and chart from the CSV")
+    parser.add_argument("--child", help=argparse.SUPPRESS)  # measure_apart's subject, as JSON
     parser.add_argument(
         "--merge",
         action="store_true",
         help="keep the CSV's rows of the configs not measured now (and their # lines)",
     )
     args = parser.parse_args(argv)
+    if args.child:
+        given = json.loads(args.child)
+        steps = given.pop("steps")
+        given["overrides"] = tuple(given["overrides"])
+        print(json.dumps(measure(Subject(**given), steps)))
+        return 0
     if args.md_only:
         print(markdown(args.out))
         print(f"written: {plot(args.out)}")

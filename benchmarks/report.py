@@ -118,6 +118,12 @@ BLOCKS = (
         "train_wallclock:markdown",
     ),
     Block(
+        "docs/training.md",
+        "training-wallclock-v1",
+        "docs/training_wallclock_v1.csv",
+        "train_wallclock:markdown_v1",
+    ),
+    Block(
         "docs/benchmarks.md", "kernel-cost", "docs/bench_kernel.csv", "bench_kernel:cost_markdown"
     ),
     Block(

@@ -55,6 +55,7 @@ import numpy as np
 import yaml
 
 from benchmarks.common import DOCS, ROOT, read_csv, write_csv
+from fluidsim_envs import threads
 from fluidsim_envs.rl.runs import read_history
 
 #: what is trained: the shipped v1 configs, and their envs
@@ -713,6 +714,7 @@ def main(argv: list[str] | None = None) -> int:
         "page lists it as still to fly",
     )
     args = parser.parse_args(argv)
+    threads.apply(threads.choose())  # the one owner's counts, as the CLIs run on
     if args.fresh_baselines and not args.planner:
         parser.error(
             "--fresh-baselines --no-planner would keep the planner's old episodes beside "

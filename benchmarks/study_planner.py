@@ -27,6 +27,7 @@ import time
 
 import numpy as np
 
+from fluidsim_envs import threads
 from fluidsim_envs.evaluation import TUNING_SEEDS, check_tuning_seeds, first_episodes
 from fluidsim_envs.rl.evaluate import mean_interval
 from fluidsim_envs.scenes import SCENES
@@ -196,6 +197,7 @@ def main() -> None:
         "--replot", action="store_true", help="only draw the chart again from the CSV in --out"
     )
     args = parser.parse_args()
+    threads.apply(threads.choose())  # the one owner's counts, as the CLIs run on
     if args.replot:
         folder = out_dir(args.out, args.quick)
         chart(read_rows(folder / "study_planner.csv"), folder / "study_planner.png")

@@ -42,6 +42,7 @@ import yaml
 
 from benchmarks.common import DOCS, ROOT, read_csv, write_csv
 from benchmarks.train_wallclock import evaluate, run_dir, train
+from fluidsim_envs import threads
 
 CSV = DOCS / "study_v1_ppo.csv"
 CURVES = DOCS / "study_v1_ppo_curves.csv"
@@ -218,6 +219,7 @@ def main(argv: list[str] | None = None) -> int:
                         help="the runs' CSV, curves beside (default docs/study_v1_ppo.csv, "
                              "docs/study_v1_ppo_LEVEL.csv)")  # fmt: skip
     args = parser.parse_args(argv)
+    threads.apply(threads.choose())  # the one owner's counts, as the CLIs run on
     level = args.difficulty
     runs = args.runs or (RUNS if level == "standard" else RUNS.with_name(f"v1_{level}"))
     args.out = args.out or level_csv(level)

@@ -37,11 +37,18 @@ from pathlib import Path
 
 import yaml
 
+from benchmarks.bench_training import BEFORE as V1_BEFORE
+from benchmarks.bench_training import CONFIGS as V1_CONFIGS
 from benchmarks.bench_training import V0_BEFORE as BEFORE
-from benchmarks.bench_training import V0_CONFIGS as CONFIGS
+from benchmarks.bench_training import V0_CONFIGS
 from benchmarks.common import DOCS, ROOT, read_csv, write_csv
+from fluidsim_envs import threads
 
 CSV = DOCS / "training_wallclock.csv"
+#: the v1 configs' retune (issue 43): ``before`` their settings before it, ``after`` as they
+#: ship, both on the threads fluidsim.threads chooses (torch on one)
+CSV_V1 = DOCS / "training_wallclock_v1.csv"
+CONFIGS = V0_CONFIGS + tuple(c for c in V1_CONFIGS if V1_BEFORE[c])
 RUNS = ROOT / "runs" / "wallclock"
 #: ``before``: the old learning settings with torch on one thread: torch's thread count
 #: changes no hyperparameter (only the order of float sums), and with its default of two
@@ -53,11 +60,22 @@ VARIANTS = {
     "before": (*BEFORE, "torch_threads=1"),
     "256x64": (*BEFORE, "torch_threads=1", "n_envs=256", "algorithm.n_steps=64"),
 }
+
+
+def variants(config: str) -> dict[str, tuple[str, ...]]:
+    """The variants a config is trained in: the v0 retune's, or a v1 config's before and
+    after issue 43."""
+    if config in V0_CONFIGS:
+        return VARIANTS
+    return {"before": V1_BEFORE[config], "after": ()}
+
+
 COLUMNS = (
     "config", "variant", "seed", "n_envs", "n_steps", "batch_size", "n_epochs", "torch_threads",
     "env_steps", "wall_s", "env_steps_per_s", "load_start", "load_end", "episodes",
     "success_rate", "success_rate_lo", "success_rate_hi",
     "return_mean", "return_mean_lo", "return_mean_hi",
+    "pilot_return", "steps_to_pilot", "time_to_pilot_s",
 )  # fmt: skip
 
 
@@ -85,7 +103,7 @@ def train(
         config,
         "--set",
         f"seed={seed}",
-        *(VARIANTS[variant] if sets is None else sets),
+        *(variants(config)[variant] if sets is None else sets),
         *([f"total_timesteps={steps}"] if steps else []),
         "--run-dir",
         str(out),
@@ -124,6 +142,7 @@ def row(out: Path, config: str, variant: str, seed: int) -> dict:
             if r["policy"].startswith("trained")
         )
     a = cfg["algorithm"]
+    target, steps, seconds = to_pilot(out, cfg["env_id"])
     return {
         "config": config,
         "variant": variant,
@@ -137,8 +156,28 @@ def row(out: Path, config: str, variant: str, seed: int) -> dict:
         "wall_s": timing["wall_s"],
         "env_steps_per_s": timing["env_steps_per_s"],
         **load,
-        **{c: trained[c] for c in COLUMNS[-7:]},
+        **{c: trained[c] for c in COLUMNS[-10:-3]},
+        "pilot_return": target,
+        "steps_to_pilot": steps,
+        "time_to_pilot_s": seconds,
     }
+
+
+def to_pilot(out: Path, env_id: str) -> tuple[float | str, int | str, float | str]:
+    """The tuned pilot's mean return at ``standard`` (a v1 env's; "" for v0), and the run's
+    first evaluation at or above it: its timesteps and the run's wall-clock seconds then
+    ("" when none reached it). The evaluations are the run's own (32 episodes every
+    ``eval.freq`` steps): a first crossing, not a claim of the 256-episode table's kind."""
+    if not env_id.endswith("-v1"):
+        return "", "", ""
+    from benchmarks.sweep_envs import pilot_return
+
+    target = pilot_return(env_id)
+    with (out / "eval" / "history.csv").open() as f:
+        for r in csv.DictReader(f):
+            if float(r["mean_return"]) >= target:
+                return target, int(r["timesteps"]), float(r["wall_s"])
+    return target, "", ""
 
 
 # ---- the table -------------------------------------------------------------------------------
@@ -150,13 +189,13 @@ def _ci(r: dict, key: str, percent: bool) -> str:
     return f"{f(r[key])}{unit} [{f(r[key + '_lo'])}, {f(r[key + '_hi'])}]"
 
 
-def verdict(rows: list[dict]) -> str:
-    """``256x64`` against ``before`` per seed: worse when its interval lies wholly below
+def verdict(rows: list[dict], new: str = "256x64") -> str:
+    """``new`` against ``before`` per seed: worse when its interval lies wholly below
     before's (success or return), better when wholly above, else within the intervals."""
     by = {(r["variant"], r["seed"]): r for r in rows}
     out = []
     for seed in dict.fromkeys(r["seed"] for r in rows):
-        b, a = by.get(("before", seed)), by.get(("256x64", seed))
+        b, a = by.get(("before", seed)), by.get((new, seed))
         if b is None or a is None:
             continue
         words = []
@@ -169,18 +208,27 @@ def verdict(rows: list[dict]) -> str:
     return "; ".join(out)
 
 
+def _to_pilot(r: dict) -> str:
+    if not r["time_to_pilot_s"]:
+        return f"not reached ({float(r['pilot_return']):.2f})"
+    return f"{float(r['time_to_pilot_s']):,.0f} ({int(r['steps_to_pilot']):,})"
+
+
 def markdown(path: Path = CSV) -> str:
     """docs/training_wallclock.csv as a table: per config, variant and seed, the settings,
     the training wall time and rate, and the final score with its intervals; a verdict line
     per config."""
     if not path.is_file():
-        return "(no docs/training_wallclock.csv yet: run python -m benchmarks.train_wallclock)"
+        return f"(no docs/{path.name} yet: run python -m benchmarks.train_wallclock)"
     comments, rows = read_csv(path)
+    pilot = bool(rows) and "time_to_pilot_s" in rows[0]  # the v1 table's column
     lines = [
         "| config | variant | seed | n_envs x n_steps, batch, epochs, torch threads "
         "| env steps | wall (s) | env-steps/s | load (start, end) "
-        "| success [95% interval] | return [95% interval] |",
-        "|---|---|---:|---|---:|---:|---:|---|---:|---:|",
+        "| success [95% interval] | return [95% interval] |"
+        + " to the tuned pilot's return: s (env steps) |"
+        * pilot,
+        "|---|---|---:|---|---:|---:|---:|---|---:|---:|" + "---:|" * pilot,
     ]
     for r in rows:
         lines.append(
@@ -189,11 +237,13 @@ def markdown(path: Path = CSV) -> str:
             f"| {int(r['env_steps']):,} | {float(r['wall_s']):,.0f} "
             f"| {float(r['env_steps_per_s']):,.0f} | {r['load_start']}, {r['load_end']} "
             f"| {_ci(r, 'success_rate', True)} | {_ci(r, 'return_mean', False)} |"
+            + (f" {_to_pilot(r)} |" if pilot else "")
         )
     verdicts = [
-        f"- {config}, 256x64 against before: {v}"
+        f"- {config}, {new} against before: {v}"
         for config in dict.fromkeys(r["config"] for r in rows)
-        if (v := verdict([r for r in rows if r["config"] == config]))
+        for new in [next(iter(variants(config).keys() - {"before"}))]
+        if (v := verdict([r for r in rows if r["config"] == config], new))
     ]
     if verdicts:
         lines += ["", *verdicts]
@@ -207,11 +257,18 @@ def markdown(path: Path = CSV) -> str:
     return "\n".join(lines)
 
 
+def markdown_v1() -> str:
+    """docs/training_wallclock_v1.csv as :func:`markdown`'s table (the v1 retune)."""
+    return markdown(CSV_V1)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, nargs="+", default=[0])
     parser.add_argument("--configs", nargs="+", default=list(CONFIGS), choices=CONFIGS)
-    parser.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS))
+    parser.add_argument(
+        "--variants", nargs="+", choices=["before", "256x64", "after"], help="default: all"
+    )
     parser.add_argument("--episodes", type=int, default=256)
     parser.add_argument(
         "--total-timesteps",
@@ -221,9 +278,10 @@ def main(argv: list[str] | None = None) -> int:
         help="train CONFIG for N env steps, not its total_timesteps (both variants alike)",
     )
     parser.add_argument("--runs", type=Path, default=RUNS, help="where the run folders go")
-    parser.add_argument("--out", type=Path, default=CSV)
+    parser.add_argument("--out", type=Path, help=f"default: {CSV.name}, {CSV_V1.name} for v1")
     parser.add_argument("--csv-only", action="store_true", help="train nothing, evaluate nothing")
     args = parser.parse_args(argv)
+    threads.apply(threads.choose())  # the one owner's counts, as the CLIs run on
     budgets = {}
     for item in args.total_timesteps:
         config, _, n = item.partition("=")
@@ -235,7 +293,9 @@ def main(argv: list[str] | None = None) -> int:
     rows = []
     for seed in args.seeds:
         for config in args.configs:
-            for variant in args.variants:
+            for variant in args.variants or variants(config):
+                if variant not in variants(config):
+                    continue
                 steps = budgets.get(config)
                 out = run_dir(args.runs, config, variant, seed, steps)
                 if not args.csv_only:
@@ -244,7 +304,13 @@ def main(argv: list[str] | None = None) -> int:
                     rows.append(row(out, config, variant, seed))
                 else:
                     print(f"missing: {out} (not trained or not evaluated)")
-    notes = [f"{name}: {' '.join(sets)}" for name, sets in VARIANTS.items()]
+    v1 = all(c in V1_CONFIGS for c in args.configs)
+    args.out = args.out or (CSV_V1 if v1 else CSV)
+    notes = [
+        f"{config} {name}: {' '.join(sets) or 'as shipped'}"
+        for config in args.configs
+        for name, sets in variants(config).items()
+    ]
     notes += [f"{c}: {n:,} env steps, not its total_timesteps" for c, n in budgets.items()]
     write_csv(args.out, COLUMNS, ([r[c] for c in COLUMNS] for r in rows), notes)
     print(markdown(args.out))

@@ -45,6 +45,7 @@ from benchmarks.results import (
     policy_name,
     published_rows,
 )
+from fluidsim_envs import threads
 from fluidsim_envs.physics.jit import target_cpu
 
 #: the zoo's evaluation episodes: not the results' (seed 0), on which its runs were ranked,
@@ -260,6 +261,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--check", action="store_true", help="re-evaluate the entries")
     parser.add_argument("--gifs", action="store_true", help="draw the entries' GIFs again")
     args = parser.parse_args(argv)
+    threads.apply(threads.choose())  # the one owner's counts, as the CLIs run on
     if args.gifs:
         for config in args.configs:
             folder = ZOO / entry_name(config)

@@ -3,15 +3,14 @@ torch's (the policy's forward passes and updates), chosen together from the core
 may run on (``os.sched_getaffinity``), so that the two pools never spin against each other.
 
 Why an owner: both are OpenMP teams here (numba's ``omp`` threading layer, torch's own
-libgomp), and a team's thread that waits at a barrier spins. With one torch thread per core
-beside numba's, and the machine shared with any other work, the spinning threads take the
-cycles the working ones need: on 2 cores beside other work a 262k-step PPO run of
-PaperAirplane-v1 kept a twentieth of its quiet speed with torch's default of a thread per
-core, and half (the fair share) with one torch thread (``python -m benchmarks.bench_threads``,
-docs/bench_threads.csv). The policies are small MLPs, for which a second torch thread buys
-little even on a quiet machine, so torch gets one thread and numba every core, unless asked
-otherwise (``torch_threads``, ``numba_threads`` in a training config;
-``fluidsim-sweep --torch-threads``).
+libgomp), and a team's thread that waits at a barrier spins. A torch team of a thread per
+core (torch's default) beside numba's started pool takes the cycles the working threads need,
+even on a quiet machine; beside any other work, torch's team alone does. PPO on
+PaperAirplane-v1 then trained at a fraction of its speed (``python -m
+benchmarks.bench_training``, docs/training.md#wall-clock). A second torch thread buys some
+speed on a machine doing nothing else and costs several times that beside other work, so
+torch gets one thread and numba every core, unless asked otherwise (``torch_threads``,
+``numba_threads`` in a training config; ``fluidsim-sweep --torch-threads``).
 
     >>> from fluidsim_envs.threads import choose
     >>> plan = choose(torch=1, numba=1, cores=2, load=0.1)
@@ -79,7 +78,12 @@ class Threads:
     def describe(self) -> str:
         """One line for a plan: the counts, and the load when the machine was busy."""
         line = f"threads: numba {self.numba}, torch {self.torch}, on {self.cores} cores"
-        if self.busy:
+        if self.torch > 1:
+            line += (
+                " (warning: a torch team of several threads and numba's pool spin against "
+                "each other once both run: docs/training.md#wall-clock)"
+            )
+        elif self.busy:
             line += (
                 f" (the machine is busy: load average {self.load:.1f} at start; torch kept "
                 f"to {self.torch} thread{'s' * (self.torch > 1)} so that its pool and numba's "
@@ -138,14 +142,23 @@ def choose(
     return Threads(cores=cores, numba=numba, torch=torch, load=load)
 
 
+def numba_pool_started() -> bool:
+    """Whether numba's thread pool runs: a parallel kernel, or a call that reads or sets its
+    count, starts it (unknown to this numba: taken as started)."""
+    from numba.np.ufunc import parallel
+
+    return bool(getattr(parallel, "_is_initialized", True))
+
+
 def current() -> Threads:
-    """The counts in force now (torch's only where torch is imported; else 0)."""
+    """The counts in force now (torch's only where torch is imported; else 0), without
+    starting numba's pool (not started: the count it will start with)."""
     import numba
 
     torch = sys.modules.get("torch")
     return Threads(
         cores=available_cores(),
-        numba=numba.get_num_threads(),
+        numba=numba.get_num_threads() if numba_pool_started() else numba_pool_size(),
         torch=torch.get_num_threads() if torch is not None else 0,
         load=load_average(),
     )
@@ -157,7 +170,10 @@ def apply(threads: Threads) -> None:
     imported here when it is not yet: its pool must be sized before the policy first runs."""
     import numba
 
-    numba.set_num_threads(threads.numba)
+    # a pool not yet started starts with every thread: started only if fewer are asked for (a
+    # started pool beside a torch team of two spins even on a quiet machine)
+    if numba_pool_started() or threads.numba != numba_pool_size():
+        numba.set_num_threads(threads.numba)
     if threads.torch < 1:  # current() before torch was imported: nothing of torch's to set
         return
     try:

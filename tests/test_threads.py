@@ -81,3 +81,27 @@ def test_training_runs_on_the_owners_threads(tmp_path, capsys):
     err = capsys.readouterr().err
     assert f"torch_threads {too_many}: more than the {too_many - 1} cores" in err
     assert not (tmp_path / "bad").exists()
+
+
+def test_a_torch_team_is_warned_of():
+    line = choose(torch=2, cores=2, load=0.0).describe()
+    assert "torch 2" in line and "warning: a torch team of several threads" in line
+
+
+def test_the_owner_does_not_start_numbas_pool_for_its_default():
+    """numba's pool starts with every thread when a kernel first needs it: the owner leaves
+    it unstarted for that count (a started pool beside a torch team spins), and reads the
+    count without starting it."""
+    import subprocess
+    import sys
+
+    code = (
+        "from fluidsim_envs import threads\n"
+        "plan = threads.choose(torch=1)\n"
+        "with threads.owned(plan):\n"
+        "    assert not threads.numba_pool_started()\n"
+        "assert threads.current().numba == threads.numba_pool_size()\n"
+        "assert not threads.numba_pool_started()\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
