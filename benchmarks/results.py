@@ -111,13 +111,14 @@ def wanted_seeds(config: str, seeds: int) -> list[int]:
 
 def config_digest(config: str | Path) -> str:
     """What a run trains, as 12 hex digits: the config (a shipped name, or a run's
-    config.yaml) resolved, every env parameter filled in, without its seed and torch's thread
-    count. A shipped config that changes (a new race's values, an env's new default) no
-    longer matches its published runs: they are dropped and trained again."""
+    config.yaml) resolved, every env parameter filled in, without its seed and thread counts
+    (fluidsim_envs.threads': they change no hyperparameter). A shipped config that changes
+    (a new race's values, an env's new default) no longer matches its published runs: they
+    are dropped and trained again."""
     from fluidsim_envs.rl.config import config_to_dict, load_config, resolved
 
     plain = config_to_dict(resolved(load_config(config)))
-    for key in ("seed", "torch_threads"):
+    for key in ("seed", "torch_threads", "numba_threads"):
         plain.pop(key, None)
     if not plain.get("curriculum"):
         plain.pop("curriculum", None)  # no curriculum: the digest runs had before there was one
