@@ -97,7 +97,7 @@ def test_the_owner_does_not_start_numbas_pool_for_its_default():
 
     code = (
         "from fluidsim_envs import threads\n"
-        "plan = threads.choose(torch=1)\n"
+        "plan = threads.choose(torch=1, cores=threads.numba_pool_size())\n"
         "with threads.owned(plan):\n"
         "    assert not threads.numba_pool_started()\n"
         "assert threads.current().numba == threads.numba_pool_size()\n"
