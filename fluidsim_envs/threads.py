@@ -25,6 +25,7 @@ torch gets one thread and numba every core, unless asked otherwise (``torch_thre
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 import sys
 from collections.abc import Iterator
@@ -198,4 +199,20 @@ def owned(threads: Threads) -> Iterator[Threads]:
         apply(before)
 
 
-__all__ = ["ThreadError", "Threads", "apply", "available_cores", "choose", "current", "owned"]
+def on_owned_threads(fn):
+    """``fn`` run on :func:`choose`'s threads (and the caller's again afterwards): a policy's
+    float sums depend on torch's thread count, so an evaluation gives the same numbers from
+    the command line and from a caller whose torch runs on other threads."""
+
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        with owned(choose()):
+            return fn(*args, **kwargs)
+
+    return wrapper
+
+
+__all__ = [
+    "ThreadError", "Threads", "apply", "available_cores", "choose", "current", "on_owned_threads",
+    "owned",
+]  # fmt: skip

@@ -410,6 +410,7 @@ def _check_counts(
             raise RunError(f"--planner-{key} must be at least 1, got {value}")
 
 
+@threads.on_owned_threads
 def evaluate(
     run_dir: Path,
     episodes: int,
@@ -477,6 +478,7 @@ def evaluate(
     return rows
 
 
+@threads.on_owned_threads
 def evaluate_baselines(
     env_id: str,
     episodes: int,
@@ -775,9 +777,8 @@ def main(argv: list[str] | None = None, prog: str = "fluidsim-evaluate") -> int:
         say=lambda text: print(text, flush=True),
     )
     which = args.model or "final"
-    plan = threads.choose()  # the policy on one torch thread, the envs and planner on numba's
-    threads.apply(plan)
-    print(plan.describe(), flush=True)
+    # evaluate() and evaluate_baselines() run on these (threads.on_owned_threads)
+    print(threads.choose().describe(), flush=True)
     try:
         check_output_paths(args)
         env = parse_env_overrides(args.env)
