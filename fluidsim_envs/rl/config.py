@@ -302,7 +302,7 @@ class TrainConfig:
     # the run's threads (fluidsim_envs.threads owns them): torch's intra-op threads for the
     # policy's forward passes and updates, and numba's for the env kernels; null: one torch
     # thread and numba on every core this process may use, so that the two pools never spin
-    # against each other (benchmarks/bench_threads.py). At most the cores there are.
+    # against each other (benchmarks/bench_training.py). At most the cores there are.
     torch_threads: int | None = None
     numba_threads: int | None = None
     policy: PolicyConfig = PolicyConfig()
