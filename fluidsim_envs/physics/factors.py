@@ -38,18 +38,28 @@ class FactorTable:
         :attr:`factor` by a larger array."""
         values = np.asarray(values).astype(self.factor.dtype)
         # each sample once: a group that names one twice must not pass for a row's only users
-        samples = np.unique(np.asarray(samples, dtype=np.int64))
-        for r in np.unique(self.row[which, samples]):
+        samples = np.asarray(samples, dtype=np.int64)
+        if (samples[1:] <= samples[:-1]).any():
+            samples = np.unique(samples)
+        rows = self.row[which, samples]
+        if samples.size and rows[0] != 0 and (rows == rows[0]).all():
+            self._write(which, samples, rows[0], env_ids, values)  # a group that kept its row
+            return
+        for r in np.unique(rows):
             users = samples[self.row[which, samples] == r]
-            if r != 0 and np.count_nonzero(self.row == r) == users.size:
-                target = r  # the row is theirs alone
-            else:
-                target = self._free_row()
-                self.factor[target] = self.factor[r]
-                self.row[which, users] = target
-            self.factor[target, env_ids] = values
-            if np.all(self.factor[target] == 1.0):
-                self.row[which, users] = 0
+            self._write(which, users, r, env_ids, values)
+
+    def _write(self, which: int, users: np.ndarray, r: int, env_ids, values) -> None:
+        """``set`` for ``users``, the samples of ``samples`` on row ``r``."""
+        if r != 0 and np.count_nonzero(self.row == r) == users.size:
+            target = r  # the row is theirs alone
+        else:
+            target = self._free_row()
+            self.factor[target] = self.factor[r]
+            self.row[which, users] = target
+        self.factor[target, env_ids] = values
+        if (self.factor[target] == 1.0).all():
+            self.row[which, users] = 0
 
     def values(self, env_ids: np.ndarray) -> np.ndarray:
         """Every sample's factors in environments ``env_ids``: ``[n, len(FACTORS), N]``."""

@@ -16,6 +16,7 @@ from . import model as M
 from . import wake as WK
 from .craft import Craft, CraftError, check_inertia, shape_reach, shift_offsets
 from .factors import FactorTable
+from .randomizer import Randomizer
 from .state import BLOCK, NMEMORY, NSTATE, OL, OQ, OV, OX, ROWS
 from .world import World
 
@@ -110,6 +111,8 @@ class _Body:
         self.mass_kg = np.full(num_envs, craft.mass_kg)
         self.inertia = np.repeat(craft.inertia_tensor[None], num_envs, axis=0)
         self.com_m = np.zeros((num_envs, 3))  # shift of the center of mass from the craft's
+        self.shapes = np.asarray(CT.shape_rows(craft), dtype=np.float64)  # SH_* rows
+        self.extents = np.array([s.extent_m for s in craft.shapes])
         self.index = {}  # each kind's samples' numbers among all bodies' (Samples.factor_row)
         for kind, names in self.names.items():
             self.index[kind] = first + np.arange(len(names))
@@ -993,6 +996,12 @@ class Simulator:
         if efficiency is not None:
             self._set_factor(M.F_EFFICIENCY, bd.numbers(plates), ids, f)
 
+    def randomizer(self, groups, body: int = 0) -> Randomizer:
+        """A :class:`Randomizer` of body slot ``body``: the mass properties and ``groups``'
+        sample scales of an episode's drawn craft, written without this class's per-call
+        checks (a scene's reset; ``physics/randomizer.py``)."""
+        return Randomizer(self, groups, body)
+
     def set_thrust_scale(self, scale, env_ids=None, body=0) -> None:
         """Scale every thruster of body slot ``body`` (its thrust at every control value) in
         environments ``env_ids``; ``scale`` >= 0 broadcasts to ``[n]``; until changed."""
@@ -1028,14 +1037,11 @@ class Simulator:
         com = bd.com_m[ids]
         model.body[ids, b] = M.body_rows(bd.mass_kg[ids], bd.inertia[ids], com).astype(dtype)
         com = com[:, None, :]  # [n, 1, 3]
-        shapes = bd.craft.shapes
-        if shapes:
-            table = np.repeat(np.asarray(CT.shape_rows(bd.craft))[None], ids.size, axis=0)
+        if bd.craft.shapes:
+            table = np.repeat(bd.shapes[None], ids.size, axis=0)
             center = slice(CT.SH_CENTER, CT.SH_CENTER + 3)
             table[..., center] = shift_offsets(table[..., center], com)
-            table[..., CT.SH_REACH] = shape_reach(
-                table[..., center], np.array([s.extent_m for s in shapes])
-            )
+            table[..., CT.SH_REACH] = shape_reach(table[..., center], bd.extents)
             s0, s1 = model.shape_at[b], model.shape_at[b + 1]
             model.shape[ids, :, s0:s1] = table.transpose(0, 2, 1).astype(dtype)
             model.contact_body[ids, b, CT.CB_REACH] = table[..., CT.SH_REACH].max(axis=1)

@@ -162,7 +162,7 @@ class Realism:
         k, sim, E = env.params.knobs, env.sim, env.num_envs
         self.knobs, self.sim, self.plan = k, sim, plan
         craft = sim.crafts[0]
-        self.mass_kg, self.inertia = craft.mass_kg, np.asarray(craft.inertia_tensor)
+        self.mass_kg = craft.mass_kg
         self.thrusters = bool(craft.thrusters)
         G = len(plan.groups)
         self.draws = 5 + 2 * G + 3  # see start: the drawn columns, then the noise key
@@ -172,6 +172,14 @@ class Realism:
             *(f"{g}_{what}_scale" for g in plan.groups for what in ("area", "efficiency")),
             "thrust_scale", "density_scale",
         )  # fmt: skip
+        lo_hi = np.array(
+            [
+                k.mass_scale, k.inertia_scale, (-k.com_shift_m, k.com_shift_m),
+                (-k.com_shift_m, k.com_shift_m), (-k.com_shift_m, k.com_shift_m),
+                *((k.area_scale, k.efficiency_scale) * G), k.thrust_scale, k.density_scale,
+            ]
+        )  # fmt: skip
+        self.low, self.span = lo_hi[:, 0], lo_hi[:, 1] - lo_hi[:, 0]
         self.drawn = np.ones((E, len(self.drawn_names)))
         self.density_column = self.drawn_names.index("density_scale")  # the probes read it
         self.drawn[:, 0] = self.mass_kg
@@ -197,8 +205,8 @@ class Realism:
         self.sensors = SensorModel(sensors, names, k.sensor_scale, period,
                                    k.sensor_latency_steps, E)  # fmt: skip
         self.keys = np.zeros(E, dtype=np.uint64)
-        for g in plan.groups:  # each a group of the craft with plates (else a clear error)
-            sim.set_sample_scale(g, area=1.0, efficiency=1.0)
+        # each of plan.groups a group of the craft with plates (else a clear error)
+        self.randomizer = sim.randomizer(plan.groups)
         if k.actuators:
             sim.set_actuators(*self.actuator_table(sim))
 
@@ -223,33 +231,19 @@ class Realism:
         """Draw sub-envs ``ids``' physics for their new episodes from their uniforms ``u``
         [len(ids), draws], before the scene places the craft (a reset's angular momentum
         needs the new inertia)."""
-        k, sim, G = self.knobs, self.sim, len(self.plan.groups)
+        G = len(self.plan.groups)
         self.keys[ids] = NZ.keys_from_uniforms(u[:, -1])
         if not self.randomizes:
             return
-        lo_hi = np.array(
-            [
-                k.mass_scale, k.inertia_scale, (-k.com_shift_m, k.com_shift_m),
-                (-k.com_shift_m, k.com_shift_m), (-k.com_shift_m, k.com_shift_m),
-                *((k.area_scale, k.efficiency_scale) * G), k.thrust_scale, k.density_scale,
-            ]
-        )  # fmt: skip
         # the drawn columns, in drawn_names order (the uniforms are in that order)
-        x = lo_hi[:, 0] + u[:, : len(lo_hi)] * (lo_hi[:, 1] - lo_hi[:, 0])
-        mass, inertia, shift, density = x[:, 0], x[:, 1], x[:, 2:5], x[:, -1]
-        sim.set_mass_properties(
-            mass_kg=self.mass_kg * mass,
-            inertia_kgm2=(mass * inertia)[:, None, None] * self.inertia,
-            center_of_mass_m=shift,
-            env_ids=ids,
-        )
-        sim.set_sample_scale("all", area=density, env_ids=ids)
-        for j, g in enumerate(self.plan.groups):
-            area, eff = x[:, 5 + 2 * j], x[:, 6 + 2 * j]
-            sim.set_sample_scale(g, area=area * density, efficiency=eff, env_ids=ids)
-        if self.thrusters:
-            sim.set_thrust_scale(x[:, -2], env_ids=ids)
-        else:
+        x = self.low + u[:, : len(self.low)] * self.span
+        G2 = slice(5, 5 + 2 * G)
+        self.randomizer.set(
+            ids, mass_scale=x[:, 0], inertia_scale=x[:, 1], com_shift_m=x[:, 2:5],
+            density=x[:, -1], area=x[:, G2][:, 0::2], efficiency=x[:, G2][:, 1::2],
+            thrust=x[:, -2] if self.thrusters else None,
+        )  # fmt: skip
+        if not self.thrusters:
             x[:, -2] = 1.0
         x[:, 0] *= self.mass_kg
         self.drawn[ids] = x

@@ -218,3 +218,50 @@ def test_a_single_environment_takes_its_own_mass_properties():
     for field in ("body", "shape", "contact_body", "grid"):
         a, b = getattr(one._model, field), getattr(many._model, field)
         assert a.flags.writeable and numba.typeof(a) == numba.typeof(b), field
+
+
+@pytest.mark.parametrize(
+    "craft, groups",
+    [
+        ("paper_airplane", ("wings", "tail", "fuselage")),
+        ("speedboat", ("bottom", "friction", "topsides")),
+        ("uuv", ("control_surfaces",)),
+    ],
+)
+def test_a_randomizer_writes_what_the_checked_setters_write(craft, groups):
+    """Simulator.randomizer (a v1 scene's reset, physics/randomizer.py) skips the setters'
+    per-call checks: the environments it writes hold the same craft, bit for bit, as the
+    checked calls give (a sample in several of the groups takes the last one's, as it does
+    through set_sample_scale in turn), and the neighbours it does not write keep theirs."""
+    craft = Craft.load(craft)
+    rng = np.random.default_rng(3)
+    ids, G = np.array([0, 2]), len(groups)
+    mass, inertia, density = rng.uniform(0.7, 1.3, (3, 2))
+    shift, area, eff = rng.uniform(-0.01, 0.01, (2, 3)), *rng.uniform(0.6, 1.0, (2, 2, G))
+    thrust = rng.uniform(0.5, 1.5, 2) if craft.thrusters else None
+    checked = Simulator(craft, World(), num_envs=3)
+    checked.set_mass_properties(
+        mass_kg=craft.mass_kg * mass,
+        inertia_kgm2=(mass * inertia)[:, None, None] * craft.inertia_tensor,
+        center_of_mass_m=shift,
+        env_ids=ids,
+    )
+    checked.set_sample_scale("all", area=density, env_ids=ids)
+    for j, g in enumerate(groups):
+        checked.set_sample_scale(g, area=area[:, j] * density, efficiency=eff[:, j], env_ids=ids)
+    if thrust is not None:
+        checked.set_thrust_scale(thrust, env_ids=ids)
+    fast = Simulator(craft, World(), num_envs=3)
+    randomizer = fast.randomizer(groups)
+    for _ in range(2):  # the second write finds the groups on rows of their own
+        randomizer.set(ids, mass, inertia, shift, density, area, eff, thrust)
+    for name in ("mass_kg", "inertia_kgm2", "center_of_mass_m"):
+        np.testing.assert_array_equal(getattr(checked, name), getattr(fast, name), err_msg=name)
+    a, b = checked.get_state(), fast.get_state()
+    for key in a:  # the body rows and collision shapes travel in the model: stepped below
+        np.testing.assert_array_equal(a[key], b[key], err_msg=key)
+    np.testing.assert_array_equal(_fly(checked, 16), _fly(fast, 16))
+    with pytest.raises(ValueError, match="mass_scale must be positive, got"):
+        randomizer.set(ids, -mass, inertia, shift, density, area, eff, thrust)
+    with pytest.raises(ValueError, match="efficiency .* outside \\[0, 1\\]"):
+        randomizer.set(ids, mass, inertia, shift, density, area, -eff, thrust)
