@@ -11,7 +11,7 @@ intervals, performance profiles, learning curves with bands.
 Training: the seeds ``seed .. seed + --seeds - 1`` of each shipped v1 config (its own
 ``seed`` first) that are neither published nor trained here yet, through the real CLI,
 ``fluidsim-sweep CONFIG --seeds N --set seed=FIRST --sweep-dir
-sweeps/results/CONFIG/DIGEST-seedsFIRST-LAST`` (in a subprocess; DIGEST names the config's
+sweeps/results/CONFIG/DIGEST-training-seedsFIRST-LAST`` (in a subprocess; DIGEST names the config's
 values, :func:`config_digest`; a folder that holds a sweep is resumed). ``--max-new K``
 trains at most K of them now: the whole set is hours of compute on 2 cores, and a session's
 machine (and its ``sweeps/``) does not outlive it.
@@ -80,9 +80,14 @@ PAGE = DOCS / "results.md"
 EPISODE_COLUMNS = ("env", "policy", "run", "episode", "return", "success")
 HISTORY_COLUMNS = ("config", "seed", "timesteps", "wall_s", "mean_return", "success_rate")
 RUN_COLUMNS = (
-    "config", "seed", "config_digest", "revision", "timesteps", "wall_s", "peak_rss_mb",
-    "final_eval_return", "results_return", "folder",
+    "config", "seed", "config_digest", "revision", "train_stream", "timesteps", "wall_s",
+    "peak_rss_mb", "final_eval_return", "results_return", "folder",
 )  # fmt: skip
+#: the seed stream a run's training episodes came from (fluidsim_envs.seeding): runs trained
+#: before the streams were split (no ``train_stream`` in run.yaml, nor in their row) drew
+#: them from the evaluation stream of their seed, so seed 0 began on these results'
+#: episodes and seed 3 on the zoo's
+SHARED = "evaluation"
 COLUMNS = (
     "env", "policy", "runs", "episodes",
     "iqm", "iqm_lo", "iqm_hi", "mean", "mean_lo", "mean_hi",
@@ -126,17 +131,35 @@ def config_digest(config: str | Path) -> str:
 
 
 def published_runs(config: str, digest: str) -> list[dict]:
-    """The config's rows of docs/results_runs.csv trained with the config as it is now."""
+    """The config's rows of docs/results_runs.csv trained with the config as it is now, on
+    the training stream."""
     return [
         r
-        for r in published_rows(RUNS_CSV)
-        if r["config"] == config and r.get("config_digest") == digest
+        for r in run_table()
+        if r["config"] == config
+        and r.get("config_digest") == digest
+        and r["train_stream"] == "training"
     ]
+
+
+def run_table() -> list[dict]:
+    """docs/results_runs.csv's rows, each with its ``train_stream`` (:data:`SHARED` for the
+    rows written before the column was)."""
+    return [
+        {**r, "train_stream": r.get("train_stream") or SHARED} for r in published_rows(RUNS_CSV)
+    ]
+
+
+def train_stream(run: Path) -> str:
+    """The seed stream run folder ``run`` trained on (its run.yaml; :data:`SHARED` before the
+    streams were split)."""
+    return yaml.safe_load((run / "run.yaml").read_text())["seeds"].get("train_stream", SHARED)
 
 
 def missing_seeds(config: str, seeds: int) -> list[int]:
     """The wanted seeds neither published (docs/results_runs.csv, trained with the config as
-    it is now) nor finished here."""
+    it is now, on the training stream: a run of the shared stream is trained again, and its
+    row replaced) nor finished here."""
     have = {int(r["seed"]) for r in published_runs(config, config_digest(config))}
     have |= set(local_runs(config))
     return [s for s in wanted_seeds(config, seeds) if s not in have]
@@ -155,7 +178,7 @@ def chunks(seeds: Sequence[int]) -> list[list[int]]:
 
 def train(config: str, seeds: list[int]) -> None:
     for chunk in chunks(seeds):
-        folder = SWEEPS / config / f"{config_digest(config)}-seeds{chunk[0]}-{chunk[-1]}"
+        folder = SWEEPS / config / f"{config_digest(config)}-training-seeds{chunk[0]}-{chunk[-1]}"
         if (folder / "sweep.yaml").is_file():
             cmd = ["--resume", str(folder)]
         else:
@@ -170,15 +193,20 @@ _SAID: set[Path] = set()  # the runs left out, said once
 
 
 def local_runs(config: str) -> dict[int, Path]:
-    """The config's runs finished here (a final model) with the config as it is now, by
-    seed."""
+    """The config's runs finished here (a final model) with the config as it is now, on the
+    training stream, by seed."""
     digest, out = config_digest(config), {}
     for run in sorted((SWEEPS / config).glob("*/runs/*")):
         if (run / "model.zip").is_file():
+            why = None
             if config_digest(run / "config.yaml") != digest:
+                why = f"trained with another {config}"
+            elif train_stream(run) != "training":
+                why = f"trained on the {train_stream(run)} stream"
+            if why:
                 if run not in _SAID:
                     _SAID.add(run)
-                    print(f"{run}: trained with another {config}: left out")
+                    print(f"{run}: {why}: left out")
                 continue
             out[int(yaml.safe_load((run / "config.yaml").read_text())["seed"])] = run
     return out
@@ -326,7 +354,7 @@ def run_rows(configs: list[str], episodes: int, seed: int) -> list[tuple]:
             git = meta["git"]
             out.append((
                 config, s, config_digest(config),
-                git["revision"][:10] + ("+dirty" if git["dirty"] else ""),
+                git["revision"][:10] + ("+dirty" if git["dirty"] else ""), train_stream(run),
                 int(meta["num_timesteps"]), round(last["wall_s"], 1),
                 round(max(rss), 1) if rss else "", round(last["mean_return"], 4),
                 round(float(np.mean(run_episodes(run, episodes, seed)["return"])), 4),
@@ -340,7 +368,7 @@ def stale_runs(configs: list[str]) -> list[tuple[str, int]]:
     current = {c: config_digest(c) for c in configs}
     stale = [
         (r["config"], int(r["seed"]))
-        for r in published_rows(RUNS_CSV)
+        for r in run_table()
         if r["config"] in current and r.get("config_digest") != current[r["config"]]
     ]
     for config, seed in stale:
@@ -355,7 +383,8 @@ def merge(path: Path, columns: Sequence[str], new: Iterable[Sequence], key: Sequ
     names that key (runs of a config that has changed since)."""
     fresh = [dict(zip(columns, map(str, r), strict=True)) for r in new]
     keys = {tuple(r[k] for k in key) for r in fresh} | {tuple(map(str, k)) for k in drop}
-    kept = [r for r in published_rows(path) if tuple(r[k] for k in key) not in keys]
+    old = run_table() if path == RUNS_CSV else published_rows(path)
+    kept = [r for r in old if tuple(r[k] for k in key) not in keys]
     rows = kept + fresh
     write_csv(path, columns, ([r[c] for c in columns] for r in rows), comments)
     return rows
@@ -590,13 +619,14 @@ def runs_markdown() -> str:
     if not RUNS_CSV.is_file():
         return "(no runs published yet)\n"
     lines = [
-        "| config | seed | digest | revision | steps | wall (min) | peak RSS (MiB) "
-        "| last evaluation during training | return on these episodes |",
-        "|---|--:|---|---|--:|--:|--:|--:|--:|",
+        "| config | seed | digest | revision | training episodes | steps | wall (min) "
+        "| peak RSS (MiB) | last evaluation during training | return on these episodes |",
+        "|---|--:|---|---|---|--:|--:|--:|--:|--:|",
     ]
-    for r in published_rows(RUNS_CSV):
+    for r in run_table():
         lines.append(
             f"| {r['config']} | {r['seed']} | `{r['config_digest']}` | `{r['revision']}` | "
+            f"{r['train_stream']} | "
             f"{int(r['timesteps']):,} | "
             f"{float(r['wall_s']) / 60:.1f} | {r['peak_rss_mb'] or 'n/a'} | "
             f"{float(r['final_eval_return']):.2f} | {float(r['results_return']):.2f} |"
@@ -619,17 +649,32 @@ def missing_markdown() -> str:
             for name in BASELINES
             if (env, name) not in flown
         ]
-    have = {c: 0 for c in CONFIGS}
-    for r in published_rows(RUNS_CSV):
+    have, shared = dict.fromkeys(CONFIGS, 0), dict.fromkeys(CONFIGS, 0)
+    for r in run_table():
         have[r["config"]] += 1
+        shared[r["config"]] += r["train_stream"] == SHARED
     lines += [
-        f"- `{c}`: {n} of {SEEDS} runs "
-        + (f"({WAITING[c]})" if c in WAITING else
-           f"(`python -m benchmarks.results --configs {c} --train`)")
+        f"- `{c}`: {n - shared[c]} of {SEEDS} runs on the training stream"
+        + (f", {shared[c]} on the evaluation stream to train again" if shared[c] else "")
+        + (f" ({WAITING[c]})" if c in WAITING else
+           f" (`python -m benchmarks.results --configs {c} --train`)")
         for c, n in have.items()
-        if n < SEEDS
+        if n - shared[c] < SEEDS
     ]  # fmt: skip
     return "\n".join(lines) + "\n" if lines else "None: every config has its runs.\n"
+
+
+def shared_sentence() -> str:
+    """What the page says of the runs trained before the streams were split."""
+    n = sum(r["train_stream"] == SHARED for r in run_table())
+    if not n:
+        return "Every run here did."
+    return (
+        f"{n} of the runs here did not (`evaluation` in the runs table): they were trained "
+        "before the streams were split, on the evaluation stream of their seed, so that the run "
+        f"seeded {EVAL_SEED} began on the episodes these results fly, and the one seeded 3 on "
+        "the zoo's. They stand until trained again (the list below)."
+    )
 
 
 def page() -> str:
@@ -644,7 +689,10 @@ deterministically, and the three baselines fly the same {EPISODES} episodes (see
 {EVAL_SEED}): the planner (an oracle: it reads the true state and plans over the env's own
 model), the tuned pilot (the scene's classical controller, its gains tuned by
 `python -m benchmarks.tune_pilots` on seeds 1 and 2) and random actions. The runs' own
-evaluations during training use seed 1,000,000; the zoo publishes on seed 3.
+evaluations during training use seed 1,000,000; the zoo publishes on seed 3. All of these
+are the evaluation stream of their seed (`reset(seed=s)`); a run draws its training episodes
+from the training stream of its seed (`fluidsim_envs.seeding`), which no evaluation flies.
+{shared_sentence()}
 
 A run's score is its mean return over the episodes. The table gives the interquartile mean
 (IQM: the mean of the middle half of the runs, scipy's 25% trimmed mean) and the mean over

@@ -297,7 +297,7 @@ class TrainConfig:
     env_kwargs: dict[str, Any] = field(default_factory=dict)  # the env's parameters
     n_envs: int = 16
     total_timesteps: int = 1_000_000
-    seed: int = 0  # the model's seed; env i gets SeedSequence(seed).spawn(n_envs)[i]
+    seed: int = 0  # the model's; env i draws seeding.root(seed, "training").spawn(n_envs)[i]
     device: str = "cpu"  # auto, cpu, cuda, cuda:N or mps; checked against what torch sees
     # the run's threads (fluidsim_envs.threads owns them): torch's intra-op threads for the
     # policy's forward passes and updates, and numba's for the env kernels; null: one torch

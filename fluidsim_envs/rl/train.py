@@ -55,6 +55,7 @@ require("train", "fluidsim_envs.rl.train")
 import numpy as np  # noqa: E402
 import yaml  # noqa: E402  (after the check that names the missing extra)
 
+from .. import seeding as SD  # noqa: E402
 from .. import threads  # noqa: E402
 from ..physics.jit import target_cpu  # noqa: E402
 from . import files  # noqa: E402
@@ -146,8 +147,10 @@ def make_env(
     ``start_timesteps`` on and its times going on from ``time_offset_s``), then
     ``VecNormalize`` when enabled (``stats``: a saved ``.pkl`` to load).
 
-    ``evaluation``: frozen statistics and raw rewards. Success is reported as ``is_success``
-    at each episode's end (SB3's ``rollout/success_rate`` and the evaluations read it).
+    ``evaluation``: frozen statistics, raw rewards and the evaluation's seed stream (else the
+    training stream, whose episodes no evaluation flies: ``fluidsim_envs.seeding``). Success
+    is reported as ``is_success`` at each episode's end (SB3's ``rollout/success_rate`` and
+    the evaluations read it).
     """
     from stable_baselines3.common.vec_env import VecMonitor, VecNormalize
 
@@ -161,6 +164,7 @@ def make_env(
         seed=seed,
         success_key="success",  # SB3 reads is_success: success rates in TensorBoard
         info_keys=("success",),  # all that training reads (VecMonitor, SB3's success rate)
+        stream="evaluation" if evaluation else "training",  # fluidsim_envs.seeding
         **(cfg.env_kwargs if env_kwargs is None else env_kwargs),
     )
     if monitor_file is None:
@@ -527,8 +531,9 @@ def _train(
     cfg = resolved(cfg)  # every env parameter written down: the run replays whatever changes
     files.check_writable_folder(run_dir, "--resume" if resume else "--run-dir")
     restart, time_offset = _restart(run_dir, cfg) if resume else (None, 0.0)
-    # seeding, in one place: training env i gets SeedSequence(seed).spawn(n_envs)[i] at its
-    # first reset (SB3VecEnv.seed, as the env's own reset(seed=...)); a resumed run reseeds
+    # seeding, in one place: training env i gets seeding.root(seed, "training").spawn(n_envs)[i]
+    # at its first reset (SB3VecEnv.seed, as the env's own reset(seed=..., options={"stream":
+    # "training"}): never an evaluation's episodes at any seed); a resumed run reseeds
     # with seed + timesteps done (modulo 2**32, torch's and NumPy's seed range), so it does
     # not replay the episodes it began with; the eval env is reseeded before every evaluation
     done_steps = restart.steps if restart else 0
@@ -667,8 +672,9 @@ def _meta(
     now = datetime.datetime.now().isoformat(timespec="seconds")
     seeds = {
         "model": cfg.seed,
-        "train_envs": f"SeedSequence({env_seed}).spawn({cfg.n_envs})[i] for env i",
-        "eval_envs": f"SeedSequence({cfg.eval.seed}).spawn({cfg.eval.n_episodes})[i] for env i",
+        "train_envs": SD.describe(env_seed, cfg.n_envs, "training"),
+        "train_stream": "training",  # fluidsim_envs.seeding
+        "eval_envs": SD.describe(cfg.eval.seed, cfg.eval.n_episodes),
     }
     if restart is None:
         meta = {

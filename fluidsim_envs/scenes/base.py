@@ -19,7 +19,9 @@ Seeding: ``reset(seed=s)`` gives sub-env i the generator of ``SeedSequence(s).sp
 (spawned children do not depend on E, so sub-env i sees the same randomness for any batch
 size), and ``reset(seed=[s0, s1, ...])`` gives sub-env i ``SeedSequence(s_i).spawn(1)[0]``,
 which is what the single env seeded with ``s_i`` uses. Each sub-env draws only from its own
-generator, so its episodes do not depend on the others.
+generator, so its episodes do not depend on the others. ``options={"stream": name}`` takes
+the same seeds from another purpose's stream (``fluidsim_envs.seeding``: a training run's
+episodes are never the evaluation's).
 
 Every episode start draws ``draws_per_episode`` uniforms in [0, 1) from its sub-env's
 generator. They are drawn ahead, several episodes' worth at a time, into the sub-env's pool
@@ -40,6 +42,7 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
+from .. import seeding as SD
 from ..physics import checks as CK
 from .snapshot import EnvState
 
@@ -229,7 +232,7 @@ class FluidVectorEnv(VectorEnv):
 
     # ---- Gymnasium API --------------------------------------------------------------------
 
-    RESET_OPTIONS = ("env_ids", "reset_mask")
+    RESET_OPTIONS = ("env_ids", "reset_mask", "stream")
 
     def reset(self, *, seed: int | Sequence[int | None] | None = None, options=None):
         """Reset every sub-env, or some.
@@ -242,11 +245,16 @@ class FluidVectorEnv(VectorEnv):
                 [0, num_envs), or a boolean mask of length num_envs) and ``"reset_mask"``
                 (a boolean mask of length num_envs, Gymnasium's vector-env convention):
                 only those sub-envs restart (their observation rows change; the others keep
-                theirs); an empty list or an all-False mask restarts none.
+                theirs); an empty list or an all-False mask restarts none. Beside either,
+                ``"stream"`` with a seed: the purpose the seed serves (``"training"``,
+                ``"tuning"``, ``"showcase"``; ``"evaluation"``, the default, is Gymnasium's
+                ``reset(seed=s)``), whose episodes no other stream's seed gives
+                (:mod:`fluidsim_envs.seeding`).
 
         Every input is checked before anything changes."""
         E = self.num_envs
         ids = np.unique(self._reset_ids(options))  # a sub-env listed twice starts once
+        stream = self._stream(seed, options)
         if seed is None:
             if any(r is None for r in self._rngs):
                 self._seed(np.random.SeedSequence().spawn(E))
@@ -254,10 +262,10 @@ class FluidVectorEnv(VectorEnv):
             seeds = [CK.seed("reset", f"seed[{i}]", s) for i, s in enumerate(seed)]
             if len(seeds) != E:
                 raise ValueError(f"reset: expected {E} seeds, one per sub-env, got {len(seeds)}")
-            self._seed([np.random.SeedSequence(s).spawn(1)[0] for s in seeds])
+            self._seed([SD.root(s, stream).spawn(1)[0] for s in seeds])
         else:
             seed = CK.seed("reset", f"seed (or a list of {E}, one per sub-env)", seed)
-            self._seed(np.random.SeedSequence(seed).spawn(E))
+            self._seed(SD.root(seed, stream).spawn(E))
         self._start(ids)
         self._observe(self._truth, ids)
         self._read(ids, start=True)
@@ -275,7 +283,7 @@ class FluidVectorEnv(VectorEnv):
         unknown = [k for k in options if k not in valid]
         if unknown:
             raise ValueError(f"reset: unknown option(s) {unknown}; valid options are {valid}")
-        if len(options) > 1:
+        if len(set(options) - {"stream"}) > 1:
             raise ValueError("reset: pass one of options 'env_ids' and 'reset_mask', not both")
         if "reset_mask" in options:
             mask = options["reset_mask"]
@@ -286,6 +294,19 @@ class FluidVectorEnv(VectorEnv):
                 )
             return self._ids("reset: options['reset_mask']", mask)
         return self._ids("reset", options.get("env_ids"))
+
+    @staticmethod
+    def _stream(seed, options) -> str:
+        """The seed stream ``options["stream"]`` names (``fluidsim_envs.seeding``; default
+        "evaluation"): only with a seed, which it is the stream of."""
+        if not options or "stream" not in options:
+            return "evaluation"
+        if seed is None:
+            raise ValueError(
+                f"reset: options['stream'] ({options['stream']!r}) chooses the episodes a seed "
+                "gives: pass a seed with it"
+            )
+        return SD.check_stream("reset: options['stream']", options["stream"])
 
     def step(self, actions):
         a = CK.real_array("step", "actions", actions)  # no str, None, object, ragged, bools

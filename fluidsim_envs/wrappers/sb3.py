@@ -11,7 +11,8 @@ step by step). Seeding goes through the env's own ``SeedSequence``: ``seed(s)`` 
 ``reset()`` call ``venv.reset(seed=s)``, so sub-env i draws from ``SeedSequence(s).spawn(E)[i]``
 exactly as in ``gym.make_vec(...).reset(seed=s)`` (and for any E), never from ``s + i``.
 :meth:`SB3VecEnv.seed_each` gives sub-env i the stream of the single env seeded ``seeds[i]``
-(what ``DummyVecEnv.seed`` does, for comparisons with it).
+(what ``DummyVecEnv.seed`` does, for comparisons with it). ``stream="training"`` seeds a
+training run's sub-envs from a stream of their own (``fluidsim_envs.seeding``).
 
     >>> from fluidsim_envs.wrappers.sb3 import make_sb3_vec_env
     >>> venv = make_sb3_vec_env("fluidsim/PaperAirplane-v0", n_envs=4, seed=0)
@@ -38,6 +39,8 @@ from stable_baselines3.common.vec_env.base_vec_env import (
     VecEnvObs,
     VecEnvStepReturn,
 )
+
+from .. import seeding as SD
 
 # The autoreset bookkeeping of a same-step vector env; not part of any one env's info.
 _AUTORESET_KEYS = ("final_obs", "final_info")
@@ -126,6 +129,10 @@ class SB3VecEnv(VecEnv):
         default): all of them, as DummyVecEnv. Training reads only a few, and a dict per
         sub-env of every nested entry (reward terms, the drawn physics) cost more than the
         env's own step at 256 envs.
+    stream
+        The seed stream :meth:`seed` draws from (``fluidsim_envs.seeding``): "evaluation"
+        (the default: ``venv.reset(seed=s)``), or "training" for a training run, whose
+        episodes are then never those an evaluation at the same seed flies.
     """
 
     def __init__(
@@ -134,6 +141,7 @@ class SB3VecEnv(VecEnv):
         *,
         success_key: str | None = None,
         info_keys: Sequence[str] | None = None,
+        stream: str = "evaluation",
     ) -> None:
         mode = venv.metadata.get("autoreset_mode")
         if mode != AutoresetMode.SAME_STEP:
@@ -142,6 +150,7 @@ class SB3VecEnv(VecEnv):
                 f"(metadata['autoreset_mode'] == AutoresetMode.SAME_STEP), got {mode!r}"
             )
         self.venv = venv
+        self.stream = SD.check_stream("SB3VecEnv", stream)
         self.success_key = success_key
         self.info_keys = None if info_keys is None else tuple(info_keys)
         if success_key is not None and self.info_keys is not None:
@@ -157,16 +166,18 @@ class SB3VecEnv(VecEnv):
 
     def seed(self, seed: int | None = None) -> list[np.random.SeedSequence]:
         """Seed every sub-env at the next :meth:`reset` through the env's ``SeedSequence``:
-        sub-env i gets ``SeedSequence(seed).spawn(num_envs)[i]``, the generator
-        ``venv.reset(seed=seed)`` gives it (not SB3's default ``seed + i``). Without a seed,
-        one is drawn from fresh entropy. Returns the sub-envs' seed sequences."""
+        sub-env i gets ``seeding.root(seed, stream).spawn(num_envs)[i]``, the generator
+        ``venv.reset(seed=seed, options={"stream": stream})`` gives it (in the evaluation
+        stream ``SeedSequence(seed).spawn(num_envs)[i]``; never SB3's default ``seed + i``).
+        Without a seed, one is drawn from fresh entropy. Returns the sub-envs' seed
+        sequences."""
         if seed is None:
             seed = int(np.random.SeedSequence().generate_state(1)[0])  # fresh OS entropy
         if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
             raise ValueError(f"SB3VecEnv.seed: expected an int or None, got {seed!r}")
         self._batch_seed = int(seed)
         self._reset_seeds()
-        return np.random.SeedSequence(self._batch_seed).spawn(self.num_envs)
+        return SD.root(self._batch_seed, self.stream).spawn(self.num_envs)
 
     def seed_each(self, seeds: Sequence[int]) -> list[int]:
         """Give sub-env i, at the next :meth:`reset`, the stream of the single env reset with
@@ -194,8 +205,11 @@ class SB3VecEnv(VecEnv):
                 "SB3VecEnv.reset: the vector env takes one options dict for all its sub-envs, "
                 f"got different ones per env: {options}"
             )
+        options = dict(options[0] or {})
+        if seed is not None and self.stream != "evaluation":
+            options["stream"] = self.stream
         t = time.perf_counter()
-        obs, info = self.venv.reset(seed=seed, options=options[0] or None)
+        obs, info = self.venv.reset(seed=seed, options=options or None)
         self.env_seconds += time.perf_counter() - t
         self.reset_infos = _env_infos(info, self.num_envs, self.info_keys)
         self._batch_seed = None
@@ -338,6 +352,7 @@ def make_sb3_vec_env(
     *,
     success_key: str | None = None,
     info_keys: Sequence[str] | None = None,
+    stream: str = "evaluation",
     **env_kwargs: Any,
 ) -> SB3VecEnv:
     """``n_envs`` sub-envs of ``env_id`` in one native vector env, as an SB3 ``VecEnv``.
@@ -345,10 +360,13 @@ def make_sb3_vec_env(
     ``env_kwargs`` set the env's parameters (an unknown one is an error listing the valid
     ones). With ``seed``, the first ``reset()`` seeds the sub-envs as
     ``venv.reset(seed=seed)`` does (see :meth:`SB3VecEnv.seed`).
-    ``success_key``, ``info_keys``: see :class:`SB3VecEnv`.
+    ``success_key``, ``info_keys``, ``stream``: see :class:`SB3VecEnv`.
     """
     sb3_venv = SB3VecEnv(
-        make_vector_env(env_id, n_envs, **env_kwargs), success_key=success_key, info_keys=info_keys
+        make_vector_env(env_id, n_envs, **env_kwargs),
+        success_key=success_key,
+        info_keys=info_keys,
+        stream=stream,
     )
     if seed is not None:
         sb3_venv.seed(seed)

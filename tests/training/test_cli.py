@@ -115,6 +115,8 @@ def test_train_writes_a_self_describing_run_folder(run):
     assert set(meta["git"]) == {"revision", "dirty"}
     assert meta["git"]["revision"] is None or len(meta["git"]["revision"]) == 40
     assert meta["seeds"]["model"] == 0 and meta["num_timesteps"] == 2048
+    assert meta["seeds"]["train_stream"] == "training"  # never the evaluation's episodes
+    assert "(training)" in meta["seeds"]["train_envs"]
     assert meta["versions"]["stable_baselines3"]
     assert meta["cpu"] == target_cpu()  # a seed's policy repeats to the bit on this CPU only
     (timing,) = meta["timing"]  # where the time went: the envs against the learner

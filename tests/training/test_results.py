@@ -119,19 +119,29 @@ def test_runs_of_several_sessions_add_up(tmp_path, monkeypatch):
     run.mkdir(parents=True)
     shipped = config_to_dict(load_config(name))
     (run / "config.yaml").write_text(yaml.safe_dump({**shipped, "seed": 3, "torch_threads": 1}))
+    (run / "run.yaml").write_text(yaml.safe_dump({"seeds": {"train_stream": "training"}}))
     (run / "model.zip").write_bytes(b"")
     digest = results.config_digest(name)
     assert results.config_digest(run / "config.yaml") == digest  # seed and threads aside
-    path.write_text(f"config,seed,config_digest\n{name},0,{digest}\n{name},1,{digest}\n"
-                    f"{name},2,0123456789ab\n")  # fmt: skip
-    assert results.missing_seeds(name, 5) == [2, 4]  # seed 2: trained with another config
+    path.write_text(f"config,seed,config_digest,train_stream\n{name},0,{digest},training\n"
+                    f"{name},1,{digest},training\n{name},2,0123456789ab,training\n"
+                    f"{name},5,{digest},evaluation\n")  # fmt: skip
+    # seed 2: trained with another config; a run on the evaluation stream is trained again
+    assert results.missing_seeds(name, 5) == [2, 4]
+    assert results.missing_seeds(name, 6) == [2, 4, 5]
     assert results.stale_runs([name]) == [(name, 2)]
-    assert "`paper_airplane_v1_ppo`: 3 of 5 runs" in results.missing_markdown()
-    other = run.parent / "t1"
-    other.mkdir()
-    (other / "config.yaml").write_text(yaml.safe_dump({**shipped, "seed": 4, "n_envs": 128}))
-    (other / "model.zip").write_bytes(b"")
-    assert list(results.local_runs(name)) == [3]  # not the run of another config
+    assert (
+        "`paper_airplane_v1_ppo`: 3 of 5 runs on the training stream, 1 on the evaluation "
+        "stream to train again" in results.missing_markdown()
+    )
+    for seed, change, stream in ((4, {"n_envs": 128}, "training"), (5, {}, "evaluation")):
+        other = run.parent / f"t{seed}"
+        other.mkdir()
+        (other / "config.yaml").write_text(yaml.safe_dump({**shipped, "seed": seed, **change}))
+        (other / "run.yaml").write_text(yaml.safe_dump({"seeds": {"train_stream": stream}}))
+        (other / "model.zip").write_bytes(b"")
+    # not the run of another config, nor the one of the shared stream
+    assert list(results.local_runs(name)) == [3]
 
 
 def test_baselines_are_flown_once_and_read_back(tmp_path, monkeypatch):
@@ -177,14 +187,18 @@ def test_the_page_is_written_from_the_csvs(tmp_path, monkeypatch):
     results.write_csv(
         results.RUNS_CSV,
         results.RUN_COLUMNS,
-        [("paper_airplane_v1_ppo", 0, "d1", "abc", 3_000_000, 300.0, 640.0, 19.5, 18.25, "f")],
-    )
+        [
+            ("paper_airplane_v1_ppo", 0, "d1", "abc", "training", 3_000_000, 300.0, 640.0, 19.5,
+             18.25, "f"),
+        ],
+    )  # fmt: skip
     page = results.page()
     assert (
-        "| paper_airplane_v1_ppo | 0 | `d1` | `abc` | 3,000,000 | 5.0 | 640.0 | 19.50 | 18.25 |"
-        in page
+        "| paper_airplane_v1_ppo | 0 | `d1` | `abc` | training | 3,000,000 | 5.0 | 640.0 | 19.50 "
+        "| 18.25 |" in page
     )
     assert "`boat_on_step_v1_ppo`: 0 of 5 runs" in page
+    assert "Every run here did." in page
 
 
 def test_the_page_lists_the_baselines_not_yet_flown(tmp_path, monkeypatch):
