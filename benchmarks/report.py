@@ -240,10 +240,14 @@ DART_SOURCES = {
     "lanchester": "Lanchester, drag-free: ζ = 0",
 }
 # the policies of an evaluation CSV (fluidsim-evaluate's rows) in the tables, by row name
-POLICIES = ("trained PPO", "planner (oracle)", "tuned pilot", "hand-set pilot", "random")
+# ("planner (oracle)": fluidsim-evaluate's planner before issue 44, in the v0 CSVs, where an
+# episode has no noise to come and it was the planner of today)
+POLICIES = (
+    "trained PPO", "planner", "planner (oracle)", "tuned pilot", "hand-set pilot", "random",
+)  # fmt: skip
 # the README's table: (column title, row name, envs.csv key)
 README_POLICIES = (
-    ("planner (oracle)", "planner (oracle)", "planner"),
+    ("planner", "planner", "planner"),
     ("tuned pilot", "tuned pilot", "pilot"),
     ("PPO (one seed)", "trained PPO", "ppo"),
 )
@@ -272,9 +276,10 @@ def _scores(env_id: str) -> dict[str, str]:
     if not path.is_file():
         return {}
     by = {r["policy"]: r for r in read_csv(path)[1]}
+    by.setdefault("planner", by.get("planner (oracle)"))  # the v0 CSVs' name of it
     out = {}
     for _, policy, key in README_POLICIES:
-        if policy not in by:
+        if by.get(policy) is None:
             continue
         row = by[policy]
         for mine, theirs in (("success", "success_rate"), ("return", "return_mean")):

@@ -17,7 +17,9 @@ trains at most K of them now: the whole set is hours of compute on 2 cores, and 
 machine (and its ``sweeps/``) does not outlive it.
 
 Evaluation: each run's final model, acting deterministically, and the baselines (the
-planner, an oracle that reads the true state; the tuned pilot; random actions) on the same
+planner, an oracle of the present that reads the true state but draws its own future noise;
+the same planner told the episode's future noise, a labelled reference; the tuned pilot;
+random actions) on the same
 :data:`EPISODES` episodes, seed :data:`EVAL_SEED` (disjoint from the pilots' tuning seeds and
 from the runs' evaluation seed). A run's per-episode results are cached in its folder
 (``results_eval.npz``). The baselines are flown once, each on its own: later runs read
@@ -71,7 +73,11 @@ SWEEPS = ROOT / "sweeps" / "results"
 EVAL_SEED = 0  # the pilots were tuned on TUNING_SEEDS (evaluation.py): disjoint
 EPISODES = 256
 SEEDS = 5
-BASELINES = ("planner (oracle)", "tuned pilot", "random")
+BASELINES = ("planner", "planner (clairvoyant)", "tuned pilot", "random")
+PLANNERS = BASELINES[:2]  # --no-planner leaves them out where not yet flown
+#: baselines' names as earlier versions of this file wrote them: the planner before issue 44
+#: kept the episode's noise keys (it flew the episode's own future gusts and sensor noise)
+LEGACY = {"planner (oracle)": "planner (clairvoyant)"}
 EPISODES_CSV = DOCS / "results_episodes.csv"
 HISTORY_CSV = DOCS / "results_history.csv"
 RUNS_CSV = DOCS / "results_runs.csv"
@@ -139,6 +145,14 @@ def published_runs(config: str, digest: str) -> list[dict]:
         if r["config"] == config
         and r.get("config_digest") == digest
         and r["train_stream"] == "training"
+    ]
+
+
+def episode_table() -> list[dict]:
+    """docs/results_episodes.csv's rows, the baselines under their names of now
+    (:data:`LEGACY`)."""
+    return [
+        {**r, "policy": LEGACY.get(r["policy"], r["policy"])} for r in published_rows(EPISODES_CSV)
     ]
 
 
@@ -249,7 +263,7 @@ def published_baselines(env: str, episodes: int) -> dict[str, dict[str, np.ndarr
     """The baselines' episodes on ``env`` as docs/results_episodes.csv holds them (flown on
     :data:`EVAL_SEED`, its header says): those with all ``episodes`` of them."""
     got: dict[str, list[dict]] = {b: [] for b in BASELINES}
-    for row in published_rows(EPISODES_CSV):
+    for row in episode_table():
         if row["env"] == env and row["policy"] in got and row["run"] == "-":
             got[row["policy"]].append(row)
     return {
@@ -274,13 +288,14 @@ def baseline_episodes(
     published = published_baselines(env, episodes) if seed == EVAL_SEED and not fresh else {}
     out = {}
     for name in BASELINES:
-        cache = SWEEPS / "baselines" / f"{env}-{episodes}-{seed}-{name.split()[0]}.npz"
+        slug = "_".join(name.replace("(", "").replace(")", "").split())
+        cache = SWEEPS / "baselines" / f"{env}-{episodes}-{seed}-{slug}.npz"
         if name in published:
             out[name] = published[name]
         elif cache.is_file() and not fresh:
             with np.load(cache) as data:
                 out[name] = {k: data[k] for k in ("return", "success")}
-        elif planner or name != "planner (oracle)":
+        elif planner or name not in PLANNERS:
             out[name] = fly_baseline(env_id, name, episodes, seed)
             cache.parent.mkdir(parents=True, exist_ok=True)
             np.savez(cache, **out[name])
@@ -294,7 +309,8 @@ def fly_baseline(env_id: str, name: str, episodes: int, seed: int) -> dict[str, 
 
     scene = find_scene(env_id)
     make = {
-        "planner (oracle)": lambda venv: scene.planner(venv),
+        "planner": lambda venv: scene.planner(venv),
+        "planner (clairvoyant)": lambda venv: scene.planner(venv, clairvoyant=True),
         "tuned pilot": lambda venv: scene.pilot(venv),
         "random": lambda venv: random_policy(venv, seed),
     }
@@ -383,7 +399,9 @@ def merge(path: Path, columns: Sequence[str], new: Iterable[Sequence], key: Sequ
     names that key (runs of a config that has changed since)."""
     fresh = [dict(zip(columns, map(str, r), strict=True)) for r in new]
     keys = {tuple(r[k] for k in key) for r in fresh} | {tuple(map(str, k)) for k in drop}
-    old = run_table() if path == RUNS_CSV else published_rows(path)
+    old = {RUNS_CSV: run_table, EPISODES_CSV: episode_table}.get(
+        path, lambda: published_rows(path)
+    )()
     kept = [r for r in old if tuple(r[k] for k in key) not in keys]
     rows = kept + fresh
     write_csv(path, columns, ([r[c] for c in columns] for r in rows), comments)
@@ -453,7 +471,7 @@ def summary_rows(matrices: dict) -> list[dict]:
     """A :data:`COLUMNS` row per (env, policy): the envs in :data:`CONFIGS`' order, in each
     the planner, the tuned pilot, the trained policies, random."""
     envs = [e.split("/")[1] for e in dict.fromkeys(CONFIGS.values())]
-    rank = {"planner (oracle)": 0, "tuned pilot": 1, "random": 3}
+    rank = {"planner": 0, "planner (clairvoyant)": 0.5, "tuned pilot": 1, "random": 3}
 
     def order(key):
         env, policy = key
@@ -553,7 +571,7 @@ def plot_curves(history: list[dict], matrices: dict, path: Path) -> None:
         ax.plot(steps, point["r"], label=f"IQM of {len(curves)} runs")
         ax.fill_between(steps, ci["r"][0], ci["r"][1], alpha=0.25)
         env = CONFIGS[config].split("/")[1]
-        for name, style in (("planner (oracle)", ":"), ("tuned pilot", "--")):
+        for name, style in (("planner", ":"), ("tuned pilot", "--")):
             if (env, name) in matrices:
                 mean = matrices[(env, name)]["return"].mean()
                 ax.axhline(mean, color="gray", linestyle=style, label=name)
@@ -637,7 +655,7 @@ def runs_markdown() -> str:
 def missing_markdown() -> str:
     """The baselines not yet published on an env that has results, and the configs with
     fewer than :data:`SEEDS` published runs, each with the command that adds them."""
-    flown = {(r["env"], r["policy"]) for r in published_rows(EPISODES_CSV) if r["run"] == "-"}
+    flown = {(r["env"], r["policy"]) for r in episode_table() if r["run"] == "-"}
     lines = []
     for env_id in dict.fromkeys(CONFIGS.values()):
         env = env_id.split("/")[1]
@@ -685,9 +703,12 @@ def page() -> str:
 
 Each shipped v1 config (`fluidsim_envs/configs/<config>.yaml`, trained at the env's
 `standard` level) is trained with seeds 0 to {SEEDS - 1}. Each run's final model, acting
-deterministically, and the three baselines fly the same {EPISODES} episodes (seed
-{EVAL_SEED}): the planner (an oracle: it reads the true state and plans over the env's own
-model), the tuned pilot (the scene's classical controller, its gains tuned by
+deterministically, and the baselines fly the same {EPISODES} episodes (seed
+{EVAL_SEED}): the planner (an oracle of the present: it reads the true state and plans over
+the env's own model, but its rollouts draw gusts, currents and sensor noise of their own,
+not the episode's to come), the same planner told the episode's future noise (`planner
+(clairvoyant)`: a reference no policy could match, the only planner before issue 44, then
+labelled "oracle"), the tuned pilot (the scene's classical controller, its gains tuned by
 `python -m benchmarks.tune_pilots` on seeds 1 and 2) and random actions. The runs' own
 evaluations during training use seed 1,000,000; the zoo publishes on seed 3. All of these
 are the evaluation stream of their seed (`reset(seed=s)`); a run draws its training episodes

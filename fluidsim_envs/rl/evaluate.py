@@ -14,12 +14,14 @@ policy flies the same N seeded episodes, one in each sub-env of one native vecto
 ``trained PPO`` (or SAC; ``(best)`` for ``--model best``)
     the run's final model (``model.zip``) or the best evaluated one (``best/``), acting
     deterministically on observations normalized with the statistics saved beside it
-``planner (oracle)``
+``planner``
     the scene's sampling planner (``Scene.planner(venv, samples=K, horizon=H)``). It reads
-    the true state of the env it flies, not the observations: a reference for what a search
-    of a few seconds ahead reaches, not a policy to deploy (nor a bound: a policy trained on
-    whole episodes can do better). It costs minutes for 256 episodes; ``--no-planner``
-    skips it
+    the true state of the env it flies, not the observations, but not the episode's future:
+    its rollouts draw gusts, currents and sensor noise of their own. A reference for what a
+    search of a few seconds ahead reaches, not a policy to deploy (nor a bound: a policy
+    trained on whole episodes can do better). It costs minutes for 256 episodes;
+    ``--no-planner`` skips it (``PlannerConfig.clairvoyant`` is the reference told that
+    future too: ``benchmarks/results.py`` flies it beside this one)
 ``tuned pilot``
     the scene's scripted pilot with its tuned gains (``Scene.pilot``)
 ``hand-set pilot``
@@ -78,7 +80,7 @@ MODELS = {
 RERUN_ENVS = 4  # sub-envs logged with --rerun
 
 # the baselines' rows, in the table's order (after the trained model's)
-PLANNER = "planner (oracle)"  # knows the true state
+PLANNER = "planner"  # knows the true state, not the episode's future noise
 TUNED_PILOT = "tuned pilot"
 HAND_PILOT = "hand-set pilot"
 RANDOM = "random"

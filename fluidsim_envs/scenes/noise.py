@@ -78,6 +78,17 @@ def keys_from_uniforms(u: np.ndarray) -> np.ndarray:
     return _mix_array(bits)
 
 
+def foreign_keys(rng: np.random.Generator, n: int) -> np.ndarray:
+    """``n`` keys that no episode start gives (a planner's rollouts: noise of their own).
+
+    An episode's key is ``mix64(bits + GAMMA)`` with ``bits < 2**53`` (:func:`keys_from_uniforms`)
+    and ``mix64`` is a bijection, so keys mixed from words outside ``[GAMMA, GAMMA + 2**53)``
+    are never an episode's: these mix ``GAMMA + 2**53 + r``, r drawn below ``2**62`` (no wrap
+    past ``2**64``)."""
+    r = rng.integers(0, 2**62, size=n, dtype=np.uint64)
+    return _mix_array(r + np.uint64(2**53))
+
+
 @njit(cache=True)
 def _mix_array(bits):
     out = np.empty_like(bits)

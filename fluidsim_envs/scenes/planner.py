@@ -2,9 +2,16 @@
 against (how well could one do at all?).
 
 At each decision it copies the true state of every episode it flies (``get_state``: a
-privileged oracle, which knows the state and the episode's drawn physics, not only the
-observation) into ``samples`` rollouts each of a private vector env of the same scene and
-parameters, flies ``horizon`` actions of candidate plans there, and acts on the best plan.
+privileged oracle of the present, which knows the state and the episode's drawn physics, not
+only the observation) into ``samples`` rollouts each of a private vector env of the same scene
+and parameters, flies ``horizon`` actions of candidate plans there, and acts on the best plan.
+
+It does not know the future. An episode's turbulence, currents and sensor noise to come are
+numbers of its noise key (``scenes/noise.py``), which a snapshot carries; the rollouts get
+keys of their own instead (``noise.foreign_keys``: none is any episode's), a fresh one each
+rollout and decision, so a plan is scored against gusts and noise like the episode's, not
+the episode's own. ``PlannerConfig.clairvoyant`` keeps the episode's keys: a reference that
+sees the coming gusts (the planner before issue 44), labelled so wherever it is flown.
 
 The method is the cross-entropy method in the form of iCEM (Pinneri et al., 2020, "Sample-
 efficient cross-entropy method for real-time planning"), chosen over MPPI because:
@@ -41,7 +48,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import noise as NZ
 from .base import FluidVectorEnv
+from .snapshot import EnvState
 
 
 @dataclass(frozen=True)
@@ -60,6 +69,9 @@ class PlannerConfig:
     noise_beta: float = 2.0  # coloured noise: power spectrum ~ 1/f^beta along the plan
     momentum: float = 0.1  # share of the old mean and spread kept at each refit
     guided: bool = False  # plans are offsets to the scene's pilot flying closed loop
+    # the rollouts keep the episode's noise keys: they fly its future gusts, currents and
+    # sensor noise (a labelled reference); else each rollout draws keys of its own
+    clairvoyant: bool = False
     seed: int = 0  # the planner's own generator (the episodes' are the env's)
 
     def __post_init__(self) -> None:
@@ -71,8 +83,11 @@ class PlannerConfig:
             raise ValueError(
                 f"planner: elites ({self.elites}) must not exceed samples ({self.samples})"
             )
-        if not isinstance(self.guided, bool):
-            raise ValueError(f"planner: guided must be True or False, got {self.guided!r}")
+        for key in ("guided", "clairvoyant"):
+            if not isinstance(getattr(self, key), bool):
+                raise ValueError(
+                    f"planner: {key} must be True or False, got {getattr(self, key)!r}"
+                )
         for key, lo, hi in (("noise_std", 0.0, 2.0), ("noise_beta", 0.0, 4.0), ("momentum", 0, 1)):
             value = getattr(self, key)
             number = isinstance(value, (int, float, np.floating)) and not isinstance(value, bool)
@@ -193,7 +208,7 @@ class Planner:
     def _plan(self, shift: bool) -> None:
         cfg = self.config
         E, K, H, A = self.env.num_envs, cfg.samples, cfg.horizon, self.num_actions
-        start = self.env.get_state().repeat(K)
+        start = self._present(self.env.get_state().repeat(K))
         # warm start: the last plan and the distribution's centre, one knot on (the last
         # held) when the first knot was flown
         if shift:
@@ -219,6 +234,14 @@ class Planner:
             best_value = np.where(better, value[rows, top[:, 0]], best_value)
         self.best, self.value = best_plan, best_value
         self.timing["plans"] += 1
+
+    def _present(self, start: EnvState) -> EnvState:
+        """The rollouts' start: the episodes' snapshot, with noise keys of the planner's own
+        unless it is clairvoyant (see the module's docstring)."""
+        if self.config.clairvoyant or "noise_keys" not in start.task:
+            return start
+        keys = NZ.foreign_keys(self.rng, len(start))
+        return dataclasses.replace(start, task={**start.task, "noise_keys": keys})
 
     def _score(self, start, plans: np.ndarray) -> np.ndarray:
         """Each plan's return up to its look-ahead or its episode's end, ``[E, K]``."""

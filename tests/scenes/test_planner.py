@@ -1,6 +1,9 @@
-"""The sampling planner (scenes/planner.py): an oracle whose rollouts are the env itself, so
-the return it predicts for its plan is the return flying that plan earns, bit for bit; its
-budget is checked; the same seed plans the same."""
+"""The sampling planner (scenes/planner.py): an oracle of the present whose rollouts are the
+env itself, so that, told the episode's future noise (clairvoyant), the return it predicts for
+its plan is the return flying that plan earns, bit for bit, and, as it ships, its plans do
+not depend on that future; its budget is checked; the same seed plans the same."""
+
+import dataclasses
 
 import numpy as np
 import pytest
@@ -15,14 +18,16 @@ IDS = list(SCENES)
 @pytest.mark.parametrize("sid", IDS, ids=[s.split("/")[1] for s in IDS])
 def test_a_plan_earns_what_its_rollouts_predicted(sid, guided):
     """Plan once (one knot held for the whole look-ahead), then fly it through the planner in
-    the real env: the summed reward equals the planner's score of that plan exactly (its
-    rollouts are copies of the env, and guided, of the pilot's memory, bit for bit)."""
+    the real env: the summed reward equals the clairvoyant planner's score of that plan
+    exactly (its rollouts are copies of the env, the episode's noise keys included, and
+    guided, of the pilot's memory, bit for bit)."""
     scene = SCENES[sid]
     venv = scene.vector_cls(num_envs=2)
     obs, _ = venv.reset(seed=11)
     planner = scene.planner(
-        venv, samples=4, horizon=1, hold=6, elites=2, iterations=2, guided=guided
-    )
+        venv, samples=4, horizon=1, hold=6, elites=2, iterations=2, guided=guided,
+        clairvoyant=True,
+    )  # fmt: skip
     if guided:  # the pilot flies the episode before the plan: its memory is not empty
         for _ in range(3):
             obs, *_ = venv.step(planner.pilot(obs))
@@ -33,6 +38,31 @@ def test_a_plan_earns_what_its_rollouts_predicted(sid, guided):
         alive &= ~(terminated | truncated)
     assert planner.timing["plans"] == 1 and planner.timing["physics"] > 0.0
     np.testing.assert_array_equal(earned, planner.value)
+
+
+NOISY = [s for s in IDS if s.endswith("-v1")]
+
+
+@pytest.mark.parametrize("sid", NOISY, ids=[s.split("/")[1] for s in NOISY])
+def test_the_planner_does_not_read_the_episodes_future(sid):
+    """Two copies of the same present whose futures differ (their noise keys: the gusts,
+    currents and sensor noise to come) get the same plans and scores from the planner, which
+    draws its rollouts' keys itself; the clairvoyant reference scores them apart."""
+    scene = SCENES[sid]
+    venv = scene.vector_cls(num_envs=2)
+    venv.reset(seed=5)
+    present = venv.get_state()
+    other = dataclasses.replace(present, task={**present.task, "noise_keys": present.task[
+        "noise_keys"] ^ np.uint64(0x5DEECE66D)})  # fmt: skip
+    seen = {}
+    for clairvoyant in (False, True):
+        for name, state in (("same", present), ("other", other)):
+            obs = venv.set_state(state)
+            planner = scene.planner(venv, samples=6, horizon=8, hold=2, clairvoyant=clairvoyant)
+            seen[clairvoyant, name] = (planner(obs), planner.value.copy())
+    for a, b in zip(seen[False, "same"], seen[False, "other"], strict=True):
+        np.testing.assert_array_equal(a, b)
+    assert not np.array_equal(seen[True, "same"][1], seen[True, "other"][1])
 
 
 def test_the_same_seed_plans_the_same():

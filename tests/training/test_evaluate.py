@@ -51,7 +51,7 @@ def test_the_baselines_alone(tmp_path, capsys):
     assert list(rows) == expected_rows(planner=False)
     assert comments[0].startswith(f"# command: fluidsim-evaluate --env-id {BOAT} --episodes 4")
     assert any(c.startswith(f"# baselines only: {BOAT}, git ") for c in comments)
-    assert any("skipped: planner (oracle) (--no-planner)" in c for c in comments)
+    assert any("skipped: planner (--no-planner)" in c for c in comments)
     # the CPU the kernels were compiled for: the zoo's check holds a table to the bit on it
     assert any(c.startswith(f"# cpu: {target_cpu()} (the kernels' target") for c in comments)
     for policy in rows:  # what it evaluates and how long it took
@@ -166,10 +166,10 @@ def test_the_planner_and_hand_pilot_rows(tmp_path, monkeypatch, capsys):
     assert baselines(tmp_path, *args) == 0
     assert len(made) == 1 and given == {"samples": 3, "horizon": 2, "venv": made[0]}
     comments, rows = read_table(tmp_path / "evaluation.csv")
-    assert list(rows) == ["planner (oracle)", "tuned pilot", "hand-set pilot", "random"]
-    assert rows["planner (oracle)"]["return_mean"] == rows["tuned pilot"]["return_mean"]
+    assert list(rows) == ["planner", "tuned pilot", "hand-set pilot", "random"]
+    assert rows["planner"]["return_mean"] == rows["tuned pilot"]["return_mean"]
     assert "--planner-samples 3 --planner-horizon 2" in comments[0]
-    assert "planner (oracle): done in " in capsys.readouterr().out
+    assert "planner: done in " in capsys.readouterr().out
 
 
 def test_a_planner_budget_it_refuses_is_an_error(tmp_path, monkeypatch, capsys):
@@ -179,7 +179,7 @@ def test_a_planner_budget_it_refuses_is_an_error(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(Scene, "planner", planner)
     assert baselines(tmp_path, "--planner-samples", "2") == 2
     err = capsys.readouterr().err
-    assert "error: planner (oracle): planner: elites (4) must not exceed samples (2)" in err
+    assert "error: planner: planner: elites (4) must not exceed samples (2)" in err
 
 
 @pytest.mark.parametrize("env_id", list(SCENES))

@@ -33,7 +33,7 @@ def matrices():
     rng = np.random.default_rng(0)
     rows = episodes("E", "tuned pilot", "-", 10.0 + rng.normal(0, 1, 64))
     rows += episodes("E", "random", "-", rng.normal(0, 1, 64))
-    rows += episodes("E", "planner (oracle)", "-", 12.0 + rng.normal(0, 1, 64))
+    rows += episodes("E", "planner", "-", 12.0 + rng.normal(0, 1, 64))
     for k, level in enumerate((2.0, 4.0, 6.0, 8.0, 30.0)):  # an outlier run: IQM resists it
         rows += episodes("E", "PPO", f"t{k}", level + rng.normal(0, 0.1, 64))
     return results.score_matrices(rows)
@@ -177,7 +177,7 @@ def test_baselines_are_flown_once_and_read_back(tmp_path, monkeypatch):
     got = results.baseline_episodes("fluidsim/Boat-v1", 2, results.EVAL_SEED, planner=False)
     assert flown == ["tuned pilot", "random"] and sorted(got) == ["random", "tuned pilot"]
     assert results.baseline_episodes("fluidsim/Boat-v1", 2, results.EVAL_SEED) and flown == [
-        "tuned pilot", "random", "planner (oracle)"]  # fmt: skip
+        "tuned pilot", "random", "planner", "planner (clairvoyant)"]  # fmt: skip
 
 
 def test_the_page_is_written_from_the_csvs(tmp_path, monkeypatch):
@@ -211,8 +211,22 @@ def test_the_page_lists_the_baselines_not_yet_flown(tmp_path, monkeypatch):
     results.write_csv(results.EPISODES_CSV, cols, ([int(r[c]) if c == "success" else r[c]
                                                      for c in cols] for r in rows))  # fmt: skip
     lines = results.missing_markdown().splitlines()
-    assert lines[0] == (
-        "- BoatOnStep-v1: the planner (oracle)'s episodes "
+    assert lines[:2] == [
+        f"- BoatOnStep-v1: the {name}'s episodes "
         "(`python -m benchmarks.results --configs boat_on_step_v1_ppo`)"
-    )
+        for name in ("planner", "planner (clairvoyant)")
+    ]
     assert not any("SubmarineWake-v1:" in line or "PaperAirplane-v1:" in line for line in lines)
+
+
+def test_the_planner_before_issue_44_reads_as_the_clairvoyant_one(tmp_path, monkeypatch):
+    """Rows the results wrote as "planner (oracle)" were flown by the planner that kept the
+    episode's noise keys: they read back as "planner (clairvoyant)", never as the planner."""
+    monkeypatch.setattr(results, "EPISODES_CSV", tmp_path / "episodes.csv")
+    rows = episodes("Dart-v1", "planner (oracle)", "-", [3.0, 5.0])
+    cols = results.EPISODE_COLUMNS
+    results.write_csv(results.EPISODES_CSV, cols, ([int(r[c]) if c == "success" else r[c]
+                                                     for c in cols] for r in rows))  # fmt: skip
+    got = results.published_baselines("Dart-v1", 2)
+    assert list(got) == ["planner (clairvoyant)"]
+    assert got["planner (clairvoyant)"]["return"].tolist() == [3.0, 5.0]
