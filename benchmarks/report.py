@@ -243,7 +243,8 @@ DART_SOURCES = {
 # ("planner (oracle)": fluidsim-evaluate's planner before issue 44, in the v0 CSVs, where an
 # episode has no noise to come and it was the planner of today)
 POLICIES = (
-    "trained PPO", "planner", "planner (oracle)", "tuned pilot", "hand-set pilot", "random",
+    "trained PPO", "planner", "planner (oracle)", "tuned pilot", "v0-tuned pilot",
+    "hand-set pilot", "random",
 )  # fmt: skip
 # the README's table: (column title, row name, envs.csv key)
 README_POLICIES = (

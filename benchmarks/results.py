@@ -18,8 +18,8 @@ machine (and its ``sweeps/``) does not outlive it.
 
 Evaluation: each run's final model, acting deterministically, and the baselines (the
 planner, an oracle of the present that reads the true state but draws its own future noise;
-the same planner told the episode's future noise, a labelled reference; the tuned pilot;
-random actions) on the same
+the scripted pilots of :data:`PILOTS`, the best of which is the bar; random actions) on the
+same
 :data:`EPISODES` episodes, seed :data:`EVAL_SEED` (disjoint from the pilots' tuning seeds and
 from the runs' evaluation seed). A run's per-episode results are cached in its folder
 (``results_eval.npz``). The baselines are flown once, each on its own: later runs read
@@ -38,7 +38,7 @@ several sessions add up):
 - ``docs/results_runs.csv``: a row per run: the revision that trained it, its steps, wall
   time and peak resident memory, its final evaluation return;
 - ``docs/results.csv``: a row per env and policy: IQM and mean of the runs' mean returns with
-  their intervals, the success rate, and the normalized score (0 random, 1 the tuned pilot);
+  their intervals, the success rate, and the normalized score (0 random, 1 the best pilot);
 - ``docs/results_curves.png``, ``docs/results_profiles.png`` (:func:`profile`: runs
   resampled whole), and ``docs/results.md`` (:func:`page`, checked by ``benchmarks.report``),
   whose table the README shows.
@@ -73,11 +73,16 @@ SWEEPS = ROOT / "sweeps" / "results"
 EVAL_SEED = 0  # the pilots were tuned on TUNING_SEEDS (evaluation.py): disjoint
 EPISODES = 256
 SEEDS = 5
-BASELINES = ("planner", "planner (clairvoyant)", "tuned pilot", "random")
-PLANNERS = BASELINES[:2]  # --no-planner leaves them out where not yet flown
+#: the scripted pilots: gains tuned on the env's version (v1), tuned on its v0, set by hand;
+#: the best of them on an env (by mean return) is the bar a trained policy is held to
+PILOTS = ("tuned pilot", "v0-tuned pilot", "hand-set pilot")
+BASELINES = ("planner", *PILOTS, "random")
+PLANNERS = ("planner",)  # --no-planner leaves it out where not yet flown
 #: baselines' names as earlier versions of this file wrote them: the planner before issue 44
-#: kept the episode's noise keys (it flew the episode's own future gusts and sensor noise)
-LEGACY = {"planner (oracle)": "planner (clairvoyant)"}
+#: kept the episode's noise keys (it flew the episode's own future gusts and sensor noise) and
+#: flew offsets to the v0-tuned pilot; a reference now, not flown again
+CLAIRVOYANT = "planner (clairvoyant, before issue 44)"
+LEGACY = {"planner (oracle)": CLAIRVOYANT, "planner (clairvoyant)": CLAIRVOYANT}
 EPISODES_CSV = DOCS / "results_episodes.csv"
 HISTORY_CSV = DOCS / "results_history.csv"
 RUNS_CSV = DOCS / "results_runs.csv"
@@ -133,6 +138,8 @@ def config_digest(config: str | Path) -> str:
         plain.pop(key, None)
     if not plain.get("curriculum"):
         plain.pop("curriculum", None)  # no curriculum: the digest runs had before there was one
+    if plain.get("frame_stack") == 1:
+        plain.pop("frame_stack")  # the present only: as runs were before the option
     return hashlib.sha256(yaml.safe_dump(plain, sort_keys=True).encode()).hexdigest()[:12]
 
 
@@ -302,6 +309,11 @@ def baseline_episodes(
     return out
 
 
+def pilot_gains(scene, version: int):
+    """The gains ``scene``'s pilot was tuned to on env ``version`` (its module's ``GAINS``)."""
+    return sys.modules[scene.pilot.__module__].GAINS.tuned(version=version)
+
+
 def fly_baseline(env_id: str, name: str, episodes: int, seed: int) -> dict[str, np.ndarray]:
     """One baseline's ``return`` and ``success`` on the seeded episodes."""
     from fluidsim_envs.evaluation import first_episodes, random_policy
@@ -310,8 +322,9 @@ def fly_baseline(env_id: str, name: str, episodes: int, seed: int) -> dict[str, 
     scene = find_scene(env_id)
     make = {
         "planner": lambda venv: scene.planner(venv),
-        "planner (clairvoyant)": lambda venv: scene.planner(venv, clairvoyant=True),
         "tuned pilot": lambda venv: scene.pilot(venv),
+        "v0-tuned pilot": lambda venv: scene.pilot(venv, pilot_gains(scene, version=0)),
+        "hand-set pilot": lambda venv: scene.hand_pilot(venv),
         "random": lambda venv: random_policy(venv, seed),
     }
     venv = _make_venv(env_id, episodes, {})
@@ -321,6 +334,14 @@ def fly_baseline(env_id: str, name: str, episodes: int, seed: int) -> dict[str, 
     finally:
         venv.close()
     return {k: got[k] for k in ("return", "success")}
+
+
+def unplanned(configs: list[str], drop: bool) -> list[tuple[str, str, str]]:
+    """With ``drop`` (``--fresh-baselines --no-planner``), the planners' published episodes
+    on ``configs``' envs, as keys to drop: the planner flies offsets to the tuned pilot, and
+    its episodes are not kept beside a pilot flown afresh (the page lists them to fly)."""
+    envs = dict.fromkeys(CONFIGS[c].split("/")[1] for c in configs)
+    return [(env, name, "-") for env in envs for name in PLANNERS] if drop else []
 
 
 def episode_rows(
@@ -467,11 +488,18 @@ def interval_estimates(scores: np.ndarray) -> dict[str, tuple[float, float, floa
     return {"iqm": value, "mean": value}
 
 
+def best_pilot(matrices: dict, env: str) -> str:
+    """The pilot of :data:`PILOTS` with the highest mean return on ``env``."""
+    flown = [p for p in PILOTS if (env, p) in matrices]
+    return max(flown, key=lambda p: matrices[(env, p)]["return"].mean())
+
+
 def summary_rows(matrices: dict) -> list[dict]:
     """A :data:`COLUMNS` row per (env, policy): the envs in :data:`CONFIGS`' order, in each
-    the planner, the tuned pilot, the trained policies, random."""
+    the planner, the pilots, the trained policies, random."""
     envs = [e.split("/")[1] for e in dict.fromkeys(CONFIGS.values())]
-    rank = {"planner": 0, "planner (clairvoyant)": 0.5, "tuned pilot": 1, "random": 3}
+    rank = {"planner": 0, CLAIRVOYANT: 0.5, "random": 3}
+    rank.update({name: 1 + k / len(PILOTS) for k, name in enumerate(PILOTS)})
 
     def order(key):
         env, policy = key
@@ -481,7 +509,7 @@ def summary_rows(matrices: dict) -> list[dict]:
     for (env, policy), m in sorted(matrices.items(), key=lambda kv: order(kv[0])):
         ret = interval_estimates(m["return"])
         suc = interval_estimates(m["success"])
-        pilot = matrices[(env, "tuned pilot")]["return"].mean()
+        pilot = matrices[(env, best_pilot(matrices, env))]["return"].mean()
         rand = matrices[(env, "random")]["return"].mean()
         norm = interval_estimates((m["return"] - rand) / (pilot - rand))
         out.append({
@@ -540,7 +568,7 @@ def plot_profiles(matrices: dict, path: Path) -> None:
 def plot_curves(history: list[dict], matrices: dict, path: Path) -> None:
     """Per config: its runs' evaluations during training (docs/results_history.csv) as the
     IQM over runs at each timestep, with a 95% stratified bootstrap band (rliable); the
-    planner's and the tuned pilot's mean return on the results' episodes as lines (the
+    planner's and the best pilot's mean return on the results' episodes as lines (the
     evaluations during training fly other episodes: seed 1,000,000, 32 of them)."""
     import matplotlib
 
@@ -571,7 +599,8 @@ def plot_curves(history: list[dict], matrices: dict, path: Path) -> None:
         ax.plot(steps, point["r"], label=f"IQM of {len(curves)} runs")
         ax.fill_between(steps, ci["r"][0], ci["r"][1], alpha=0.25)
         env = CONFIGS[config].split("/")[1]
-        for name, style in (("planner", ":"), ("tuned pilot", "--")):
+        best = best_pilot(matrices, env) if any((env, p) in matrices for p in PILOTS) else None
+        for name, style in (("planner", ":"), (best, "--")):
             if (env, name) in matrices:
                 mean = matrices[(env, name)]["return"].mean()
                 ax.axhline(mean, color="gray", linestyle=style, label=name)
@@ -602,20 +631,21 @@ def _save(fig, path: Path) -> None:
 
 def markdown() -> str:
     """docs/results.csv as a table: each env's policies; a trained policy's IQM interval
-    entirely below the tuned pilot's interval is said so in bold."""
+    entirely below the best pilot's interval is said so in bold."""
     if not CSV.is_file():
         return "(no docs/results.csv yet: `python -m benchmarks.results --train`)\n"
     _, rows = read_csv(CSV)
     lines = [
         "| env | policy | runs | IQM return [95% CI] | mean return [95% CI] | success "
-        "| normalized IQM [95% CI] | vs tuned pilot |",
+        "| normalized IQM [95% CI] | vs best pilot |",
         "|---|---|--:|---|---|---|---|---|",
     ]
     for r in rows:
         f = {k: float(v) for k, v in r.items() if k not in ("env", "policy")}
         versus = ""
-        if r["policy"] not in BASELINES:
-            pilot = next(p for p in rows if p["env"] == r["env"] and p["policy"] == "tuned pilot")
+        if r["policy"] not in BASELINES and r["policy"] not in LEGACY.values():
+            pilots = [p for p in rows if p["env"] == r["env"] and p["policy"] in PILOTS]
+            pilot = max(pilots, key=lambda p: float(p["mean"]))
             below = f["iqm_hi"] < float(pilot["mean_lo"])  # the intervals apart
             above = f["iqm_lo"] > float(pilot["mean_hi"])
             versus = "**below**" if below else ("above" if above else "overlaps")
@@ -706,10 +736,12 @@ Each shipped v1 config (`fluidsim_envs/configs/<config>.yaml`, trained at the en
 deterministically, and the baselines fly the same {EPISODES} episodes (seed
 {EVAL_SEED}): the planner (an oracle of the present: it reads the true state and plans over
 the env's own model, but its rollouts draw gusts, currents and sensor noise of their own,
-not the episode's to come), the same planner told the episode's future noise (`planner
-(clairvoyant)`: a reference no policy could match, the only planner before issue 44, then
-labelled "oracle"), the tuned pilot (the scene's classical controller, its gains tuned by
-`python -m benchmarks.tune_pilots` on seeds 1 and 2) and random actions. The runs' own
+not the episode's to come), three scripted pilots (the scene's classical controller with its
+gains tuned on this v1 env, `tuned pilot`, by `python -m benchmarks.tune_pilots` on the
+tuning stream of seeds 1 and 2; with the gains tuned on its v0, `v0-tuned pilot`; with the
+hand-set gains) and random actions. Where the table still shows `{CLAIRVOYANT}`,
+it is the planner the table had before issue 44: it flew the episode's own future gusts and
+sensor noise, offsets to the v0-tuned pilot, a reference no policy could match. The runs' own
 evaluations during training use seed 1,000,000; the zoo publishes on seed 3. All of these
 are the evaluation stream of their seed (`reset(seed=s)`); a run draws its training episodes
 from the training stream of its seed (`fluidsim_envs.seeding`), which no evaluation flies.
@@ -719,9 +751,10 @@ A run's score is its mean return over the episodes. The table gives the interqua
 (IQM: the mean of the middle half of the runs, scipy's 25% trimmed mean) and the mean over
 runs, each with its 95% stratified bootstrap interval over runs (the `rliable` library of
 Agarwal et al., 2021, {REPS:,} resamples). A baseline is one policy: its interval is over its
-episodes. The normalized IQM puts random at 0 and the tuned pilot at 1. *vs tuned pilot*
-says **below** where the trained IQM's interval lies wholly under the pilot's, *above*
-where wholly over it, and *overlaps* otherwise.
+episodes. The best pilot of an env is the pilot with the highest mean return there. The
+normalized IQM puts random at 0 and the best pilot at 1. *vs best pilot* says **below**
+where the trained IQM's interval lies wholly under the best pilot's, *above* where wholly
+over it, and *overlaps* otherwise.
 
 {markdown()}
 Still to fly and to train (each line is the command that adds the missing episodes or seeds;
@@ -773,8 +806,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--fresh-baselines",
         action="store_true",
-        help="fly the planner, pilot and random again (after a change to a scene's physics, "
-        "pilot or planner), not read from docs/results_episodes.csv",
+        help="fly the planner, pilots and random again (after a change to a scene's physics, "
+        "pilot or planner), not read from docs/results_episodes.csv; with --no-planner, the "
+        "planner's episodes are dropped, to fly later",
     )
     parser.add_argument(
         "--no-planner",
@@ -785,11 +819,6 @@ def main(argv: list[str] | None = None) -> int:
     )
     args = parser.parse_args(argv)
     threads.apply(threads.choose())  # the one owner's counts, as the CLIs run on
-    if args.fresh_baselines and not args.planner:
-        parser.error(
-            "--fresh-baselines --no-planner would keep the planner's old episodes beside "
-            "the others' fresh ones: fly them all, or none"
-        )
     if args.seeds < 1 or (args.max_new is not None and args.max_new < 1):
         parser.error(f"--seeds {args.seeds} --max-new {args.max_new}: each must be at least 1")
     if args.train:
@@ -803,7 +832,8 @@ def main(argv: list[str] | None = None) -> int:
         episode_rows(args.configs, EPISODES, EVAL_SEED, args.fresh_baselines, args.planner),
         ("env", "policy", "run"),
         note,
-        [(CONFIGS[c].split("/")[1], policy_name(c), run_label(s)) for c, s in stale],
+        [(CONFIGS[c].split("/")[1], policy_name(c), run_label(s)) for c, s in stale]
+        + unplanned(args.configs, args.fresh_baselines and not args.planner),
     )
     history = merge(
         HISTORY_CSV, HISTORY_COLUMNS, history_rows(args.configs), ("config", "seed"), drop=stale

@@ -5,21 +5,27 @@ For each env: the pilot module (the module of the registry's pilot factory,
 ``SEARCH_SPACE`` (``{gain: (low, high)}``; ``fluidsim_envs/scenes/gains.py`` says what else a
 tunable pilot module defines). Each trial flies the pilot with
 ``dataclasses.replace(GAINS(), **params)`` for one episode in each of ``--episodes`` sub-envs
-per tuning seed (``reset(seed=s)`` for each ``s`` of ``--seed-base``, default
-``fluidsim_envs.evaluation.TUNING_SEEDS``; never the evaluation's seed, ``EVAL_SEED``). The
+per tuning seed (``reset(seed=s, options={"stream": "tuning"})`` for each ``s`` of
+``--seed-base``, default ``fluidsim_envs.evaluation.TUNING_SEEDS``: the tuning stream, whose
+episodes no evaluation flies at any seed, ``fluidsim_envs.seeding``; the v0 gains on record
+were tuned on the evaluation stream of seeds 1 and 2, before the streams, apart from the
+evaluation's seed ``EVAL_SEED``). Each env version is tuned on its own episodes (a v1 env at
+its default level, ``standard``) and keeps its own gains. The
 objective is the mean episode return over all of them: the RL objective, which PPO and the
 planner maximize too; success is recorded beside it. Trial 0 is the hand-set gains
 (``study.enqueue_trial``), so the best found is never worse than them on the tuning episodes.
 The sampler is seeded (``--sampler-seed``) and the episodes are too, so a run repeats exactly.
 
-With ``--write``: the best gains and how they were found go to ``tuned_gains.json`` beside the
-pilot (what ``GAINS.tuned()`` and the registry's pilot read; ``--gains-dir`` puts it elsewhere),
+With ``--write``: the best gains and how they were found go to ``tuned_gains.json`` (v0) or
+``tuned_gains_v1.json`` (v1) beside the pilot (what ``GAINS.for_env`` and the registry's pilot
+read; ``--gains-dir`` puts it elsewhere),
 and each env tuned gets a row in ``docs/tune_pilots.csv`` (``--out``): hand-set against tuned
 return and success on the tuning episodes, the trials, the seconds and the command. Without
 it, nothing is written.
 
     python -m benchmarks.tune_pilots fluidsim/SubmarineWake-v0 --trials 200 --write
-    python -m benchmarks.tune_pilots all --trials 200 --write  # every scene with a SEARCH_SPACE
+    python -m benchmarks.tune_pilots all --trials 200 --write  # every v0 with a SEARCH_SPACE
+    python -m benchmarks.tune_pilots all-v1 --trials 200 --write  # every v1
     python -m benchmarks.tune_pilots BoatOnStep-v0 --trials 5 --episodes 16  # a look
 """
 
@@ -44,12 +50,15 @@ import numpy as np
 from benchmarks.common import DOCS, ROOT, command, load_average, read_csv, write_csv
 from fluidsim_envs.evaluation import EVAL_SEED, TUNING_SEEDS, check_tuning_seeds, first_episodes
 from fluidsim_envs.rl.extras import require
-from fluidsim_envs.scenes import SCENES, V0_SCENES
-from fluidsim_envs.scenes.gains import TUNED_FILE, check_search_space, tuned_path, write_tuned
+from fluidsim_envs.scenes import SCENES
+from fluidsim_envs.scenes.gains import check_search_space, tuned_file, tuned_path, write_tuned
+
+STREAM = "tuning"  # the seed stream of the tuning episodes (fluidsim_envs.seeding)
 
 COLUMNS = (
     "env_id",
     "tuning_seeds",
+    "tuning_stream",
     "episodes",
     "trials",
     "best_trial",
@@ -69,7 +78,7 @@ def env_id_of(name: str) -> str:
     for env_id in (name, f"fluidsim/{name}"):
         if env_id in SCENES:
             return env_id
-    raise ValueError(f"no scene {name!r}: one of {sorted(SCENES)} or 'all'")
+    raise ValueError(f"no scene {name!r}: one of {sorted(SCENES)}, 'all' or 'all-v1'")
 
 
 def missing(module: ModuleType) -> list[str]:
@@ -95,11 +104,13 @@ def pilot_module(env_id: str) -> ModuleType:
     return module
 
 
-def tunable_ids(show: bool = True) -> list[str]:
-    """The registry's envs whose pilot modules can be tuned (what ``all`` tunes); the others
-    are printed with what they lack, unless ``show`` is false."""
+def tunable_ids(show: bool = True, version: int = 0) -> list[str]:
+    """The registry's envs of ``version`` whose pilot modules can be tuned (what ``all`` and
+    ``all-v1`` tune); the others are printed with what they lack, unless ``show`` is false."""
     out = []
-    for env_id, scene in V0_SCENES.items():  # a scene's gains are tuned on its v0
+    for env_id, scene in SCENES.items():
+        if scene.version != version:
+            continue
         module = sys.modules[scene.pilot.__module__]
         if lacks := missing(module):
             if show:
@@ -125,7 +136,8 @@ def git_revision() -> str:
 
 class Episodes:
     """The tuning episodes of one env: a vector env of ``episodes`` sub-envs per seed, each
-    flown from ``reset(seed=s)`` (the same episodes for every gains scored)."""
+    flown from ``reset(seed=s)`` in the tuning stream (the same episodes for every gains
+    scored)."""
 
     def __init__(self, env_id: str, seeds: Sequence[int], episodes: int) -> None:
         self.scene = SCENES[env_id]
@@ -136,7 +148,7 @@ class Episodes:
         """Mean return and success rate of the pilot with ``gains`` over every episode."""
         returns, success = [], []
         for venv, seed in zip(self.venvs, self.seeds, strict=True):
-            r = first_episodes(venv, self.scene.pilot(venv, gains), seed=seed)
+            r = first_episodes(venv, self.scene.pilot(venv, gains), seed=seed, stream=STREAM)
             returns.append(r["return"])
             success.append(r["success"])
         return float(np.mean(np.concatenate(returns))), float(np.mean(np.concatenate(success)))
@@ -207,6 +219,7 @@ def tune(
         "hand_gains": hand,
         "search_space": {key: list(bounds) for key, bounds in space.items()},
         "tuning_seeds": list(seeds),
+        "tuning_stream": STREAM,
         "episodes_per_seed": episodes,
         "episodes": episodes * len(seeds),
         "trials": trials,
@@ -223,11 +236,12 @@ def tune(
 
 
 def write(result: dict[str, Any], gains_dir: Path | None, cmd: str) -> Path:
-    """``tuned_gains.json`` for ``result``: beside the pilot, or in ``gains_dir/<scene>/``."""
-    gains = result["gains"]
-    path = tuned_path(type(gains))
+    """The tuned gains' file of ``result``'s env version (``gains.tuned_file``): beside the
+    pilot, or in ``gains_dir/<scene>/``."""
+    gains, version = result["gains"], SCENES[result["env_id"]].version
+    path = tuned_path(type(gains), version)
     if gains_dir is not None:
-        path = gains_dir / path.parent.name / TUNED_FILE
+        path = gains_dir / path.parent.name / tuned_file(version)
     provenance = {"env_id": result["env_id"], "command": cmd, "git_revision": git_revision()}
     skip = ("gains", "hand_gains", "seconds", *provenance)
     provenance.update((k, v) for k, v in result.items() if k not in skip)
@@ -238,6 +252,7 @@ def csv_row(result: dict[str, Any], cmd: str) -> tuple:
     return (
         result["env_id"],
         " ".join(map(str, result["tuning_seeds"])),
+        result["tuning_stream"],
         result["episodes"],
         result["trials"],
         result["best_trial"],
@@ -256,10 +271,13 @@ def write_table(path: Path, rows: list[tuple]) -> Path:
     kept = []
     if path.is_file():
         new = {row[0] for row in rows}
-        kept = [tuple(r[c] for c in COLUMNS) for r in read_csv(path)[1] if r["env_id"] not in new]
+        # rows from before the streams were split were tuned on the evaluation stream
+        old = ({"tuning_stream": "evaluation", **r} for r in read_csv(path)[1])
+        kept = [tuple(r[c] for c in COLUMNS) for r in old if r["env_id"] not in new]
     notes = [
         "one row per env, each from the command in its command column; return and success "
-        "on the tuning episodes (not the evaluation's seed)",
+        "on the tuning episodes (the tuning stream, or before it the evaluation stream of "
+        "other seeds than the evaluation's)",
         f"{platform.machine()}, os.cpu_count: {os.cpu_count()}, python {platform.python_version()}",
         load_average(),
     ]
@@ -271,7 +289,9 @@ def write_table(path: Path, rows: list[tuple]) -> Path:
 
 def main(argv: Sequence[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("env", help="env id (fluidsim/ may be left off), or 'all'")
+    parser.add_argument(
+        "env", help="env id (fluidsim/ may be left off), 'all' (every v0) or 'all-v1'"
+    )
     parser.add_argument("--trials", type=int, default=200, help="trials (default %(default)s)")
     parser.add_argument(
         "--episodes", type=int, default=128, help="episodes per tuning seed (default %(default)s)"
@@ -297,7 +317,10 @@ def main(argv: Sequence[str] | None = None) -> None:
     try:
         require("tune", "benchmarks/tune_pilots.py")
         check_tuning_seeds(args.seed_base)
-        env_ids = tunable_ids() if args.env == "all" else [env_id_of(args.env)]
+        every = {"all": 0, "all-v1": 1}
+        env_ids = (
+            tunable_ids(version=every[args.env]) if args.env in every else [env_id_of(args.env)]
+        )
         for env_id in env_ids:
             pilot_module(env_id)
     except (ImportError, ValueError) as e:

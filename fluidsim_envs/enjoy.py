@@ -87,6 +87,8 @@ def fly(venv, policy, episodes: int, seed: int, on_frame=None, say=print) -> lis
         if on_frame is not None and on_frame(venv.render()[0]) is False:
             break
         if terminated[0] or truncated[0]:
+            if hasattr(policy, "reset"):  # a policy with memory starts the next episode anew
+                policy.reset(terminated | truncated)
             success = info.get("final_info", {}).get("success")
             row = {"return": running, "length": steps}
             if success is not None:

@@ -53,12 +53,17 @@ def check_tuning_seeds(seeds, eval_seed: int = EVAL_SEED) -> tuple[int, ...]:
 
 
 def first_episodes(
-    venv: FluidVectorEnv, policy: Callable[[np.ndarray], np.ndarray], seed: int
+    venv: FluidVectorEnv,
+    policy: Callable[[np.ndarray], np.ndarray],
+    seed: int,
+    stream: str = "evaluation",
 ) -> dict[str, np.ndarray]:
-    """Each sub-env's first episode after ``reset(seed=seed)``: its return, length and the
-    final info's scalar entries (e.g. landed, success, distance_m), arrays [E]."""
+    """Each sub-env's first episode after ``reset(seed=seed)`` (in seed ``stream``,
+    ``fluidsim_envs.seeding``): its return, length and the final info's scalar entries (e.g.
+    landed, success, distance_m), arrays [E]."""
     E = venv.num_envs
-    obs, _ = venv.reset(seed=seed)
+    options = None if stream == "evaluation" else {"stream": stream}
+    obs, _ = venv.reset(seed=seed, options=options)
     if hasattr(policy, "reset"):
         policy.reset()
     running = np.zeros(E)

@@ -305,6 +305,10 @@ class TrainConfig:
     # against each other (benchmarks/bench_training.py). At most the cores there are.
     torch_threads: int | None = None
     numba_threads: int | None = None
+    # memory for noisy, lagging instruments: the policy (and its critic) sees the last
+    # frame_stack observations side by side, oldest first (SB3's VecFrameStack over the
+    # normalized ones; zeros before an episode's first); 1: the present only
+    frame_stack: int = 1
     policy: PolicyConfig = PolicyConfig()
     normalize: NormalizeConfig = NormalizeConfig()
     eval: EvalConfig = EvalConfig()
@@ -320,6 +324,7 @@ class TrainConfig:
         "seed": SEED,
         "torch_threads": AT_LEAST_1,
         "numba_threads": AT_LEAST_1,
+        "frame_stack": Range(ge=1, le=64),
     }
 
     @property

@@ -23,7 +23,9 @@ policy flies the same N seeded episodes, one in each sub-env of one native vecto
     ``--no-planner`` skips it (``PlannerConfig.clairvoyant`` is the reference told that
     future too: ``benchmarks/results.py`` flies it beside this one)
 ``tuned pilot``
-    the scene's scripted pilot with its tuned gains (``Scene.pilot``)
+    the scene's scripted pilot with the gains tuned on the env's version (``Scene.pilot``)
+``v0-tuned pilot``
+    on a later version (v1), the same pilot with the gains tuned on its v0
 ``hand-set pilot``
     the same pilot with the gains set by hand (``Scene.hand_pilot``)
 ``random``
@@ -82,6 +84,7 @@ RERUN_ENVS = 4  # sub-envs logged with --rerun
 # the baselines' rows, in the table's order (after the trained model's)
 PLANNER = "planner"  # knows the true state, not the episode's future noise
 TUNED_PILOT = "tuned pilot"
+V0_PILOT = "v0-tuned pilot"  # on a v1 env: the gains its v0 was tuned to
 HAND_PILOT = "hand-set pilot"
 RANDOM = "random"
 
@@ -167,6 +170,7 @@ def load_run(run_dir: Path, which: str = "final") -> tuple[TrainConfig, Any]:
     probe = vector_cls(num_envs=1, **cfg.env_kwargs)  # its observation follows its params
     obs_shape, act_shape = probe.single_observation_space.shape, probe.single_action_space.shape
     probe.close()
+    obs_shape = (obs_shape[0] * cfg.frame_stack,)  # the policy reads its last frames
     model_obs = getattr(data["observation_space"], "shape", None)
     model_act = getattr(data.get("action_space"), "shape", None)
     if model_obs != obs_shape or model_act != act_shape:
@@ -199,11 +203,38 @@ def model_policy(cfg: TrainConfig, model, run_dir: Path, venv, which: str = "fin
         vec_normalize.training = False
         normalize = vec_normalize.normalize_obs
 
-    def policy(obs: np.ndarray) -> np.ndarray:
-        actions, _ = model.predict(normalize(obs), deterministic=True)
-        return actions
+    if cfg.frame_stack == 1:
 
-    return policy
+        def policy(obs: np.ndarray) -> np.ndarray:
+            actions, _ = model.predict(normalize(obs), deterministic=True)
+            return actions
+
+        return policy
+    return StackedPolicy(model, normalize, cfg.frame_stack)
+
+
+class StackedPolicy:
+    """``model.predict`` (deterministic) on the last ``frames`` normalized observations side by
+    side, oldest first, as SB3's ``VecFrameStack`` gave them in training: zeros before an
+    episode's first observation. ``reset(mask)`` starts the sub-envs of ``mask`` (all when
+    None) anew: their next observation is an episode's first."""
+
+    def __init__(self, model, normalize: Callable[[np.ndarray], np.ndarray], frames: int):
+        self.model, self.normalize, self.frames = model, normalize, frames
+        self.stack: np.ndarray | None = None  # [E, frames * obs_dim]
+
+    def reset(self, mask=None) -> None:
+        if self.stack is not None:
+            self.stack[slice(None) if mask is None else np.asarray(mask, dtype=bool)] = 0.0
+
+    def __call__(self, obs: np.ndarray) -> np.ndarray:
+        obs = self.normalize(obs)
+        if self.stack is None or len(self.stack) != len(obs):
+            self.stack = np.zeros((len(obs), self.frames * obs.shape[1]), dtype=obs.dtype)
+        self.stack = np.roll(self.stack, -obs.shape[1], axis=1)
+        self.stack[:, -obs.shape[1] :] = obs
+        actions, _ = self.model.predict(self.stack, deterministic=True)
+        return actions
 
 
 def scripted_pilot(env_id: str, venv) -> Callable:
@@ -358,7 +389,8 @@ def baseline_rows(
     planner_kwargs: Mapping[str, int] | None = None,
     say: Callable[[str], None] = lambda text: None,
 ) -> tuple[list[dict[str, Any]], list[str]]:
-    """The baselines' rows on ``venv`` (planner, tuned pilot, hand-set pilot, random), and
+    """The baselines' rows on ``venv`` (planner, tuned pilot, on v1 the v0-tuned pilot,
+    hand-set pilot, random), and
     a line for each one skipped, saying why. The planner gets ``venv`` itself: it reads the
     state of the very env the episodes run in."""
     from fluidsim_envs.evaluation import random_policy
@@ -379,6 +411,9 @@ def baseline_rows(
 
         rows.append(_fly(PLANNER, venv, build_planner, seed, say))
     rows.append(_fly(TUNED_PILOT, venv, lambda: scene.pilot(venv), seed, say))
+    if scene.version > 0:
+        gains = sys.modules[scene.pilot.__module__].GAINS.tuned(version=0)
+        rows.append(_fly(V0_PILOT, venv, lambda: scene.pilot(venv, gains), seed, say))
     rows.append(_fly(HAND_PILOT, venv, lambda: scene.hand_pilot(venv), seed, say))
     rows.append(_fly(RANDOM, venv, lambda: random_policy(venv, seed), seed, say))
     return rows, skipped
@@ -405,8 +440,9 @@ def _check_counts(
     if not 0 <= seed < 2**63:
         raise RunError(f"--seed must be a non-negative integer, got {seed}")
     if seed in TUNING_SEEDS:  # allowed (a check of the tuning), but not an honest score
-        say(f"warning: --seed {seed} is a tuning seed of the pilots: they were tuned on these "
-            "episodes")  # fmt: skip
+        say(f"warning: --seed {seed} is a tuning seed of the v0 pilots: their gains were "
+            "tuned on these episodes (the v1 gains on the tuning stream, which no evaluation "
+            "flies)")  # fmt: skip
     for key, value in (planner_kwargs or {}).items():
         if value < 1:
             raise RunError(f"--planner-{key} must be at least 1, got {value}")

@@ -145,7 +145,8 @@ def make_env(
     recorded by ``VecMonitor`` (raw returns; with ``monitor_file``, a :class:`RunMonitor`
     writing there, appended to when ``append``, its rows stamped with the run's timesteps from
     ``start_timesteps`` on and its times going on from ``time_offset_s``), then
-    ``VecNormalize`` when enabled (``stats``: a saved ``.pkl`` to load).
+    ``VecNormalize`` when enabled (``stats``: a saved ``.pkl`` to load), then
+    ``VecFrameStack`` with ``cfg.frame_stack`` > 1.
 
     ``evaluation``: frozen statistics, raw rewards and the evaluation's seed stream (else the
     training stream, whose episodes no evaluation flies: ``fluidsim_envs.seeding``). Success
@@ -181,7 +182,7 @@ def make_env(
         )
     n = cfg.normalize
     if not n.enabled:
-        return venv
+        return _stacked(venv, cfg.frame_stack)
     if stats is not None:
         venv = VecNormalize.load(str(stats), venv)
     else:
@@ -197,7 +198,14 @@ def make_env(
     if evaluation:
         venv.training = False
         venv.norm_reward = False
-    return venv
+    return _stacked(venv, cfg.frame_stack)
+
+
+def _stacked(venv, frames: int):
+    """``venv`` with its last ``frames`` observations side by side (``frame_stack``)."""
+    from stable_baselines3.common.vec_env import VecFrameStack
+
+    return venv if frames == 1 else VecFrameStack(venv, frames)
 
 
 def git_revision() -> dict[str, Any]:

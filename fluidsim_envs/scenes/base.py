@@ -108,6 +108,7 @@ class FluidVectorEnv(VectorEnv):
     # snapshot (get_state) copies beside the base's own (_BASE_STATE). An array made in
     # _build with a sub-env axis belongs here (tests/scenes/test_snapshot.py checks)
     state_fields: tuple[tuple[str, int], ...] = ()
+    version = 0  # the N of the env's -vN (realism.Version1: 1); its tuned pilot's gains
 
     def __init__(
         self, num_envs: int = 1, render_mode: str | None = None, autoreset: bool = True, **kwargs
@@ -555,7 +556,7 @@ class FluidEnv(gym.Env):
         self.vector = self.vector_cls(
             num_envs=1, render_mode=render_mode, autoreset=False, **kwargs
         )
-        self.params = self.vector.params
+        self.params, self.version = self.vector.params, self.vector.version
         self.metadata = {**type(self).metadata, "render_fps": self.vector.metadata["render_fps"]}
         self.render_mode = render_mode
         self.action_space = self.vector.single_action_space

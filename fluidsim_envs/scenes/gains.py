@@ -11,7 +11,10 @@ A pilot module that can be tuned defines (``scenes/submarine_wake/pilot.py`` is 
   factory the scene registry holds; ``make_hand_pilot(venv)``: the pilot with the hand-set
   gains.
 
-``tuned_gains.json`` holds the gains and how they were found (the command, the tuning seeds,
+Each env version's pilot has its own tuned set, tuned on that version's episodes:
+``tuned_gains.json`` for v0, ``tuned_gains_v1.json`` for v1 (:func:`tuned_file`); the
+registry's pilot reads the one of the env it flies (``GAINS.for_env(venv)``). The file holds
+the gains and how they were found (the command, the tuning seeds,
 episodes and trials, the objective's value and the success rate on the tuning episodes, the
 Optuna version and git revision): see :func:`write_tuned`. It ships with the package
 (pyproject's package data); a pilot without one is an error that names the missing file.
@@ -34,15 +37,26 @@ class TunableGains:
     """Base of a pilot's frozen gains dataclass: adds :meth:`tuned` (no fields of its own)."""
 
     @classmethod
-    def tuned(cls, path: str | Path | None = None) -> Self:
-        """The tuned gains, from ``path`` (default: ``tuned_gains.json`` beside the module that
-        defines this class)."""
-        return gains_from(cls, read_tuned(path or tuned_path(cls)))
+    def tuned(cls, path: str | Path | None = None, version: int = 0) -> Self:
+        """The tuned gains, from ``path`` (default: the ``version``'s file beside the module
+        that defines this class, :func:`tuned_path`)."""
+        return gains_from(cls, read_tuned(path or tuned_path(cls, version)))
+
+    @classmethod
+    def for_env(cls, venv) -> Self:
+        """The gains tuned on the version of ``venv`` (a vector env or a wrapper of one)."""
+        return cls.tuned(version=getattr(venv.unwrapped, "version", 0))
 
 
-def tuned_path(gains_cls: type) -> Path:
-    """Where ``gains_cls``'s tuned gains live: ``tuned_gains.json`` in its module's folder."""
-    return Path(sys.modules[gains_cls.__module__].__file__).with_name(TUNED_FILE)
+def tuned_file(version: int = 0) -> str:
+    """The tuned gains' file name of an env version: v0's is :data:`TUNED_FILE`."""
+    return TUNED_FILE if version == 0 else f"tuned_gains_v{version}.json"
+
+
+def tuned_path(gains_cls: type, version: int = 0) -> Path:
+    """Where ``gains_cls``'s tuned gains for env ``version`` live: :func:`tuned_file` in its
+    module's folder."""
+    return Path(sys.modules[gains_cls.__module__].__file__).with_name(tuned_file(version))
 
 
 def read_tuned(path: str | Path) -> dict[str, Any]:
@@ -111,6 +125,7 @@ __all__ = [
     "check_search_space",
     "gains_from",
     "read_tuned",
+    "tuned_file",
     "tuned_path",
     "write_tuned",
 ]

@@ -275,6 +275,7 @@ class Version1:
     between the truth and the pilot."""
 
     plan: Plan
+    version = 1
 
     def _build(self) -> None:
         super()._build()

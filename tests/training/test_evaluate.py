@@ -38,10 +38,11 @@ def read_table(path) -> tuple[list[str], dict[str, dict[str, str]]]:
     return comments, {r["policy"]: r for r in rows}
 
 
-def expected_rows(planner: bool) -> list[str]:
-    """The baselines' rows, in order."""
+def expected_rows(planner: bool, version: int = 0) -> list[str]:
+    """The baselines' rows, in order (on a v1 env, the v0-tuned pilot too)."""
     rows = [evaluate_cli.PLANNER] if planner else []
-    return [*rows, evaluate_cli.TUNED_PILOT, evaluate_cli.HAND_PILOT, evaluate_cli.RANDOM]
+    rows += [evaluate_cli.TUNED_PILOT] + ([evaluate_cli.V0_PILOT] if version else [])
+    return [*rows, evaluate_cli.HAND_PILOT, evaluate_cli.RANDOM]
 
 
 def test_the_baselines_alone(tmp_path, capsys):
@@ -188,7 +189,8 @@ def test_the_scenes_planner_flies(tmp_path, env_id):
     args = ("--planner-samples", "4", "--planner-horizon", "3", "--env=max_episode_steps=8")
     assert baselines(tmp_path, *args, env_id=env_id, episodes=2) == 0
     _, rows = read_table(tmp_path / "evaluation.csv")
-    assert list(rows) == expected_rows(planner=True)
+    version = int(env_id.rsplit("-v", 1)[1])
+    assert list(rows) == expected_rows(planner=True, version=version)
     assert 1.0 <= float(rows[evaluate_cli.PLANNER]["length_mean"]) <= 8.0
 
 

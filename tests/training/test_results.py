@@ -83,6 +83,28 @@ def test_the_table_says_where_training_is_below_the_pilot(tmp_path, monkeypatch)
     assert sac.endswith("| above |")  # IQM 11 against 10
 
 
+def test_the_bar_is_the_best_pilot(tmp_path, monkeypatch):
+    """With pilots of several gains, the one of highest mean return is the bar: the
+    normalization's 1 and what *vs best pilot* compares with, whichever its name."""
+    rng = np.random.default_rng(2)
+    rows = episodes("E", "tuned pilot", "-", 6.0 + rng.normal(0, 1, 64))
+    rows += episodes("E", "hand-set pilot", "-", 10.0 + rng.normal(0, 1, 64))
+    rows += episodes("E", "random", "-", rng.normal(0, 1, 64))
+    for k in range(5):  # above the tuned pilot, below the hand-set one
+        rows += episodes("E", "PPO", f"t{k}", 8.0 + rng.normal(0, 0.1, 64))
+    matrices = results.score_matrices(rows)
+    assert results.best_pilot(matrices, "E") == "hand-set pilot"
+    summary = results.summary_rows(matrices)
+    by = {r["policy"]: r for r in summary}
+    assert by["hand-set pilot"]["normalized_iqm"] == pytest.approx(1.0)
+    assert by["tuned pilot"]["normalized_iqm"] < 1.0
+    monkeypatch.setattr(results, "CSV", tmp_path / "results.csv")
+    results.write_csv(results.CSV, results.COLUMNS, ([r[c] for c in results.COLUMNS]
+                                                     for r in summary))  # fmt: skip
+    ppo = next(line for line in results.markdown().splitlines() if "| PPO |" in line)
+    assert ppo.endswith("| **below** |")
+
+
 def test_profiles_resample_whole_runs():
     """Five runs at different levels: the band over runs is wide where they disagree; one
     run (a baseline) is resampled over its episodes."""
@@ -175,9 +197,9 @@ def test_baselines_are_flown_once_and_read_back(tmp_path, monkeypatch):
     # the boat's planner left out (hours): the others flown, the planner not, and then each
     # read back from its cache
     got = results.baseline_episodes("fluidsim/Boat-v1", 2, results.EVAL_SEED, planner=False)
-    assert flown == ["tuned pilot", "random"] and sorted(got) == ["random", "tuned pilot"]
+    assert flown == [*results.PILOTS, "random"] and sorted(got) == sorted(flown)
     assert results.baseline_episodes("fluidsim/Boat-v1", 2, results.EVAL_SEED) and flown == [
-        "tuned pilot", "random", "planner", "planner (clairvoyant)"]  # fmt: skip
+        *results.PILOTS, "random", "planner"]  # fmt: skip
 
 
 def test_the_page_is_written_from_the_csvs(tmp_path, monkeypatch):
@@ -211,22 +233,21 @@ def test_the_page_lists_the_baselines_not_yet_flown(tmp_path, monkeypatch):
     results.write_csv(results.EPISODES_CSV, cols, ([int(r[c]) if c == "success" else r[c]
                                                      for c in cols] for r in rows))  # fmt: skip
     lines = results.missing_markdown().splitlines()
-    assert lines[:2] == [
-        f"- BoatOnStep-v1: the {name}'s episodes "
+    assert lines[0] == (
+        "- BoatOnStep-v1: the planner's episodes "
         "(`python -m benchmarks.results --configs boat_on_step_v1_ppo`)"
-        for name in ("planner", "planner (clairvoyant)")
-    ]
+    )
     assert not any("SubmarineWake-v1:" in line or "PaperAirplane-v1:" in line for line in lines)
 
 
 def test_the_planner_before_issue_44_reads_as_the_clairvoyant_one(tmp_path, monkeypatch):
     """Rows the results wrote as "planner (oracle)" were flown by the planner that kept the
-    episode's noise keys: they read back as "planner (clairvoyant)", never as the planner."""
+    episode's noise keys: they read back as that reference, never as the planner."""
     monkeypatch.setattr(results, "EPISODES_CSV", tmp_path / "episodes.csv")
     rows = episodes("Dart-v1", "planner (oracle)", "-", [3.0, 5.0])
     cols = results.EPISODE_COLUMNS
     results.write_csv(results.EPISODES_CSV, cols, ([int(r[c]) if c == "success" else r[c]
                                                      for c in cols] for r in rows))  # fmt: skip
-    got = results.published_baselines("Dart-v1", 2)
-    assert list(got) == ["planner (clairvoyant)"]
-    assert got["planner (clairvoyant)"]["return"].tolist() == [3.0, 5.0]
+    assert results.published_baselines("Dart-v1", 2) == {}  # not the planner of now
+    (row,) = {(r["policy"], r["return"]) for r in results.episode_table() if r["return"] == "3.0"}
+    assert row == ("planner (clairvoyant, before issue 44)", "3.0")

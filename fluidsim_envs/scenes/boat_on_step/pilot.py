@@ -12,10 +12,11 @@
 The bar a trained policy must beat.
 
 Gains: :class:`HelmGains`' defaults are the hand-set gains (:func:`make_hand_pilot`); the
-registry's pilot (:func:`make_pilot`) flies ``HelmGains.tuned()``, the gains in
-``tuned_gains.json`` beside this file, which ``python -m benchmarks.tune_pilots
-fluidsim/BoatOnStep-v0 --write`` found by searching :data:`SEARCH_SPACE` on episodes of other
-seeds than the evaluation's (``fluidsim_envs.evaluation.TUNING_SEEDS``).
+registry's pilot (:func:`make_pilot`) flies the gains tuned on the env's version
+(``HelmGains.for_env``): ``tuned_gains.json`` beside this file for v0, ``tuned_gains_v1.json``
+for v1, each found by ``python -m benchmarks.tune_pilots fluidsim/BoatOnStep-vN --write``
+searching :data:`SEARCH_SPACE` on episodes no evaluation flies
+(``fluidsim_envs.evaluation.TUNING_SEEDS``; v1: their tuning stream).
 """
 
 from __future__ import annotations
@@ -132,8 +133,8 @@ class BoatOnStepPilot:
 
 def make_pilot(venv, gains: HelmGains | None = None) -> BoatOnStepPilot:
     """The pilot for every sub-env of ``venv`` (it sizes its integrators on first use), with
-    ``gains`` (default: the tuned gains, ``HelmGains.tuned()``)."""
-    return BoatOnStepPilot(HelmGains.tuned() if gains is None else gains)
+    ``gains`` (default: the gains tuned on ``venv``'s version, ``HelmGains.for_env``)."""
+    return BoatOnStepPilot(HelmGains.for_env(venv) if gains is None else gains)
 
 
 def make_hand_pilot(venv) -> BoatOnStepPilot:

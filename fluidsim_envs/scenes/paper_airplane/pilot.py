@@ -82,19 +82,21 @@ class PilotGains(TunableGains):
 
 GAINS = PilotGains  # what benchmarks/tune_pilots.py searches (scenes/gains.py)
 
-# (low, high) for the gains worth searching, around the defaults above
+# (low, high) for the gains worth searching, around the defaults above; the bank limit, the
+# speed's share of excess height, the final height and the flare's range were widened where
+# the v1 tuning (issue 44) stopped at their old bounds
 SEARCH_SPACE: dict[str, tuple[float, float]] = {
     "glide_ratio": (3.5, 5.0),
     "burn_time_s": (1.0, 4.0),
-    "final_height_m": (1.2, 3.5),
-    "speed_per_excess": (0.0, 1.0),
+    "final_height_m": (1.2, 5.0),
+    "speed_per_excess": (0.0, 4.0),
     "track_to_bank": (1.0, 3.0),
-    "max_bank_rad": (0.6, 1.15),
+    "max_bank_rad": (0.6, 1.5),
     "final_bank_rad": (0.1, 0.6),
-    "flare_height_m": (0.6, 1.5),
-    "flare_time_s": (0.6, 2.0),
+    "flare_height_m": (0.6, 3.0),
+    "flare_time_s": (0.4, 2.0),
     "flare_distance_m": (5.0, 11.0),
-    "flare_elevator": (-0.3, 0.3),
+    "flare_elevator": (-0.5, 0.3),
     "k_flare_sink": (1.0, 3.5),
     "k_sink": (0.2, 1.2),
 }
@@ -227,9 +229,10 @@ class PaperAirplanePilot:
 
 def make_pilot(venv, gains: PilotGains | None = None) -> PaperAirplanePilot:
     """The pilot for every sub-env of ``venv`` (a vector env or a wrapper of one), at its
-    action period, with ``gains`` (default: the tuned gains, ``PilotGains.tuned()``)."""
+    action period, with ``gains`` (default: the gains tuned on ``venv``'s version,
+    ``PilotGains.for_env``)."""
     p = venv.unwrapped.params
-    gains = PilotGains.tuned() if gains is None else gains
+    gains = PilotGains.for_env(venv) if gains is None else gains
     return PaperAirplanePilot(venv.num_envs, dt=p.dt * p.substeps, gains=gains)
 
 

@@ -12,10 +12,11 @@ Three decoupled loops, each from the observation alone:
 It ignores the wake (the flow sensor is unused): the bar a trained policy must beat.
 
 Gains: :class:`StationGains`' defaults are the hand-set gains (:func:`make_hand_pilot`); the
-registry's pilot (:func:`make_pilot`) flies ``StationGains.tuned()``, the gains in
-``tuned_gains.json`` beside this file, which ``python -m benchmarks.tune_pilots
-fluidsim/SubmarineWake-v0 --write`` found by searching :data:`SEARCH_SPACE` on episodes of
-other seeds than the evaluation's (``fluidsim_envs.evaluation.TUNING_SEEDS``).
+registry's pilot (:func:`make_pilot`) flies the gains tuned on the env's version
+(``StationGains.for_env``): ``tuned_gains.json`` beside this file for v0, ``tuned_gains_v1.json``
+for v1, each found by ``python -m benchmarks.tune_pilots fluidsim/SubmarineWake-vN --write``
+searching :data:`SEARCH_SPACE` on episodes no evaluation flies
+(``fluidsim_envs.evaluation.TUNING_SEEDS``; v1: their tuning stream).
 """
 
 from __future__ import annotations
@@ -130,8 +131,8 @@ class SubmarineWakePilot:
 
 def make_pilot(venv, gains: StationGains | None = None) -> SubmarineWakePilot:
     """The pilot for every sub-env of ``venv`` (it keeps no per-env state), with ``gains``
-    (default: the tuned gains, ``StationGains.tuned()``)."""
-    return SubmarineWakePilot(StationGains.tuned() if gains is None else gains)
+    (default: the gains tuned on ``venv``'s version, ``StationGains.for_env``)."""
+    return SubmarineWakePilot(StationGains.for_env(venv) if gains is None else gains)
 
 
 def make_hand_pilot(venv) -> SubmarineWakePilot:
