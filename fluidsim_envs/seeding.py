@@ -2,13 +2,13 @@
 
 ``reset(seed=s)`` draws sub-env i's episodes from ``SeedSequence(s).spawn(E)[i]``: the
 evaluation stream, Gymnasium's meaning of a seed, and what ``fluidsim-evaluate --seed s``
-flies. A training run seeded s, the pilots' tuning and the zoo's showcase pass
-``options={"stream": name}`` with their seed, and draw from ``SeedSequence(s, spawn_key=(K,))``
-instead, K the stream's key. Numpy mixes a SeedSequence's seed (padded to 128 bits) with its
-spawn key; an evaluation sub-env's key is ``(i,)``, another stream's ``(K, i)`` with K above
-2**32, so no sub-env of one stream has the inputs of any sub-env of another, at any seed: a
-run seeded 0 never trains on the episodes the evaluation seeded 0 grades
-(tests/scenes/test_seeding.py).
+flies. A training run seeded s and the pilots' tuning pass ``options={"stream": name}``
+with their seed, and draw from ``SeedSequence(s, spawn_key=(K,))`` instead, K the stream's
+key. (The zoo's fresh episodes and GIFs are an evaluation's, at a seed of their own: seed 3.)
+Numpy mixes a SeedSequence's seed (padded to 128 bits) with its spawn key; an evaluation
+sub-env's key is ``(i,)``, another stream's ``(K, i)`` with K above 2**32, so no sub-env of one
+stream has the inputs of any sub-env of another, at any seed: a run seeded 0 never trains on
+the episodes the evaluation seeded 0 grades (tests/scenes/test_seeding.py).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 #: the purposes a seed can serve; "evaluation" is ``reset(seed=s)`` without a stream
-STREAMS = ("evaluation", "training", "tuning", "showcase")
+STREAMS = ("evaluation", "training", "tuning")
 
 
 def _key(name: str) -> int:

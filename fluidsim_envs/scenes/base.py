@@ -248,7 +248,7 @@ class FluidVectorEnv(VectorEnv):
                 only those sub-envs restart (their observation rows change; the others keep
                 theirs); an empty list or an all-False mask restarts none. Beside either,
                 ``"stream"`` with a seed: the purpose the seed serves (``"training"``,
-                ``"tuning"``, ``"showcase"``; ``"evaluation"``, the default, is Gymnasium's
+                ``"tuning"``; ``"evaluation"``, the default, is Gymnasium's
                 ``reset(seed=s)``), whose episodes no other stream's seed gives
                 (:mod:`fluidsim_envs.seeding`).
 

@@ -1,5 +1,5 @@
-"""Seed streams (fluidsim_envs.seeding): a training run, the pilots' tuning and the showcase
-draw episodes that no evaluation flies, at any seed, and a stream is chosen only with a seed."""
+"""Seed streams (fluidsim_envs.seeding): a training run and the pilots' tuning draw episodes
+that no evaluation flies, at any seed, and a stream is chosen only with a seed."""
 
 import gymnasium as gym
 import numpy as np
