@@ -140,6 +140,8 @@ def config_digest(config: str | Path) -> str:
         plain.pop("curriculum", None)  # no curriculum: the digest runs had before there was one
     if plain.get("frame_stack") == 1:
         plain.pop("frame_stack")  # the present only: as runs were before the option
+    if not plain.get("warm_start", {}).get("steps"):
+        plain.pop("warm_start", None)  # no warm start: as runs were before the option
     return hashlib.sha256(yaml.safe_dump(plain, sort_keys=True).encode()).hexdigest()[:12]
 
 

@@ -277,6 +277,27 @@ class CheckpointConfig:
 
 
 @dataclass(frozen=True)
+class WarmStartConfig:
+    """A warm start before RL (``rl/warm_start.py``; PPO): the scene's tuned pilot flies the
+    training envs for ``steps`` env steps (all envs together), then the policy's mean action
+    is fitted to the pilot's actions and its value function to the returns they earned
+    (``epochs`` passes, minibatches of ``batch_size``, Adam at ``learning_rate``). The pilot's
+    steps are not the run's timesteps: run.yaml counts them apart. 0 steps: none."""
+
+    steps: int = 0
+    epochs: int = 10
+    batch_size: int = 4096
+    learning_rate: float = 1.0e-3
+
+    RANGES: ClassVar[dict[str, Range]] = {
+        "steps": NON_NEGATIVE,
+        "epochs": AT_LEAST_1,
+        "batch_size": AT_LEAST_1,
+        "learning_rate": POSITIVE,
+    }
+
+
+@dataclass(frozen=True)
 class StageConfig:
     """A curriculum stage: ``timesteps`` env steps (all envs together) trained on episodes
     of ``env_kwargs`` (set on top of the run's own ``env_kwargs``). The evaluations fly the
@@ -313,6 +334,7 @@ class TrainConfig:
     normalize: NormalizeConfig = NormalizeConfig()
     eval: EvalConfig = EvalConfig()
     checkpoint: CheckpointConfig = CheckpointConfig()
+    warm_start: WarmStartConfig = WarmStartConfig()
     # stages trained in order before the run's own episodes (e.g. an easier difficulty first,
     # where a policy finds the task that the full one hides behind its costs); the stages
     # together must leave steps for the run's own env_kwargs
@@ -676,6 +698,12 @@ def _check(cfg: TrainConfig, joint: bool = True) -> None:
     check_device(cfg.device)
     _check_env(cfg.env_id, cfg.env_kwargs)
     _check_curriculum(cfg)
+    if cfg.warm_start.steps and cfg.algorithm.name != "ppo":
+        raise ConfigError(
+            f"warm_start.steps ({cfg.warm_start.steps}) with algorithm.name "
+            f"{cfg.algorithm.name!r}: a warm start fits PPO's policy and value function; "
+            "set warm_start.steps to 0 or train ppo"
+        )
 
 
 def _check_curriculum(cfg: TrainConfig) -> None:

@@ -85,6 +85,7 @@ from .runs import (  # noqa: E402, F401  (CHECKPOINT_PREFIX ... are this module'
     save_state,
     trim_logs,
 )
+from .warm_start import warm_start  # noqa: E402
 
 # --------------------------------------------------------------------------------------------
 # building blocks
@@ -562,6 +563,8 @@ def _train(
         raise
     meta = _meta(run_dir, cfg, command, restart, env_seed, str(model.device), plan)
     dump_config(cfg, run_dir / "config.yaml")
+    if restart is None and cfg.warm_start.steps:  # a resumed run has its warm start behind it
+        meta["warm_start"] = warm_start(cfg, model, say)
     files.write_text(run_dir / "run.yaml", yaml.safe_dump(meta, sort_keys=False))
 
     start = time.perf_counter()

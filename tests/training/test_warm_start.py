@@ -1,0 +1,61 @@
+"""The warm start (rl/warm_start.py): the tuned pilot flies the training envs, the policy's
+mean action and its value function are fitted to it before PPO; the pilot's episodes are not
+the run's, and a warm start is PPO's alone."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import yaml
+
+from fluidsim_envs.rl import train as train_cli
+from fluidsim_envs.rl import warm_start as WS
+from fluidsim_envs.rl.config import ConfigError, load_config
+
+
+def test_value_targets_are_each_episodes_discounted_returns():
+    """Rewards of 1 at gamma 0.5: G = 2 (1 - 0.5^k) with k steps left in the episode; an
+    episode end cuts the sum; the last 3 / (1 - gamma) = 6 steps, whose episodes run past the
+    flight, are not trusted."""
+    T = 10
+    rewards, dones = np.ones((T, 2)), np.zeros((T, 2), dtype=bool)
+    dones[3, 1] = True  # env 1's episode ends after step 3
+    g, valid = WS.value_targets(rewards, dones, None, gamma=0.5)
+    np.testing.assert_allclose(g[:, 0], 2.0 * (1.0 - 0.5 ** np.arange(T, 0, -1)), rtol=1e-6)
+    np.testing.assert_allclose(g[:4, 1], 2.0 * (1.0 - 0.5 ** np.arange(4, 0, -1)), rtol=1e-6)
+    assert valid[:4].all() and not valid[4:].any()
+
+
+def test_stacked_inputs_start_each_episode_from_zeros():
+    obs = np.arange(1.0, 7.0).reshape(3, 1, 2)  # three steps of one env, two columns
+    dones = np.array([[False], [True], [False]])  # a new episode from step 2
+    x = WS.policy_inputs(obs, dones, None, frames=2)
+    np.testing.assert_array_equal(x[:, 0], [[0, 0, 1, 2], [1, 2, 3, 4], [0, 0, 5, 6]])
+
+
+def test_a_warm_start_is_ppos(tmp_path):
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text(
+        "env_id: fluidsim/PaperAirplane-v1\nalgorithm: {name: sac}\nwarm_start: {steps: 100}\n"
+    )
+    with pytest.raises(ConfigError, match="warm_start.steps .* algorithm.name 'sac'"):
+        load_config(cfg)
+
+
+def test_the_warm_started_policy_flies_like_the_pilot(tmp_path):
+    """A tiny run warm started on 4096 pilot steps: run.yaml keeps the warm start, the policy
+    now acts close to the pilot (its actions' mean squared error fell), and monitor.csv holds
+    PPO's episodes only (none of the pilot's: the run's own steps are too few to end one)."""
+    run_dir = tmp_path / "run"
+    args = [
+        "submarine_wake_v1_ppo", "--set", "warm_start.steps=4096", "warm_start.epochs=20",
+        "total_timesteps=64", "n_envs=4", "algorithm.n_steps=16", "algorithm.batch_size=64",
+        "eval.freq=0", "checkpoint.freq=0", "--run-dir", str(run_dir), "--no-progress-bar",
+    ]  # fmt: skip
+    assert train_cli.main(args) == 0
+    meta = yaml.safe_load((run_dir / "run.yaml").read_text())
+    ws = meta["warm_start"]
+    assert ws["teacher"] == "tuned pilot" and ws["env_steps"] == 4096
+    assert ws["action_mse"] < ws["action_mse_before"] / 2
+    monitor = (run_dir / "monitor.csv").read_text().splitlines()
+    assert not [line for line in monitor if line and line[0].isdigit()]
