@@ -297,7 +297,8 @@ def baseline_episodes(
     published = published_baselines(env, episodes) if seed == EVAL_SEED and not fresh else {}
     out = {}
     for name in BASELINES:
-        slug = "_".join(name.replace("(", "").replace(")", "").split())
+        # "planner-fair": not the name the clairvoyant planner's cache had before issue 44
+        slug = "planner-fair" if name == "planner" else "_".join(name.split())
         cache = SWEEPS / "baselines" / f"{env}-{episodes}-{seed}-{slug}.npz"
         if name in published:
             out[name] = published[name]
@@ -736,9 +737,10 @@ def page() -> str:
 Each shipped v1 config (`fluidsim_envs/configs/<config>.yaml`, trained at the env's
 `standard` level) is trained with seeds 0 to {SEEDS - 1}. Each run's final model, acting
 deterministically, and the baselines fly the same {EPISODES} episodes (seed
-{EVAL_SEED}): the planner (an oracle of the present: it reads the true state and plans over
-the env's own model, but its rollouts draw gusts, currents and sensor noise of their own,
-not the episode's to come), three scripted pilots (the scene's classical controller with its
+{EVAL_SEED}): the planner (an oracle: it reads the true state and plans over the env's own
+model, but its rollouts draw turbulence, currents and sensor noise of their own, not the
+episode's to come; the dart's scheduled gust and the lead submarine's route, drawn at the
+episode's start, it still reads), three scripted pilots (the scene's classical controller with its
 gains tuned on this v1 env, `tuned pilot`, by `python -m benchmarks.tune_pilots` on the
 tuning stream of seeds 1 and 2; with the gains tuned on its v0, `v0-tuned pilot`; with the
 hand-set gains) and random actions. Where the table still shows `{CLAIRVOYANT}`,

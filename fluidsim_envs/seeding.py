@@ -5,8 +5,9 @@ evaluation stream, Gymnasium's meaning of a seed, and what ``fluidsim-evaluate -
 flies. A training run seeded s and the pilots' tuning pass ``options={"stream": name}``
 with their seed, and draw from ``SeedSequence(s, spawn_key=(K,))`` instead, K the stream's
 key. (The zoo's fresh episodes and GIFs are an evaluation's, at a seed of their own: seed 3.)
-Numpy mixes a SeedSequence's seed (padded to 128 bits) with its spawn key; an evaluation
-sub-env's key is ``(i,)``, another stream's ``(K, i)`` with K above 2**32, so no sub-env of one
+NumPy hashes a SeedSequence's seed, padded to four 32-bit words, followed by its spawn key's
+words; an evaluation sub-env's key is ``(i,)`` (one word), another stream's ``(K, i)`` with K
+above 2**32 (three words), so, seeds being below 2**128 (``checks.seed``), no sub-env of one
 stream has the inputs of any sub-env of another, at any seed: a run seeded 0 never trains on
 the episodes the evaluation seeded 0 grades (tests/scenes/test_seeding.py).
 """

@@ -218,9 +218,16 @@ def env_ids(where: str, value: Any, num_envs: int, error=ValueError) -> np.ndarr
 
 
 def seed(where: str, key: str, value: Any, error=ValueError) -> int | None:
-    """A seed: None (fresh entropy) or an integer >= 0 (a Python or NumPy int)."""
+    """A seed: None (fresh entropy) or an integer in [0, 2**128) (a Python or NumPy int).
+    The bound keeps the seed streams apart (``fluidsim_envs.seeding``): NumPy pads a seed
+    of fewer than four 32-bit words before the spawn key, and a longer one could spell
+    another stream's key."""
     if value is None:
         return None
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
-        raise error(f"{where}: {key} must be None or an integer >= 0, got {show(value)}")
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, (int, np.integer))
+        or not 0 <= value < 2**128
+    ):
+        raise error(f"{where}: {key} must be None or an integer in [0, 2**128), got {show(value)}")
     return int(value)

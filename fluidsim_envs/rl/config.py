@@ -698,6 +698,11 @@ def _check(cfg: TrainConfig, joint: bool = True) -> None:
     check_device(cfg.device)
     _check_env(cfg.env_id, cfg.env_kwargs)
     _check_curriculum(cfg)
+    if cfg.warm_start.steps and cfg.algorithm.name == "ppo" and cfg.algorithm.gamma >= 1.0:
+        raise ConfigError(
+            "warm_start.steps with algorithm.gamma 1.0: the warm start's value targets are "
+            "discounted returns (gamma < 1)"
+        )
     if cfg.warm_start.steps and cfg.algorithm.name != "ppo":
         raise ConfigError(
             f"warm_start.steps ({cfg.warm_start.steps}) with algorithm.name "

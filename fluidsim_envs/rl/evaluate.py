@@ -16,10 +16,11 @@ policy flies the same N seeded episodes, one in each sub-env of one native vecto
     deterministically on observations normalized with the statistics saved beside it
 ``planner``
     the scene's sampling planner (``Scene.planner(venv, samples=K, horizon=H)``). It reads
-    the true state of the env it flies, not the observations, but not the episode's future:
-    its rollouts draw gusts, currents and sensor noise of their own. A reference for what a
-    search of a few seconds ahead reaches, not a policy to deploy (nor a bound: a policy
-    trained on whole episodes can do better). It costs minutes for 256 episodes;
+    the true state of the env it flies, not the observations, but not the episode's noise
+    to come: its rollouts draw turbulence, currents and sensor noise of their own (a gust
+    or a route drawn at the episode's start it still reads: ``scenes/planner.py``). A
+    reference for what a search of a few seconds ahead reaches, not a policy to deploy (nor a
+    bound: a policy trained on whole episodes can do better). It costs minutes for 256 episodes;
     ``--no-planner`` skips it (``PlannerConfig.clairvoyant`` is the reference told that
     future too: ``benchmarks/results.py`` flies it beside this one)
 ``tuned pilot``

@@ -563,12 +563,13 @@ def _train(
         raise
     meta = _meta(run_dir, cfg, command, restart, env_seed, str(model.device), plan)
     dump_config(cfg, run_dir / "config.yaml")
-    if restart is None and cfg.warm_start.steps:  # a resumed run has its warm start behind it
-        meta["warm_start"] = warm_start(cfg, model, say)
     files.write_text(run_dir / "run.yaml", yaml.safe_dump(meta, sort_keys=False))
 
     start = time.perf_counter()
     try:
+        if restart is None and cfg.warm_start.steps:  # a resumed run has it behind it
+            meta["warm_start"] = warm_start(cfg, model, say)
+            files.write_text(run_dir / "run.yaml", yaml.safe_dump(meta, sort_keys=False))
         if planned > 0:
             callbacks = _callbacks(cfg, run_dir, venv, eval_env, say, resume, time_offset, on_eval)
             model.learn(

@@ -38,15 +38,17 @@ def adapter_of(venv):
 
 def fly_teacher(cfg: TrainConfig, model) -> dict[str, np.ndarray]:
     """The scene's tuned pilot on the run's training envs for ``cfg.warm_start.steps`` env
-    steps: raw observations ``obs [T, E, D]``, its actions ``[T, E, A]``, rewards ``[T, E]``
-    and episode ends ``[T, E]`` (``VecNormalize``'s statistics updated as in training)."""
+    steps: raw observations ``obs [T, E, D]``, its actions ``[T, E, A]``, rewards ``[T, E]``,
+    episode ends ``dones [T, E]`` and which of them were time limits ``truncated [T, E]``
+    (``VecNormalize``'s statistics updated as in training). The adapter's step counters are
+    set back after it: the run's timing counts PPO's steps alone."""
     from .evaluate import find_scene
 
     adapter, norm = adapter_of(model.get_env()), model.get_vec_normalize_env()
     teacher = find_scene(cfg.env_id).pilot(adapter.venv)
     E = adapter.num_envs
     T = -(-cfg.warm_start.steps // E)
-    out = {"obs": [], "actions": [], "rewards": [], "dones": []}
+    out = {"obs": [], "actions": [], "rewards": [], "dones": [], "truncated": []}
     returns = np.zeros(E)
     obs = adapter.reset()
     if hasattr(teacher, "reset"):
@@ -57,15 +59,17 @@ def fly_teacher(cfg: TrainConfig, model) -> dict[str, np.ndarray]:
         actions = np.asarray(teacher(obs), dtype=np.float32)
         out["obs"].append(obs)
         out["actions"].append(actions)
-        obs, rewards, dones, _ = adapter.step(actions)
+        obs, rewards, dones, infos = adapter.step(actions)
         if norm is not None:  # VecNormalize's own reward statistics, step by step
             returns = returns * norm.gamma + rewards
             norm.ret_rms.update(returns)
             returns[dones] = 0.0
         out["rewards"].append(rewards)
         out["dones"].append(dones)
+        out["truncated"].append([i.get("TimeLimit.truncated", False) for i in infos])
         if dones.any() and hasattr(teacher, "reset"):
             teacher.reset(dones)
+    adapter.env_steps, adapter.env_seconds = 0, 0.0
     return {k: np.stack(v) for k, v in out.items()}
 
 
@@ -88,19 +92,24 @@ def policy_inputs(obs: np.ndarray, dones: np.ndarray, norm, frames: int) -> np.n
     return out
 
 
-def value_targets(rewards: np.ndarray, dones: np.ndarray, norm, gamma: float):
+def value_targets(rewards, dones, truncated, norm, gamma: float):
     """Discounted returns of the rewards PPO will see (normalized where ``norm`` is), each
-    episode's own, and which of them to trust: the last ``3 / (1 - gamma)`` steps of the
-    flight end before their episodes do (no bootstrap), so they are left out."""
+    episode's own, and which of them to trust. A sum that an episode's end cuts is exact
+    where the episode ended for good; where it was cut (a time limit, whose value PPO
+    bootstraps, or the end of the flight) the steps fewer than ``3 / (1 - gamma)`` before the
+    cut miss more than 5% of their weight, and are left out (``gamma`` < 1)."""
     r = norm.normalize_reward(rewards) if norm is not None and norm.norm_reward else rewards
-    T = len(r)
-    g = np.zeros_like(r, dtype=np.float64)
-    running = np.zeros(r.shape[1])
+    T, E = r.shape
+    horizon = 3.0 / (1.0 - gamma)
+    g = np.zeros((T, E), dtype=np.float64)
+    valid = np.zeros((T, E), dtype=bool)
+    running, known = np.zeros(E), np.zeros(E)  # known: the steps summed before a cut
     for t in range(T - 1, -1, -1):
-        running = r[t] + gamma * running * (1.0 - dones[t])
-        g[t] = running
-    valid = np.zeros_like(g, dtype=bool)
-    valid[: max(T - int(3.0 / (1.0 - gamma)), 0)] = True
+        ended = dones[t].astype(bool)
+        running = r[t] + gamma * np.where(ended, 0.0, running)
+        after = np.where(truncated[t], 0.0, np.inf)  # a true end: nothing is missing
+        known = 1.0 + np.where(ended, after, known)
+        g[t], valid[t] = running, known >= horizon
     return g.astype(np.float32), valid
 
 
@@ -113,11 +122,14 @@ def warm_start(cfg: TrainConfig, model, say=print) -> dict[str, Any]:
     data = fly_teacher(cfg, model)
     norm = model.get_vec_normalize_env()
     x = policy_inputs(data["obs"], data["dones"], norm, cfg.frame_stack)
-    g, valid = value_targets(data["rewards"], data["dones"], norm, cfg.algorithm.gamma)
-    X = th.as_tensor(x.reshape(-1, x.shape[-1]))
-    A = th.as_tensor(data["actions"].reshape(-1, data["actions"].shape[-1]))
-    G, M = th.as_tensor(g.reshape(-1)), th.as_tensor(valid.reshape(-1))
+    g, valid = value_targets(
+        data["rewards"], data["dones"], data["truncated"], norm, cfg.algorithm.gamma
+    )
     policy = model.policy
+    X = th.as_tensor(x.reshape(-1, x.shape[-1]), device=policy.device)
+    A = th.as_tensor(data["actions"].reshape(-1, data["actions"].shape[-1]), device=policy.device)
+    G = th.as_tensor(g.reshape(-1), device=policy.device)
+    M = th.as_tensor(valid.reshape(-1), device=policy.device)
 
     def action_mse() -> float:
         with th.no_grad():

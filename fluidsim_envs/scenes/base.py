@@ -566,6 +566,7 @@ class FluidEnv(gym.Env):
         """``seed``: None or an integer >= 0; ``options`` as the vector env's."""
         seed = CK.seed("reset", "seed", seed)  # a NumPy int as an int: gymnasium takes ints
         self.vector._reset_ids(options)  # checked before gymnasium's generator is touched
+        self.vector._stream(seed, options)
         super().reset(seed=seed)  # keeps gymnasium's bookkeeping; the generator is replaced
         obs, info = self.vector.reset(seed=None if seed is None else [seed], options=options)
         self._np_random = self.vector._rngs[0]

@@ -6,11 +6,14 @@ privileged oracle of the present, which knows the state and the episode's drawn 
 only the observation) into ``samples`` rollouts each of a private vector env of the same scene
 and parameters, flies ``horizon`` actions of candidate plans there, and acts on the best plan.
 
-It does not know the future. An episode's turbulence, currents and sensor noise to come are
+It does not know the noise to come. An episode's turbulence, currents and sensor noise are
 numbers of its noise key (``scenes/noise.py``), which a snapshot carries; the rollouts get
 keys of their own instead (``noise.foreign_keys``: none is any episode's), a fresh one each
-rollout and decision, so a plan is scored against gusts and noise like the episode's, not
-the episode's own. ``PlannerConfig.clairvoyant`` keeps the episode's keys: a reference that
+rollout and decision, so a plan is scored against noise like the episode's, not the
+episode's own. What an episode draws at its start for later still travels in the snapshot:
+the dart's scheduled gust (``_gusts``: when, how strong, from where) and the lead
+submarine's route (``route``, ``noise_offset``); redrawing those where they are still in the
+future is left to do. ``PlannerConfig.clairvoyant`` keeps the episode's keys: a reference that
 sees the coming gusts (the planner before issue 44), labelled so wherever it is flown.
 
 The method is the cross-entropy method in the form of iCEM (Pinneri et al., 2020, "Sample-

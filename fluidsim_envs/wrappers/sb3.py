@@ -41,6 +41,7 @@ from stable_baselines3.common.vec_env.base_vec_env import (
 )
 
 from .. import seeding as SD
+from ..physics import checks as CK
 
 # The autoreset bookkeeping of a same-step vector env; not part of any one env's info.
 _AUTORESET_KEYS = ("final_obs", "final_info")
@@ -175,6 +176,7 @@ class SB3VecEnv(VecEnv):
             seed = int(np.random.SeedSequence().generate_state(1)[0])  # fresh OS entropy
         if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
             raise ValueError(f"SB3VecEnv.seed: expected an int or None, got {seed!r}")
+        CK.seed("SB3VecEnv.seed", "seed", seed)  # in [0, 2**128): the streams stay apart
         self._batch_seed = int(seed)
         self._reset_seeds()
         return SD.root(self._batch_seed, self.stream).spawn(self.num_envs)

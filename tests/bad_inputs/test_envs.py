@@ -182,8 +182,9 @@ def param_rows() -> list[Row]:
 # reset: seeds and options
 
 SEEDS = [  # (row, seed, words) on the vector env of 2
-    ("float", 1.5, ["seed", "1.5", "integer >= 0"]),
+    ("float", 1.5, ["seed", "1.5", "integer in [0, 2**128)"]),
     ("negative", -1, ["seed", "-1"]),
+    ("huge", 2**128, ["seed", str(2**128)]),  # past it, seed streams could meet
     ("bool", True, ["seed", "True"]),
     ("str", "1", ["seed", "'1'"]),
     ("npfloat", np.float64(3.0), ["seed", "3.0"]),
@@ -227,7 +228,7 @@ def reset_rows() -> list[Row]:
             Row(f"{short}-seed-float", lambda e=env_id: single(e).reset(seed=1.5), ValueError,
                 ["reset", "seed", "1.5"]),
             Row(f"{short}-seed-negative", lambda e=env_id: single(e).reset(seed=-3), ValueError,
-                ["seed", "-3", ">= 0"]),
+                ["seed", "-3", "[0, 2**128)"]),
             Row(f"{short}-seed-list", lambda e=env_id: single(e).reset(seed=[1]), ValueError,
                 ["seed", "[1]"]),
             Row(f"{short}-options-ids", lambda e=env_id: single(e).reset(options={"env_ids": [1]}),

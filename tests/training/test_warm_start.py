@@ -14,16 +14,22 @@ from fluidsim_envs.rl.config import ConfigError, load_config
 
 
 def test_value_targets_are_each_episodes_discounted_returns():
-    """Rewards of 1 at gamma 0.5: G = 2 (1 - 0.5^k) with k steps left in the episode; an
-    episode end cuts the sum; the last 3 / (1 - gamma) = 6 steps, whose episodes run past the
-    flight, are not trusted."""
+    """Rewards of 1 at gamma 0.5: G = 2 (1 - 0.5^k) with k steps left in the episode. A sum
+    cut by a time limit or by the flight's end is trusted only 3 / (1 - gamma) = 6 steps or
+    more before the cut; one that an episode's true end closes is exact."""
     T = 10
-    rewards, dones = np.ones((T, 2)), np.zeros((T, 2), dtype=bool)
-    dones[3, 1] = True  # env 1's episode ends after step 3
-    g, valid = WS.value_targets(rewards, dones, None, gamma=0.5)
-    np.testing.assert_allclose(g[:, 0], 2.0 * (1.0 - 0.5 ** np.arange(T, 0, -1)), rtol=1e-6)
-    np.testing.assert_allclose(g[:4, 1], 2.0 * (1.0 - 0.5 ** np.arange(4, 0, -1)), rtol=1e-6)
-    assert valid[:4].all() and not valid[4:].any()
+    rewards = np.ones((T, 3))
+    dones, truncated = np.zeros((T, 3), dtype=bool), np.zeros((T, 3), dtype=bool)
+    dones[3, 1] = True  # env 1's episode ends for good after step 3
+    dones[7, 2] = truncated[7, 2] = True  # env 2's is cut by its time limit after step 7
+    g, valid = WS.value_targets(rewards, dones, truncated, None, gamma=0.5)
+    left = 2.0 * (1.0 - 0.5 ** np.arange(T, 0, -1))  # k = T - t steps left
+    np.testing.assert_allclose(g[:, 0], left, rtol=1e-6)
+    np.testing.assert_allclose(g[:4, 1], left[-4:], rtol=1e-6)
+    np.testing.assert_allclose(g[:8, 2], left[-8:], rtol=1e-6)
+    assert valid[:5, 0].all() and not valid[5:, 0].any()  # 6 or more steps to the flight's end
+    assert valid[:4, 1].all()  # the true end: exact however near
+    assert valid[:3, 2].all() and not valid[3:8, 2].any()  # the time limit: a cut
 
 
 def test_stacked_inputs_start_each_episode_from_zeros():
@@ -39,6 +45,12 @@ def test_a_warm_start_is_ppos(tmp_path):
         "env_id: fluidsim/PaperAirplane-v1\nalgorithm: {name: sac}\nwarm_start: {steps: 100}\n"
     )
     with pytest.raises(ConfigError, match="warm_start.steps .* algorithm.name 'sac'"):
+        load_config(cfg)
+    cfg.write_text(
+        "env_id: fluidsim/PaperAirplane-v1\nalgorithm: {name: ppo, gamma: 1.0}\n"
+        "warm_start: {steps: 100}\n"
+    )
+    with pytest.raises(ConfigError, match="warm_start.steps with algorithm.gamma 1.0"):
         load_config(cfg)
 
 
