@@ -103,7 +103,7 @@ COLUMNS = (
     "env", "policy", "runs", "episodes",
     "iqm", "iqm_lo", "iqm_hi", "mean", "mean_lo", "mean_hi",
     "success", "success_lo", "success_hi", "normalized_iqm", "normalized_iqm_lo",
-    "normalized_iqm_hi",
+    "normalized_iqm_hi", "worst", "worst_run", "below_best_pilot",
 )  # fmt: skip
 REPS = 20_000  # bootstrap resamples
 PROFILE_REPS = 2000
@@ -442,7 +442,8 @@ def published_rows(path: Path) -> list[dict]:
 
 
 def score_matrices(rows: list[dict]) -> dict[tuple[str, str], dict[str, np.ndarray]]:
-    """(env, policy) -> ``return`` and ``success`` as [runs, episodes] arrays."""
+    """(env, policy) -> ``return`` and ``success`` as [runs, episodes] arrays, and ``runs``,
+    the runs' labels in that order."""
     grouped: dict[tuple[str, str], dict[str, dict[int, tuple[float, float]]]] = {}
     for r in rows:
         runs_ = grouped.setdefault((r["env"], r["policy"]), {})
@@ -456,7 +457,7 @@ def score_matrices(rows: list[dict]) -> dict[tuple[str, str], dict[str, np.ndarr
         n = len(by_run[names[0]])
         ret = np.array([[by_run[k][i][0] for i in range(n)] for k in names])
         suc = np.array([[by_run[k][i][1] for i in range(n)] for k in names])
-        out[key] = {"return": ret, "success": suc}
+        out[key] = {"return": ret, "success": suc, "runs": names}
     return out
 
 
@@ -514,6 +515,8 @@ def summary_rows(matrices: dict) -> list[dict]:
         suc = interval_estimates(m["success"])
         pilot = matrices[(env, best_pilot(matrices, env))]["return"].mean()
         rand = matrices[(env, "random")]["return"].mean()
+        per_run = m["return"].mean(axis=1)  # each run's mean return
+        below = [run for run, x in zip(m["runs"], per_run, strict=True) if x < pilot]
         norm = interval_estimates((m["return"] - rand) / (pilot - rand))
         out.append({
             "env": env, "policy": policy, "runs": m["return"].shape[0],
@@ -523,6 +526,8 @@ def summary_rows(matrices: dict) -> list[dict]:
             "success": suc["mean"][0], "success_lo": suc["mean"][1], "success_hi": suc["mean"][2],
             "normalized_iqm": norm["iqm"][0], "normalized_iqm_lo": norm["iqm"][1],
             "normalized_iqm_hi": norm["iqm"][2],
+            "worst": float(per_run.min()), "worst_run": m["runs"][int(per_run.argmin())],
+            "below_best_pilot": "; ".join(below) if policy not in BASELINES else "",
         })  # fmt: skip
     return out
 
@@ -640,23 +645,28 @@ def markdown() -> str:
     _, rows = read_csv(CSV)
     lines = [
         "| env | policy | runs | IQM return [95% CI] | mean return [95% CI] | success "
-        "| normalized IQM [95% CI] | vs best pilot |",
-        "|---|---|--:|---|---|---|---|---|",
+        "| normalized IQM [95% CI] | worst run | vs best pilot |",
+        "|---|---|--:|---|---|---|---|---|---|",
     ]
+    words = ("env", "policy", "worst_run", "below_best_pilot")
     for r in rows:
-        f = {k: float(v) for k, v in r.items() if k not in ("env", "policy")}
-        versus = ""
+        f = {k: float(v) for k, v in r.items() if k not in words}
+        versus, worst = "", ""
         if r["policy"] not in BASELINES and r["policy"] not in LEGACY.values():
             pilots = [p for p in rows if p["env"] == r["env"] and p["policy"] in PILOTS]
             pilot = max(pilots, key=lambda p: float(p["mean"]))
             below = f["iqm_hi"] < float(pilot["mean_lo"])  # the intervals apart
             above = f["iqm_lo"] > float(pilot["mean_hi"])
             versus = "**below**" if below else ("above" if above else "overlaps")
+            worst = f"{f['worst']:.2f} ({r['worst_run']})"
+            if r["below_best_pilot"]:  # each run whose mean return is under the bar, named
+                versus += f"; under its mean: {r['below_best_pilot']}"
         lines.append(
             f"| {r['env']} | {r['policy']} | {int(f['runs'])} | "
             f"{_ci(f, 'iqm', '.2f')} | {_ci(f, 'mean', '.2f')} | "
             f"{100 * f['success']:.0f}% [{100 * f['success_lo']:.0f}, "
-            f"{100 * f['success_hi']:.0f}] | {_ci(f, 'normalized_iqm', '.2f')} | {versus} |"
+            f"{100 * f['success_hi']:.0f}] | {_ci(f, 'normalized_iqm', '.2f')} | {worst} "
+            f"| {versus} |"
         )
     return "\n".join(lines) + "\n"
 
@@ -758,7 +768,8 @@ Agarwal et al., 2021, {REPS:,} resamples). A baseline is one policy: its interva
 episodes. The best pilot of an env is the pilot with the highest mean return there. The
 normalized IQM puts random at 0 and the best pilot at 1. *vs best pilot* says **below**
 where the trained IQM's interval lies wholly under the best pilot's, *above* where wholly
-over it, and *overlaps* otherwise.
+over it, and *overlaps* otherwise, then names every run whose mean return is under the best
+pilot's; *worst run* is the lowest mean return of the runs, and which run.
 
 {markdown()}
 Still to fly and to train (each line is the command that adds the missing episodes or seeds;

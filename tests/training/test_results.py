@@ -79,8 +79,9 @@ def test_the_table_says_where_training_is_below_the_pilot(tmp_path, monkeypatch)
     table = results.markdown()
     ppo = next(line for line in table.splitlines() if "| PPO |" in line)
     sac = next(line for line in table.splitlines() if "| SAC |" in line)
-    assert ppo.endswith("| **below** |")  # IQM 4 [3, 5] against the pilot's 10 [9.8, 10.2]
-    assert sac.endswith("| above |")  # IQM 11 against 10
+    # IQM 4 [3, 5] against the pilot's 10 [9.8, 10.2], every run under it; SAC's 11 above
+    assert "| **below**; under its mean: t0; t1; t2; t3; t4 |" in ppo
+    assert sac.endswith("| above |")  # no run under the pilot: none named
 
 
 def test_the_bar_is_the_best_pilot(tmp_path, monkeypatch):
@@ -102,7 +103,8 @@ def test_the_bar_is_the_best_pilot(tmp_path, monkeypatch):
     results.write_csv(results.CSV, results.COLUMNS, ([r[c] for c in results.COLUMNS]
                                                      for r in summary))  # fmt: skip
     ppo = next(line for line in results.markdown().splitlines() if "| PPO |" in line)
-    assert ppo.endswith("| **below** |")
+    assert "| **below**; under its mean: t0; t1; t2; t3; t4 |" in ppo  # every run named
+    assert by["PPO"]["worst"] == min(matrices[("E", "PPO")]["return"].mean(axis=1))
 
 
 def test_profiles_resample_whole_runs():
