@@ -452,6 +452,13 @@ class FluidVectorEnv(VectorEnv):
         dst = self._ids("clone_state", dst_env_ids)
         self.set_state(self.get_state(src).repeat(dst.size), dst)
 
+    def redraw_future(self, task: dict, rng: np.random.Generator) -> dict:
+        """A snapshot's task arrays (``EnvState.task``) with what its episodes drew at their
+        start for later, and have not met yet, drawn again from ``rng``: the planner's
+        rollouts then meet a future like the episode's, not the episode's own. The present
+        (and the past) is kept. A scene with such draws overrides this; here there are none."""
+        return task
+
     def _state_arrays(self) -> tuple[tuple[str, int], ...]:
         return _BASE_STATE + tuple(self.state_fields)
 

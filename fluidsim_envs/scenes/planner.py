@@ -10,11 +10,11 @@ It does not know the noise to come. An episode's turbulence, currents and sensor
 numbers of its noise key (``scenes/noise.py``), which a snapshot carries; the rollouts get
 keys of their own instead (``noise.foreign_keys``: none is any episode's), a fresh one each
 rollout and decision, so a plan is scored against noise like the episode's, not the
-episode's own. What an episode draws at its start for later still travels in the snapshot:
-the dart's scheduled gust (``_gusts``: when, how strong, from where) and the lead
-submarine's route (``route``, ``noise_offset``); redrawing those where they are still in the
-future is left to do. ``PlannerConfig.clairvoyant`` keeps the episode's keys: a reference that
-sees the coming gusts (the planner before issue 44), labelled so wherever it is flown.
+episode's own. What an episode draws at its start for later is drawn again where it is still
+ahead (``FluidVectorEnv.redraw_future``): the dart's gust that has not begun, the lead
+submarine's route from the segment it is on. ``PlannerConfig.clairvoyant`` keeps the episode's
+keys and draws: a reference that sees the coming gusts and turns (the planner before issue
+44), labelled so wherever it is flown.
 
 The method is the cross-entropy method in the form of iCEM (Pinneri et al., 2020, "Sample-
 efficient cross-entropy method for real-time planning"), chosen over MPPI because:
@@ -241,10 +241,12 @@ class Planner:
     def _present(self, start: EnvState) -> EnvState:
         """The rollouts' start: the episodes' snapshot, with noise keys of the planner's own
         unless it is clairvoyant (see the module's docstring)."""
-        if self.config.clairvoyant or "noise_keys" not in start.task:
+        if self.config.clairvoyant:
             return start
-        keys = NZ.foreign_keys(self.rng, len(start))
-        return dataclasses.replace(start, task={**start.task, "noise_keys": keys})
+        task = self.env.redraw_future(start.task, self.rng)
+        if "noise_keys" in task:
+            task = {**task, "noise_keys": NZ.foreign_keys(self.rng, len(start))}
+        return dataclasses.replace(start, task=task)
 
     def _score(self, start, plans: np.ndarray) -> np.ndarray:
         """Each plan's return up to its look-ahead or its episode's end, ``[E, K]``."""

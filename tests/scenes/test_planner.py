@@ -10,6 +10,7 @@ import pytest
 
 from fluidsim_envs.scenes import SCENES
 from fluidsim_envs.scenes.planner import Planner, PlannerConfig, coloured_noise
+from fluidsim_envs.scenes.submarine_wake import kernel as TK
 
 IDS = list(SCENES)
 
@@ -43,17 +44,38 @@ def test_a_plan_earns_what_its_rollouts_predicted(sid, guided):
 NOISY = [s for s in IDS if s.endswith("-v1")]
 
 
+def _later_gust(task):
+    gusts = task["_gusts"].copy()  # at the episode's start: not begun yet
+    gusts[:, 0] += 0.5
+    gusts[:, 3:] = gusts[:, [4, 5, 3]]
+    return {"_gusts": gusts}
+
+
+def _other_route(task):
+    route = task["route"].copy()  # at the episode's start: on its first segment
+    route[:, :, 0] = np.cumsum(np.full(route.shape[:2], 13.0), axis=1)
+    route[:, 1:, 1:] = route[:, 1:, 1:][:, ::-1]
+    return {"route": route}
+
+
+# each scene's draws for later, changed as another episode with the same present would have them
+OTHER_FUTURE = {"PaperAirplane": _later_gust, "SubmarineWake": _other_route}
+
+
 @pytest.mark.parametrize("sid", NOISY, ids=[s.split("/")[1] for s in NOISY])
 def test_the_planner_does_not_read_the_episodes_future(sid):
     """Two copies of the same present whose futures differ (their noise keys: the gusts,
-    currents and sensor noise to come) get the same plans and scores from the planner, which
-    draws its rollouts' keys itself; the clairvoyant reference scores them apart."""
+    currents and sensor noise to come; and what the episode drew at its start for later: the
+    dart's gust not yet begun, the lead submarine's route ahead) get the same plans and scores
+    from the planner, which draws its rollouts' keys and those draws itself; the clairvoyant
+    reference scores them apart."""
     scene = SCENES[sid]
     venv = scene.vector_cls(num_envs=2)
     venv.reset(seed=5)
     present = venv.get_state()
-    other = dataclasses.replace(present, task={**present.task, "noise_keys": present.task[
-        "noise_keys"] ^ np.uint64(0x5DEECE66D)})  # fmt: skip
+    task = {**present.task, "noise_keys": present.task["noise_keys"] ^ np.uint64(0x5DEECE66D)}
+    task.update(OTHER_FUTURE.get(sid.split("/")[1][:-3], lambda t: {})(present.task))
+    other = dataclasses.replace(present, task=task)
     seen = {}
     for clairvoyant in (False, True):
         for name, state in (("same", present), ("other", other)):
@@ -125,3 +147,50 @@ def test_the_planner_needs_a_fluidsim_vector_env():
 
     with pytest.raises(TypeError, match="needs a fluidsim vector env, got CartPoleEnv"):
         Planner(gym.make("CartPole-v1"))
+
+
+def test_a_gust_not_begun_is_drawn_again_and_one_begun_is_kept():
+    """PaperAirplane-v1 with a gust in the first 2 s: after 1 s, a gust still ahead moves to
+    a moment between now and 2 s and a direction of unit length; one begun stays as it is."""
+    venv = SCENES["fluidsim/PaperAirplane-v1"].vector_cls(
+        num_envs=64, gust_mps=3.0, gust_within_s=2.0
+    )
+    venv.reset(seed=3)
+    for _ in range(round(1.0 / venv._period_s)):
+        venv.step(np.zeros((64, len(venv.action_names))))
+    task = venv.get_state().task
+    now = task["_elapsed"] * venv._period_s
+    new = venv.redraw_future(task, np.random.default_rng(0))["_gusts"]
+    ahead = now < task["_gusts"][:, 0]
+    assert 0 < ahead.sum() < 64
+    np.testing.assert_array_equal(new[~ahead], task["_gusts"][~ahead])
+    assert np.all((new[ahead, 0] >= now[ahead]) & (new[ahead, 0] <= 2.0))
+    assert not np.any(new[ahead, 0] == task["_gusts"][ahead, 0])
+    np.testing.assert_allclose(np.linalg.norm(new[:, 3:], axis=1), 1.0, rtol=1e-12)
+    np.testing.assert_array_equal(new[:, 1:3], task["_gusts"][:, 1:3])
+
+
+def test_the_lead_route_ahead_is_drawn_again_and_the_past_kept():
+    """SubmarineWake-v1 after 25 s: segments ended stay, the one the lead is on keeps its
+    speed and turn and ends after now within its length limits, later ones are drawn within
+    the route's ranges; the route's ends still rise."""
+    venv = SCENES["fluidsim/SubmarineWake-v1"].vector_cls(num_envs=32)
+    venv.reset(seed=4)
+    p = venv.params
+    for _ in range(250):
+        venv.step(np.zeros((32, 3)))
+    task = venv.get_state().task
+    old, new = task["route"], venv.redraw_future(task, np.random.default_rng(1))["route"]
+    now = task["lead"][:, TK.L_TIME]
+    for r in range(32):
+        on = int((old[r, :, 0] <= now[r]).sum())
+        begun = old[r, on - 1, 0] if on else 0.0
+        np.testing.assert_array_equal(new[r, :on], old[r, :on])
+        np.testing.assert_array_equal(new[r, on, 1:], old[r, on, 1:])
+        length = new[r, on, 0] - begun
+        assert new[r, on, 0] > now[r] and p.segment_s[0] <= length <= p.segment_s[1]
+        lengths = np.diff(new[r, on:, 0])
+        assert np.all((lengths >= p.segment_s[0]) & (lengths <= p.segment_s[1]))
+        speeds = new[r, on + 1 :, 1]
+        assert np.all((speeds >= p.lead_speed_mps[0]) & (speeds <= p.lead_speed_mps[1]))
+        assert not np.array_equal(new[r, on + 1 :], old[r, on + 1 :])

@@ -188,15 +188,29 @@ class PaperAirplaneV1VectorEnv(Version1, PaperAirplaneVectorEnv):
         self._mean_wind[ids] = flow[:3, ids].T
         w20 = TB.W20_MPS[k.turbulence]
         self._w20[ids] = np.linalg.norm(self._mean_wind[ids], axis=1) if math.isnan(w20) else w20
-        up = 2.0 * u[:, 1] - 1.0  # a direction uniform on the sphere
-        around = 2.0 * np.pi * u[:, 2]
-        flat = np.sqrt(1.0 - up * up)
-        self._gusts[ids] = np.stack(
-            [u[:, 0] * k.gust_within_s, np.full(len(ids), k.gust_duration_s),
-             np.full(len(ids), k.gust_mps), flat * np.cos(around), flat * np.sin(around), up],
+        n = len(ids)
+        self._gusts[ids, :3] = np.stack(
+            [u[:, 0] * k.gust_within_s, np.full(n, k.gust_duration_s), np.full(n, k.gust_mps)],
             axis=1,
-        )  # fmt: skip
+        )
+        self._gusts[ids, 3:] = _on_sphere(u[:, 1], u[:, 2])
         self._blow(ids, start=True)
+
+    def redraw_future(self, task, rng):
+        """A gust that has not begun is drawn again: its moment uniform between now and the
+        last it could start at (what an episode that has seen no gust yet knows), its
+        direction uniform on the sphere. A gust begun or over is the present and kept."""
+        task = super().redraw_future(task, rng)
+        if not self.moving_air:
+            return task
+        gusts = task["_gusts"].copy()
+        now = task["_elapsed"] * self._period_s
+        ahead = np.flatnonzero(now < gusts[:, 0])
+        u = rng.random((ahead.size, 3))
+        within = self.params.knobs.gust_within_s
+        gusts[ahead, 0] = now[ahead] + u[:, 0] * (within - now[ahead])
+        gusts[ahead, 3:] = _on_sphere(u[:, 1], u[:, 2])
+        return {**task, "_gusts": gusts}
 
     def _blow(self, ids, start: bool) -> None:
         """The air of sub-envs ``ids`` over their next step (turbulence.air)."""
@@ -209,6 +223,14 @@ class PaperAirplaneV1VectorEnv(Version1, PaperAirplaneVectorEnv):
         if self.moving_air:
             self._blow(self._all, start=False)
         return super()._advance(actions)
+
+
+def _on_sphere(u1, u2) -> np.ndarray:
+    """Unit vectors ``[n, 3]`` uniform on the sphere, from two uniforms each."""
+    up = 2.0 * u1 - 1.0
+    around = 2.0 * np.pi * u2
+    flat = np.sqrt(1.0 - up * up)
+    return np.stack([flat * np.cos(around), flat * np.sin(around), up], axis=1)
 
 
 class PaperAirplaneV1Env(FluidEnv):

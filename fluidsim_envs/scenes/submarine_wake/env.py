@@ -288,6 +288,38 @@ class SubmarineWakeVectorEnv(FluidVectorEnv):
         )
         TK.lead_source(ids, self.lead, self.noise_offset, self._src)
 
+    def redraw_future(self, task, rng):
+        """The lead's route from here on is drawn again: the segment it is on keeps its speed
+        and turn (what it is doing now) and ends at a time uniform over what is left of the
+        segment lengths it may have, the segments after it are drawn as at an episode's start.
+        A route that has started over repeats segments already seen and is kept. The wake's
+        turbulence is frozen in the water (``physics/wake.py``): the water's present, kept."""
+        task = super().redraw_future(task, rng)
+        p, route = self.params, task["route"].copy()
+        time = task["lead"][:, TK.L_TIME]
+        rows = np.flatnonzero(time < route[:, -1, 0])
+        now, r = time[rows], route[rows]
+        S = r.shape[1]
+
+        def span(x, lo_hi):
+            return lo_hi[0] + x * (lo_hi[1] - lo_hi[0])
+
+        on = (r[:, :, 0] <= now[:, None]).sum(axis=1)  # the segment each lead is on
+        begun = np.where(on > 0, r[np.arange(rows.size), np.maximum(on - 1, 0), 0], 0.0)
+        u = rng.random((rows.size, S, 4))
+        shortest = np.maximum(p.segment_s[0], now - begun)
+        own_end = begun + span(u[:, 0, 0], (shortest, np.maximum(p.segment_s[1], shortest)))
+        later = np.arange(S) > on[:, None]
+        length = np.where(later, span(u[..., 0], p.segment_s), 0.0)
+        turn = np.radians(span(u[..., 2], p.lead_turn_deg_s))
+        turn = np.where(u[..., 3] < p.straight_fraction, 0.0, turn)
+        r[:, :, 0] = np.where(later, own_end[:, None] + np.cumsum(length, axis=1), r[:, :, 0])
+        r[np.arange(rows.size), on, 0] = own_end
+        r[:, :, 1] = np.where(later, span(u[..., 1], p.lead_speed_mps), r[:, :, 1])
+        r[:, :, 2] = np.where(later, turn, r[:, :, 2])
+        route[rows] = r
+        return {**task, "route": route}
+
     # ---- step -----------------------------------------------------------------------------
 
     def _controls(self, actions):
