@@ -138,6 +138,8 @@ def config_digest(config: str | Path) -> str:
         plain.pop(key, None)
     if not plain.get("curriculum"):
         plain.pop("curriculum", None)  # no curriculum: the digest runs had before there was one
+    if not plain.get("levels"):
+        plain.pop("levels", None)  # one level: as runs were before the option
     if plain.get("frame_stack") == 1:
         plain.pop("frame_stack")  # the present only: as runs were before the option
     if not plain.get("warm_start", {}).get("steps"):

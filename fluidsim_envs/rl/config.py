@@ -330,6 +330,10 @@ class TrainConfig:
     # frame_stack observations side by side, oldest first (SB3's VecFrameStack over the
     # normalized ones; zeros before an episode's first); 1: the present only
     frame_stack: int = 1
+    # difficulty levels trained side by side: n_envs split evenly over the entries (a level
+    # named twice gets two shares; wrappers/levels.py), each at env_kwargs with its own
+    # difficulty, so that one policy serves each; empty: env_kwargs' level alone
+    levels: tuple[str, ...] = ()
     policy: PolicyConfig = PolicyConfig()
     normalize: NormalizeConfig = NormalizeConfig()
     eval: EvalConfig = EvalConfig()
@@ -698,6 +702,7 @@ def _check(cfg: TrainConfig, joint: bool = True) -> None:
     check_device(cfg.device)
     _check_env(cfg.env_id, cfg.env_kwargs)
     _check_curriculum(cfg)
+    _check_levels(cfg)
     if cfg.warm_start.steps and cfg.algorithm.name == "ppo" and cfg.algorithm.gamma >= 1.0:
         raise ConfigError(
             "warm_start.steps with algorithm.gamma 1.0: the warm start's value targets are "
@@ -709,6 +714,32 @@ def _check(cfg: TrainConfig, joint: bool = True) -> None:
             f"{cfg.algorithm.name!r}: a warm start fits PPO's policy and value function; "
             "set warm_start.steps to 0 or train ppo"
         )
+
+
+def _check_levels(cfg: TrainConfig) -> None:
+    """Levels split the run's sub-envs evenly, on a v1 env, with neither a difficulty in
+    env_kwargs nor a curriculum (both set the level another way)."""
+    if not cfg.levels:
+        return
+    from fluidsim_envs.wrappers.levels import shares
+
+    try:
+        shares(list(cfg.levels), cfg.n_envs, f"levels {list(cfg.levels)} with n_envs")
+    except ValueError as err:
+        raise ConfigError(str(err)) from None
+    if "difficulty" in cfg.env_kwargs:
+        raise ConfigError(
+            f"levels {list(cfg.levels)} with env_kwargs.difficulty "
+            f"{cfg.env_kwargs['difficulty']!r}: the levels set each sub-env's difficulty; "
+            "drop one of the two"
+        )
+    if cfg.curriculum:
+        raise ConfigError(
+            f"levels {list(cfg.levels)} with a curriculum of {len(cfg.curriculum)} stages: "
+            "train the levels side by side or one after another, not both"
+        )
+    if not hasattr(_check_env(cfg.env_id, cfg.env_kwargs), "difficulty"):
+        raise ConfigError(f"levels: {cfg.env_id} has no difficulty levels (the v1 envs have)")
 
 
 def _check_curriculum(cfg: TrainConfig) -> None:
@@ -822,6 +853,8 @@ def resolved(cfg: TrainConfig) -> TrainConfig:
     def every(env_kwargs: dict[str, Any]) -> dict[str, Any]:
         params = _check_env(cfg.env_id, env_kwargs)
         kwargs = {f.name: getattr(params, f.name) for f in dataclasses.fields(params)}
+        if cfg.levels:  # each part's own (a knob left None follows the part's level)
+            kwargs.pop("difficulty")
         return config_to_dict(kwargs)
 
     # each stage resolved from its own parameters over the run's as given (over the run's

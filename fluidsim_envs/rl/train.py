@@ -167,6 +167,7 @@ def make_env(
         success_key="success",  # SB3 reads is_success: success rates in TensorBoard
         info_keys=("success",),  # all that training reads (VecMonitor, SB3's success rate)
         stream="evaluation" if evaluation else "training",  # fluidsim_envs.seeding
+        levels=() if evaluation else cfg.levels,  # evaluations fly the run's own level
         **(cfg.env_kwargs if env_kwargs is None else env_kwargs),
     )
     if monitor_file is None:

@@ -45,7 +45,10 @@ def fly_teacher(cfg: TrainConfig, model) -> dict[str, np.ndarray]:
     from .evaluate import find_scene
 
     adapter, norm = adapter_of(model.get_env()), model.get_vec_normalize_env()
-    teacher = find_scene(cfg.env_id).pilot(adapter.venv)
+    pilot = find_scene(cfg.env_id).pilot
+    # a mixture of levels: a pilot per level's part (wrappers/levels.py)
+    split = getattr(adapter.venv, "split", None)
+    teacher = split(pilot) if split is not None else pilot(adapter.venv)
     E = adapter.num_envs
     T = -(-cfg.warm_start.steps // E)
     out = {"obs": [], "actions": [], "rewards": [], "dones": [], "truncated": []}
@@ -160,7 +163,7 @@ def warm_start(cfg: TrainConfig, model, say=print) -> dict[str, Any]:
         # the policy's mean action against the pilot's, over every step flown
         "action_mse_before": round(before, 6),
         "action_mse": round(action_mse(), 6),
-        "value_mse": round(float(critic), 6),  # the last minibatch's
+        "value_mse": round(critic.item(), 6),  # the last minibatch's
         "seconds": round(time.perf_counter() - t0, 1),
     }
     say(

@@ -241,7 +241,8 @@ class FluidVectorEnv(VectorEnv):
         Args:
             seed: None (fresh entropy the first time, then each sub-env's generator goes
                 on), an integer >= 0 (Python or NumPy), or a list of one per sub-env of
-                those (None entries: fresh entropy).
+                those (None entries: fresh entropy) or of ``SeedSequence`` s, each sub-env's
+                own (a batch split over vector envs: ``wrappers.levels``).
             options: None, or a dict with at most one of ``"env_ids"`` (indices in
                 [0, num_envs), or a boolean mask of length num_envs) and ``"reset_mask"``
                 (a boolean mask of length num_envs, Gymnasium's vector-env convention):
@@ -260,10 +261,9 @@ class FluidVectorEnv(VectorEnv):
             if any(r is None for r in self._rngs):
                 self._seed(np.random.SeedSequence().spawn(E))
         elif isinstance(seed, (list, tuple)) or (isinstance(seed, np.ndarray) and seed.ndim == 1):
-            seeds = [CK.seed("reset", f"seed[{i}]", s) for i, s in enumerate(seed)]
-            if len(seeds) != E:
-                raise ValueError(f"reset: expected {E} seeds, one per sub-env, got {len(seeds)}")
-            self._seed([SD.root(s, stream).spawn(1)[0] for s in seeds])
+            if len(seed) != E:
+                raise ValueError(f"reset: expected {E} seeds, one per sub-env, got {len(seed)}")
+            self._seed([_child(s, i, stream) for i, s in enumerate(seed)])
         else:
             seed = CK.seed("reset", f"seed (or a list of {E}, one per sub-env)", seed)
             self._seed(SD.root(seed, stream).spawn(E))
@@ -511,6 +511,14 @@ class FluidVectorEnv(VectorEnv):
         """What a reset tells of the new episodes (also put in a step's info, masked, where
         sub-envs restarted): nothing here."""
         return {}
+
+
+def _child(seed, i: int, stream: str) -> np.random.SeedSequence:
+    """The sequence of a sub-env given its own seed: a SeedSequence as it is, an integer's
+    single child in ``stream`` (as the single env reset with it)."""
+    if isinstance(seed, np.random.SeedSequence):
+        return seed
+    return SD.root(CK.seed("reset", f"seed[{i}]", seed), stream).spawn(1)[0]
 
 
 # what every scene's sub-env holds beyond its scene's state_fields: (attribute, sub-env axis)

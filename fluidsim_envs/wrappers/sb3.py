@@ -355,6 +355,7 @@ def make_sb3_vec_env(
     success_key: str | None = None,
     info_keys: Sequence[str] | None = None,
     stream: str = "evaluation",
+    levels: Sequence[str] = (),
     **env_kwargs: Any,
 ) -> SB3VecEnv:
     """``n_envs`` sub-envs of ``env_id`` in one native vector env, as an SB3 ``VecEnv``.
@@ -362,10 +363,17 @@ def make_sb3_vec_env(
     ``env_kwargs`` set the env's parameters (an unknown one is an error listing the valid
     ones). With ``seed``, the first ``reset()`` seeds the sub-envs as
     ``venv.reset(seed=seed)`` does (see :meth:`SB3VecEnv.seed`).
-    ``success_key``, ``info_keys``, ``stream``: see :class:`SB3VecEnv`.
+    ``success_key``, ``info_keys``, ``stream``: see :class:`SB3VecEnv`. ``levels``: the
+    sub-envs split over these difficulty levels (:class:`~.levels.LevelMix`).
     """
+    if levels:
+        from .levels import LevelMix
+
+        venv = LevelMix(env_id, levels, n_envs, **env_kwargs)
+    else:
+        venv = make_vector_env(env_id, n_envs, **env_kwargs)
     sb3_venv = SB3VecEnv(
-        make_vector_env(env_id, n_envs, **env_kwargs),
+        venv,
         success_key=success_key,
         info_keys=info_keys,
         stream=stream,
