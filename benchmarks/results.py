@@ -1,5 +1,6 @@
-"""Multi-seed results on the v1 envs at ``standard``: each algorithm trained with several
-seeds, every run and every baseline flown on the same seeded episodes, and the statistics of
+"""Multi-seed results on the v1 envs at each difficulty level: each algorithm trained with
+several seeds, every run and every baseline flown on the same seeded episodes, and the
+statistics of
 Agarwal et al. (2021, "Deep RL at the edge of the statistical precipice") by their library,
 ``rliable``: interquartile mean (IQM) and mean over runs with 95% stratified bootstrap
 intervals, performance profiles, learning curves with bands.
@@ -78,6 +79,10 @@ SEEDS = 5
 PILOTS = ("tuned pilot", "v0-tuned pilot", "hand-set pilot")
 BASELINES = ("planner", *PILOTS, "random")
 PLANNERS = ("planner",)  # --no-planner leaves it out where not yet flown
+#: every policy flies each level's episodes; the planner, the slowest baseline by far (an
+#: hour on the boat at one level), flies ``standard``'s, where a policy is held to it
+LEVELS = ("easy", "standard", "hard")
+PLANNER_LEVELS = ("standard",)
 #: baselines' names as earlier versions of this file wrote them: the planner before issue 44
 #: kept the episode's noise keys (it flew the episode's own future gusts and sensor noise) and
 #: flew offsets to the v0-tuned pilot; a reference now, not flown again
@@ -88,7 +93,7 @@ HISTORY_CSV = DOCS / "results_history.csv"
 RUNS_CSV = DOCS / "results_runs.csv"
 CSV = DOCS / "results.csv"
 PAGE = DOCS / "results.md"
-EPISODE_COLUMNS = ("env", "policy", "run", "episode", "return", "success")
+EPISODE_COLUMNS = ("env", "level", "policy", "run", "episode", "return", "success")
 HISTORY_COLUMNS = ("config", "seed", "timesteps", "wall_s", "mean_return", "success_rate")
 RUN_COLUMNS = (
     "config", "seed", "config_digest", "revision", "train_stream", "timesteps", "wall_s",
@@ -100,7 +105,7 @@ RUN_COLUMNS = (
 #: episodes and seed 3 on the zoo's
 SHARED = "evaluation"
 COLUMNS = (
-    "env", "policy", "runs", "episodes",
+    "env", "level", "policy", "runs", "episodes",
     "iqm", "iqm_lo", "iqm_hi", "mean", "mean_lo", "mean_hi",
     "success", "success_lo", "success_hi", "normalized_iqm", "normalized_iqm_lo",
     "normalized_iqm_hi", "worst", "worst_run", "below_best_pilot",
@@ -161,9 +166,10 @@ def published_runs(config: str, digest: str) -> list[dict]:
 
 def episode_table() -> list[dict]:
     """docs/results_episodes.csv's rows, the baselines under their names of now
-    (:data:`LEGACY`)."""
+    (:data:`LEGACY`); rows written before the ``level`` column flew ``standard``."""
     return [
-        {**r, "policy": LEGACY.get(r["policy"], r["policy"])} for r in published_rows(EPISODES_CSV)
+        {**r, "policy": LEGACY.get(r["policy"], r["policy"]), "level": r.get("level") or "standard"}
+        for r in published_rows(EPISODES_CSV)
     ]
 
 
@@ -249,9 +255,12 @@ def run_label(seed: int) -> str:
 # evaluation (run folders -> per-episode results)
 
 
-def run_episodes(run: Path, episodes: int, seed: int) -> dict[str, np.ndarray]:
-    """The run's final model on ``episodes`` seeded episodes (cached in the run folder)."""
-    cache = run / "results_eval.npz"
+def run_episodes(
+    run: Path, episodes: int, seed: int, level: str = "standard"
+) -> dict[str, np.ndarray]:
+    """The run's final model on ``episodes`` seeded episodes at ``level`` (cached in the run
+    folder)."""
+    cache = run / ("results_eval.npz" if level == "standard" else f"results_eval_{level}.npz")
     if cache.is_file():
         with np.load(cache) as data:
             if int(data["episodes"]) == episodes and int(data["seed"]) == seed:
@@ -259,9 +268,10 @@ def run_episodes(run: Path, episodes: int, seed: int) -> dict[str, np.ndarray]:
     from fluidsim_envs.evaluation import first_episodes
     from fluidsim_envs.rl.evaluate import _make_venv, load_run, model_policy
 
-    print(f"{run.relative_to(ROOT)}: its final model on {episodes} episodes ...", flush=True)
+    print(f"{run.relative_to(ROOT)}: its final model on {episodes} episodes at {level} ...",
+          flush=True)  # fmt: skip
     cfg, model = load_run(run, "final")
-    venv = _make_venv(cfg.env_id, episodes, cfg.env_kwargs)
+    venv = _make_venv(cfg.env_id, episodes, at_level(cfg.env_kwargs, level))
     try:
         out = first_episodes(venv, model_policy(cfg, model, run, venv), seed=seed)
     finally:
@@ -270,12 +280,21 @@ def run_episodes(run: Path, episodes: int, seed: int) -> dict[str, np.ndarray]:
     return {k: out[k] for k in ("return", "success")}
 
 
-def published_baselines(env: str, episodes: int) -> dict[str, dict[str, np.ndarray]]:
-    """The baselines' episodes on ``env`` as docs/results_episodes.csv holds them (flown on
-    :data:`EVAL_SEED`, its header says): those with all ``episodes`` of them."""
+def at_level(env_kwargs: dict, level: str) -> dict:
+    """A run's env parameters at difficulty ``level`` (a knob a run set stays set)."""
+    return {**{k: v for k, v in env_kwargs.items() if k != "difficulty"}, "difficulty": level}
+
+
+def published_baselines(env: str, level: str, episodes: int) -> dict[str, dict[str, np.ndarray]]:
+    """The baselines' episodes on ``env`` at ``level`` as docs/results_episodes.csv holds
+    them (flown on :data:`EVAL_SEED`, its header says): those with all ``episodes`` of them."""
     got: dict[str, list[dict]] = {b: [] for b in BASELINES}
     for row in episode_table():
-        if row["env"] == env and row["policy"] in got and row["run"] == "-":
+        if (
+            (row["env"], row["level"]) == (env, level)
+            and row["policy"] in got
+            and row["run"] == "-"
+        ):
             got[row["policy"]].append(row)
     return {
         b: {
@@ -288,27 +307,31 @@ def published_baselines(env: str, episodes: int) -> dict[str, dict[str, np.ndarr
 
 
 def baseline_episodes(
-    env_id: str, episodes: int, seed: int, fresh: bool = False, planner: bool = True
+    env_id: str, level: str, episodes: int, seed: int, fresh: bool = False, planner: bool = True
 ) -> dict[str, dict[str, np.ndarray]]:
-    """The baselines on the same episodes, each the published one
+    """The baselines on the same episodes at ``level`` (the planner at
+    :data:`PLANNER_LEVELS` only), each the published one
     (:func:`published_baselines`, at the results' own seed), else the one cached in
     sweeps/results/baselines/, else flown now; ``fresh``: each flown now. ``planner`` False:
     the planner is left out unless published or cached (on the boat it takes hours of the
     machine's two cores; the page lists what is left out: :func:`missing_markdown`)."""
     env = env_id.split("/")[1]
-    published = published_baselines(env, episodes) if seed == EVAL_SEED and not fresh else {}
+    published = published_baselines(env, level, episodes) if seed == EVAL_SEED and not fresh else {}
     out = {}
     for name in BASELINES:
+        if name in PLANNERS and level not in PLANNER_LEVELS:
+            continue
         # "planner-fair": not the name the clairvoyant planner's cache had before issue 44
         slug = "planner-fair" if name == "planner" else "_".join(name.split())
-        cache = SWEEPS / "baselines" / f"{env}-{episodes}-{seed}-{slug}.npz"
+        place = env if level == "standard" else f"{env}-{level}"
+        cache = SWEEPS / "baselines" / f"{place}-{episodes}-{seed}-{slug}.npz"
         if name in published:
             out[name] = published[name]
         elif cache.is_file() and not fresh:
             with np.load(cache) as data:
                 out[name] = {k: data[k] for k in ("return", "success")}
         elif planner or name not in PLANNERS:
-            out[name] = fly_baseline(env_id, name, episodes, seed)
+            out[name] = fly_baseline(env_id, level, name, episodes, seed)
             cache.parent.mkdir(parents=True, exist_ok=True)
             np.savez(cache, **out[name])
     return out
@@ -319,8 +342,10 @@ def pilot_gains(scene, version: int):
     return sys.modules[scene.pilot.__module__].GAINS.tuned(version=version)
 
 
-def fly_baseline(env_id: str, name: str, episodes: int, seed: int) -> dict[str, np.ndarray]:
-    """One baseline's ``return`` and ``success`` on the seeded episodes."""
+def fly_baseline(
+    env_id: str, level: str, name: str, episodes: int, seed: int
+) -> dict[str, np.ndarray]:
+    """One baseline's ``return`` and ``success`` on the seeded episodes at ``level``."""
     from fluidsim_envs.evaluation import first_episodes, random_policy
     from fluidsim_envs.rl.evaluate import _make_venv, find_scene
 
@@ -332,21 +357,22 @@ def fly_baseline(env_id: str, name: str, episodes: int, seed: int) -> dict[str, 
         "hand-set pilot": lambda venv: scene.hand_pilot(venv),
         "random": lambda venv: random_policy(venv, seed),
     }
-    venv = _make_venv(env_id, episodes, {})
+    venv = _make_venv(env_id, episodes, {"difficulty": level})
     try:
-        print(f"{env_id}: {name} on {episodes} episodes ...", flush=True)
+        print(f"{env_id} at {level}: {name} on {episodes} episodes ...", flush=True)
         got = first_episodes(venv, make[name](venv), seed=seed)
     finally:
         venv.close()
     return {k: got[k] for k in ("return", "success")}
 
 
-def unplanned(configs: list[str], drop: bool) -> list[tuple[str, str, str]]:
+def unplanned(configs: list[str], drop: bool) -> list[tuple[str, str, str, str]]:
     """With ``drop`` (``--fresh-baselines --no-planner``), the planners' published episodes
     on ``configs``' envs, as keys to drop: the planner flies offsets to the tuned pilot, and
     its episodes are not kept beside a pilot flown afresh (the page lists them to fly)."""
     envs = dict.fromkeys(CONFIGS[c].split("/")[1] for c in configs)
-    return [(env, name, "-") for env in envs for name in PLANNERS] if drop else []
+    keys = [(e, level, name, "-") for e in envs for level in PLANNER_LEVELS for name in PLANNERS]
+    return keys if drop else []
 
 
 def episode_rows(
@@ -357,18 +383,22 @@ def episode_rows(
     rows: list[tuple] = []
     for env_id in dict.fromkeys(CONFIGS[c] for c in configs):
         env = env_id.split("/")[1]
-        for name, d in baseline_episodes(env_id, episodes, seed, fresh, planner).items():
-            rows += _rows(env, name, "-", d)
+        for level in LEVELS:
+            flown = baseline_episodes(env_id, level, episodes, seed, fresh, planner)
+            for name, d in flown.items():
+                rows += _rows(env, level, name, "-", d)
     for config in configs:
         env = CONFIGS[config].split("/")[1]
         for s, run in local_runs(config).items():
-            rows += _rows(env, policy_name(config), run_label(s), run_episodes(run, episodes, seed))
+            for level in LEVELS:
+                d = run_episodes(run, episodes, seed, level)
+                rows += _rows(env, level, policy_name(config), run_label(s), d)
     return rows
 
 
-def _rows(env: str, policy: str, run: str, d: dict[str, np.ndarray]) -> list[tuple]:
+def _rows(env: str, level: str, policy: str, run: str, d: dict[str, np.ndarray]) -> list[tuple]:
     return [
-        (env, policy, run, i, round(float(r), 4), int(s))
+        (env, level, policy, run, i, round(float(r), 4), int(s))
         for i, (r, s) in enumerate(zip(d["return"], d["success"], strict=True))
     ]
 
@@ -443,12 +473,12 @@ def published_rows(path: Path) -> list[dict]:
 # statistics (per-episode CSV -> summary CSV)
 
 
-def score_matrices(rows: list[dict]) -> dict[tuple[str, str], dict[str, np.ndarray]]:
-    """(env, policy) -> ``return`` and ``success`` as [runs, episodes] arrays, and ``runs``,
-    the runs' labels in that order."""
-    grouped: dict[tuple[str, str], dict[str, dict[int, tuple[float, float]]]] = {}
+def score_matrices(rows: list[dict]) -> dict[tuple[str, str, str], dict[str, np.ndarray]]:
+    """(env, level, policy) -> ``return`` and ``success`` as [runs, episodes] arrays, and
+    ``runs``, the runs' labels in that order."""
+    grouped: dict[tuple[str, str, str], dict[str, dict[int, tuple[float, float]]]] = {}
     for r in rows:
-        runs_ = grouped.setdefault((r["env"], r["policy"]), {})
+        runs_ = grouped.setdefault((r["env"], r.get("level") or "standard", r["policy"]), {})
         runs_.setdefault(r["run"], {})[int(r["episode"])] = (
             float(r["return"]),
             float(r["success"]),
@@ -494,34 +524,36 @@ def interval_estimates(scores: np.ndarray) -> dict[str, tuple[float, float, floa
     return {"iqm": value, "mean": value}
 
 
-def best_pilot(matrices: dict, env: str) -> str:
-    """The pilot of :data:`PILOTS` with the highest mean return on ``env``."""
-    flown = [p for p in PILOTS if (env, p) in matrices]
-    return max(flown, key=lambda p: matrices[(env, p)]["return"].mean())
+def best_pilot(matrices: dict, env: str, level: str = "standard") -> str:
+    """The pilot of :data:`PILOTS` with the highest mean return on ``env`` at ``level``."""
+    flown = [p for p in PILOTS if (env, level, p) in matrices]
+    return max(flown, key=lambda p: matrices[(env, level, p)]["return"].mean())
 
 
 def summary_rows(matrices: dict) -> list[dict]:
-    """A :data:`COLUMNS` row per (env, policy): the envs in :data:`CONFIGS`' order, in each
-    the planner, the pilots, the trained policies, random."""
+    """A :data:`COLUMNS` row per (env, level, policy): the envs in :data:`CONFIGS`' order,
+    in each the levels in :data:`LEVELS`' order, in each the planner, the pilots, the trained
+    policies, random."""
     envs = [e.split("/")[1] for e in dict.fromkeys(CONFIGS.values())]
     rank = {"planner": 0, CLAIRVOYANT: 0.5, "random": 3}
     rank.update({name: 1 + k / len(PILOTS) for k, name in enumerate(PILOTS)})
 
     def order(key):
-        env, policy = key
-        return (envs.index(env) if env in envs else len(envs), env, rank.get(policy, 2), policy)
+        env, level, policy = key
+        where = envs.index(env) if env in envs else len(envs)
+        return (where, env, LEVELS.index(level), rank.get(policy, 2), policy)
 
     out = []
-    for (env, policy), m in sorted(matrices.items(), key=lambda kv: order(kv[0])):
+    for (env, level, policy), m in sorted(matrices.items(), key=lambda kv: order(kv[0])):
         ret = interval_estimates(m["return"])
         suc = interval_estimates(m["success"])
-        pilot = matrices[(env, best_pilot(matrices, env))]["return"].mean()
-        rand = matrices[(env, "random")]["return"].mean()
+        pilot = matrices[(env, level, best_pilot(matrices, env, level))]["return"].mean()
+        rand = matrices[(env, level, "random")]["return"].mean()
         per_run = m["return"].mean(axis=1)  # each run's mean return
         below = [run for run, x in zip(m["runs"], per_run, strict=True) if x < pilot]
         norm = interval_estimates((m["return"] - rand) / (pilot - rand))
         out.append({
-            "env": env, "policy": policy, "runs": m["return"].shape[0],
+            "env": env, "level": level, "policy": policy, "runs": m["return"].shape[0],
             "episodes": m["return"].shape[1],
             "iqm": ret["iqm"][0], "iqm_lo": ret["iqm"][1], "iqm_hi": ret["iqm"][2],
             "mean": ret["mean"][0], "mean_lo": ret["mean"][1], "mean_hi": ret["mean"][2],
@@ -554,16 +586,19 @@ def profile(returns: np.ndarray, taus: np.ndarray) -> tuple[np.ndarray, np.ndarr
 
 
 def plot_profiles(matrices: dict, path: Path) -> None:
-    """Per env: each policy's performance profile (:func:`profile`), with its band."""
+    """Per env at ``standard``: each policy's performance profile (:func:`profile`), with
+    its band."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    envs = sorted({env for env, _ in matrices})
+    envs = sorted({env for env, level, _ in matrices if level == "standard"})
     fig, axes = plt.subplots(1, len(envs), figsize=(5 * len(envs), 3.6), squeeze=False)
     for ax, env in zip(axes[0], envs, strict=True):
-        mats = {p: m["return"] for (e, p), m in matrices.items() if e == env}
+        mats = {
+            p: m["return"] for (e, lv, p), m in matrices.items() if (e, lv) == (env, "standard")
+        }
         lo = min(m.min() for m in mats.values())
         hi = max(m.max() for m in mats.values())
         taus = np.linspace(lo, hi, 101)
@@ -609,10 +644,11 @@ def plot_curves(history: list[dict], matrices: dict, path: Path) -> None:
         ax.plot(steps, point["r"], label=f"IQM of {len(curves)} runs")
         ax.fill_between(steps, ci["r"][0], ci["r"][1], alpha=0.25)
         env = CONFIGS[config].split("/")[1]
-        best = best_pilot(matrices, env) if any((env, p) in matrices for p in PILOTS) else None
+        flown = any((env, "standard", p) in matrices for p in PILOTS)
+        best = best_pilot(matrices, env) if flown else None
         for name, style in (("planner", ":"), (best, "--")):
-            if (env, name) in matrices:
-                mean = matrices[(env, name)]["return"].mean()
+            if (env, "standard", name) in matrices:
+                mean = matrices[(env, "standard", name)]["return"].mean()
                 ax.axhline(mean, color="gray", linestyle=style, label=name)
         title = f"{CONFIGS[config].split('/')[1]}, {policy_name(config)}"
         _label(ax, title, "timesteps", "evaluation return")
@@ -640,35 +676,44 @@ def _save(fig, path: Path) -> None:
 
 
 def markdown() -> str:
-    """docs/results.csv as a table: each env's policies; a trained policy's IQM interval
-    entirely below the best pilot's interval is said so in bold."""
+    """docs/results.csv as a table: each env's levels, at each its policies; a trained
+    policy's mean return against the best pilot's there (their intervals apart or not, and
+    every run under the pilot's mean named) and, where the planner flew, its share of the
+    planner's mean."""
     if not CSV.is_file():
         return "(no docs/results.csv yet: `python -m benchmarks.results --train`)\n"
     _, rows = read_csv(CSV)
     lines = [
-        "| env | policy | runs | IQM return [95% CI] | mean return [95% CI] | success "
-        "| normalized IQM [95% CI] | worst run | vs best pilot |",
-        "|---|---|--:|---|---|---|---|---|---|",
+        "| env | level | policy | runs | IQM return [95% CI] | mean return [95% CI] | success "
+        "| normalized IQM [95% CI] | worst run | vs best pilot | of planner |",
+        "|---|---|---|--:|---|---|---|---|---|---|--:|",
     ]
-    words = ("env", "policy", "worst_run", "below_best_pilot")
+    words = ("env", "level", "policy", "worst_run", "below_best_pilot")
+    for r in rows:  # rows written before the level column flew standard
+        r["level"] = r.get("level") or "standard"
     for r in rows:
         f = {k: float(v) for k, v in r.items() if k not in words}
-        versus, worst = "", ""
+        versus, worst, share = "", "", ""
         if r["policy"] not in BASELINES and r["policy"] not in LEGACY.values():
-            pilots = [p for p in rows if p["env"] == r["env"] and p["policy"] in PILOTS]
-            pilot = max(pilots, key=lambda p: float(p["mean"]))
-            below = f["iqm_hi"] < float(pilot["mean_lo"])  # the intervals apart
-            above = f["iqm_lo"] > float(pilot["mean_hi"])
+            here = [
+                p for p in rows if (p["env"], p.get("level", "standard")) == (r["env"], r["level"])
+            ]
+            pilot = max((p for p in here if p["policy"] in PILOTS), key=lambda p: float(p["mean"]))
+            below = f["mean_hi"] < float(pilot["mean_lo"])  # the intervals apart
+            above = f["mean_lo"] > float(pilot["mean_hi"])
             versus = "**below**" if below else ("above" if above else "overlaps")
             worst = f"{f['worst']:.2f} ({r['worst_run']})"
             if r["below_best_pilot"]:  # each run whose mean return is under the bar, named
                 versus += f"; under its mean: {r['below_best_pilot']}"
+            planner = [p for p in here if p["policy"] == "planner"]
+            if planner:
+                share = f"{100 * f['mean'] / float(planner[0]['mean']):.0f}%"
         lines.append(
-            f"| {r['env']} | {r['policy']} | {int(f['runs'])} | "
+            f"| {r['env']} | {r['level']} | {r['policy']} | {int(f['runs'])} | "
             f"{_ci(f, 'iqm', '.2f')} | {_ci(f, 'mean', '.2f')} | "
             f"{100 * f['success']:.0f}% [{100 * f['success_lo']:.0f}, "
             f"{100 * f['success_hi']:.0f}] | {_ci(f, 'normalized_iqm', '.2f')} | {worst} "
-            f"| {versus} |"
+            f"| {versus} | {share} |"
         )
     return "\n".join(lines) + "\n"
 
@@ -700,17 +745,19 @@ def runs_markdown() -> str:
 def missing_markdown() -> str:
     """The baselines not yet published on an env that has results, and the configs with
     fewer than :data:`SEEDS` published runs, each with the command that adds them."""
-    flown = {(r["env"], r["policy"]) for r in episode_table() if r["run"] == "-"}
+    flown = {(r["env"], r["level"], r["policy"]) for r in episode_table() if r["run"] == "-"}
     lines = []
     for env_id in dict.fromkeys(CONFIGS.values()):
         env = env_id.split("/")[1]
         config = next(c for c, e in CONFIGS.items() if e == env_id)
-        if not any(e == env for e, _ in flown):
+        if not any(e == env for e, _, _ in flown):
             continue  # no results on this env yet: its configs' lines say so
         lines += [
-            f"- {env}: the {name}'s episodes (`python -m benchmarks.results --configs {config}`)"
+            f"- {env} at {level}: the {name}'s episodes "
+            f"(`python -m benchmarks.results --configs {config}`)"
+            for level in LEVELS
             for name in BASELINES
-            if (env, name) not in flown
+            if (env, level, name) not in flown and (name not in PLANNERS or level in PLANNER_LEVELS)
         ]
     have, shared = dict.fromkeys(CONFIGS, 0), dict.fromkeys(CONFIGS, 0)
     for r in run_table():
@@ -746,21 +793,23 @@ def page() -> str:
 
 <!-- written by `python -m benchmarks.results` from docs/results*.csv: do not edit -->
 
-Each shipped v1 config (`fluidsim_envs/configs/<config>.yaml`, trained at the env's
-`standard` level) is trained with seeds 0 to {SEEDS - 1}. Each run's final model, acting
-deterministically, and the baselines fly the same {EPISODES} episodes (seed
-{EVAL_SEED}): the planner (an oracle: it reads the true state and plans over the env's own
-model, but its rollouts draw turbulence, currents and sensor noise of their own, not the
-episode's to come; the dart's scheduled gust and the lead submarine's route, drawn at the
-episode's start, it still reads), three scripted pilots (the scene's classical controller with its
-gains tuned on this v1 env, `tuned pilot`, by `python -m benchmarks.tune_pilots` on the
-tuning stream of seeds 1 and 2; with the gains tuned on its v0, `v0-tuned pilot`; with the
-hand-set gains) and random actions. Where the table still shows `{CLAIRVOYANT}`,
-it is the planner the table had before issue 44: it flew the episode's own future gusts and
+Each shipped v1 config (`fluidsim_envs/configs/<config>.yaml`) is trained with seeds 0 to
+{SEEDS - 1}. Each run's final model, acting deterministically, and the baselines fly the same
+{EPISODES} episodes (seed {EVAL_SEED}) at each difficulty level ({", ".join(LEVELS)}): three
+scripted pilots (the scene's classical controller with its gains tuned on this v1 env at
+`standard`, `tuned pilot`, by `python -m benchmarks.tune_pilots` on the tuning stream of
+seeds 1 and 2; with the gains tuned on its v0, `v0-tuned pilot`; with the hand-set gains),
+random actions, and at {", ".join(PLANNER_LEVELS)} the planner (an oracle of the present: it
+reads the true state and plans over the env's own model, but its rollouts draw the noise to
+come of their own, and what the episode drew at its start for later (the dart's gust not yet
+begun, the lead submarine's route ahead) drawn again; it is flown where a policy is held to
+it, and takes an hour a level on the boat). Where the table still shows `{CLAIRVOYANT}`, it
+is the planner the table had before issue 44: it flew the episode's own future gusts and
 sensor noise, offsets to the v0-tuned pilot, a reference no policy could match. The runs' own
-evaluations during training use seed 1,000,000; the zoo publishes on seed 3. All of these
-are the evaluation stream of their seed (`reset(seed=s)`); a run draws its training episodes
-from the training stream of its seed (`fluidsim_envs.seeding`), which no evaluation flies.
+evaluations during training use seed 1,000,000 at the config's level; the zoo publishes on
+seed 3. All of these are the evaluation stream of their seed (`reset(seed=s)`); a run draws
+its training episodes from the training stream of its seed (`fluidsim_envs.seeding`), which
+no evaluation flies.
 {shared_sentence()}
 
 A run's score is its mean return over the episodes. The table gives the interquartile mean
@@ -768,10 +817,12 @@ A run's score is its mean return over the episodes. The table gives the interqua
 runs, each with its 95% stratified bootstrap interval over runs (the `rliable` library of
 Agarwal et al., 2021, {REPS:,} resamples). A baseline is one policy: its interval is over its
 episodes. The best pilot of an env is the pilot with the highest mean return there. The
-normalized IQM puts random at 0 and the best pilot at 1. *vs best pilot* says **below**
-where the trained IQM's interval lies wholly under the best pilot's, *above* where wholly
-over it, and *overlaps* otherwise, then names every run whose mean return is under the best
-pilot's; *worst run* is the lowest mean return of the runs, and which run.
+normalized IQM puts random at 0 and the best pilot at 1, at each level. *vs best pilot* says
+**below** where the trained mean's interval lies wholly under the best pilot's at that level,
+*above* where wholly over it, and *overlaps* otherwise, then names every run whose mean
+return is under the best
+pilot's; *worst run* is the lowest mean return of the runs, and which run. *of planner* is
+the mean return over runs as a share of the planner's, where it flew.
 
 {markdown()}
 Still to fly and to train (each line is the command that adds the missing episodes or seeds;
@@ -847,9 +898,13 @@ def main(argv: list[str] | None = None) -> int:
         EPISODES_CSV,
         EPISODE_COLUMNS,
         episode_rows(args.configs, EPISODES, EVAL_SEED, args.fresh_baselines, args.planner),
-        ("env", "policy", "run"),
+        ("env", "level", "policy", "run"),
         note,
-        [(CONFIGS[c].split("/")[1], policy_name(c), run_label(s)) for c, s in stale]
+        [
+            (CONFIGS[c].split("/")[1], level, policy_name(c), run_label(s))
+            for c, s in stale
+            for level in LEVELS
+        ]  # fmt: skip
         + unplanned(args.configs, args.fresh_baselines and not args.planner),
     )
     history = merge(

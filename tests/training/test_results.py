@@ -16,11 +16,12 @@ pytest.importorskip("rliable")
 from benchmarks import results  # noqa: E402
 
 
-def episodes(env: str, policy: str, run: str, returns) -> list[dict]:
+def episodes(env: str, policy: str, run: str, returns, level: str = "standard") -> list[dict]:
     return [
-        {"env": env, "policy": policy, "run": run, "episode": i, "return": r, "success": r > 5}
+        {"env": env, "level": level, "policy": policy, "run": run, "episode": i, "return": r,
+         "success": r > 5}
         for i, r in enumerate(returns)
-    ]
+    ]  # fmt: skip
 
 
 @pytest.fixture(autouse=True)
@@ -40,7 +41,7 @@ def matrices():
 
 
 def test_iqm_and_mean_over_runs(matrices):
-    ppo = matrices[("E", "PPO")]["return"]
+    ppo = matrices[("E", "standard", "PPO")]["return"]
     assert ppo.shape == (5, 64)
     est = results.interval_estimates(ppo)
     means = np.sort(ppo.mean(axis=1))
@@ -54,7 +55,7 @@ def test_iqm_and_mean_over_runs(matrices):
 
 
 def test_a_baseline_is_bootstrapped_over_its_episodes(matrices):
-    pilot = matrices[("E", "tuned pilot")]["return"]
+    pilot = matrices[("E", "standard", "tuned pilot")]["return"]
     est = results.interval_estimates(pilot)
     assert est["iqm"] == est["mean"]
     mean, lo, hi = est["mean"]
@@ -80,8 +81,8 @@ def test_the_table_says_where_training_is_below_the_pilot(tmp_path, monkeypatch)
     ppo = next(line for line in table.splitlines() if "| PPO |" in line)
     sac = next(line for line in table.splitlines() if "| SAC |" in line)
     # IQM 4 [3, 5] against the pilot's 10 [9.8, 10.2], every run under it; SAC's 11 above
-    assert "| **below**; under its mean: t0; t1; t2; t3; t4 |" in ppo
-    assert sac.endswith("| above |")  # no run under the pilot: none named
+    assert "| **below**; under its mean: t0; t1; t2; t3; t4 |  |" in ppo
+    assert sac.endswith("| above |  |")  # no run under the pilot: none named; no planner
 
 
 def test_the_bar_is_the_best_pilot(tmp_path, monkeypatch):
@@ -103,8 +104,8 @@ def test_the_bar_is_the_best_pilot(tmp_path, monkeypatch):
     results.write_csv(results.CSV, results.COLUMNS, ([r[c] for c in results.COLUMNS]
                                                      for r in summary))  # fmt: skip
     ppo = next(line for line in results.markdown().splitlines() if "| PPO |" in line)
-    assert "| **below**; under its mean: t0; t1; t2; t3; t4 |" in ppo  # every run named
-    assert by["PPO"]["worst"] == min(matrices[("E", "PPO")]["return"].mean(axis=1))
+    assert "| **below**; under its mean: t0; t1; t2; t3; t4 |  |" in ppo  # every run named
+    assert by["PPO"]["worst"] == min(matrices[("E", "standard", "PPO")]["return"].mean(axis=1))
 
 
 def test_profiles_resample_whole_runs():
@@ -178,29 +179,35 @@ def test_baselines_are_flown_once_and_read_back(tmp_path, monkeypatch):
     cols = results.EPISODE_COLUMNS
     results.write_csv(results.EPISODES_CSV, cols, ([int(r[c]) if c == "success" else r[c]
                                                      for c in cols] for r in rows))  # fmt: skip
-    got = results.baseline_episodes("fluidsim/Dart-v1", 2, results.EVAL_SEED)
+    got = results.baseline_episodes("fluidsim/Dart-v1", "standard", 2, results.EVAL_SEED)
     assert sorted(got) == sorted(results.BASELINES)
     assert got["random"]["return"].tolist() == [1.0, 7.0]
     assert got["random"]["success"].tolist() == [0, 1]
-    assert results.published_baselines("Dart-v1", 3) == {}  # not the episodes asked for
-    assert results.published_baselines("Boat-v1", 2) == {}
+    assert results.published_baselines("Dart-v1", "standard", 3) == {}  # not those asked for
+    assert results.published_baselines("Dart-v1", "easy", 2) == {}  # another level's
+    assert results.published_baselines("Boat-v1", "standard", 2) == {}
 
     flown = []
 
-    def fly(env_id, name, episodes, seed):
+    def fly(env_id, level, name, episodes, seed):
         flown.append(name)
         return {"return": np.full(episodes, 2.0), "success": np.ones(episodes, dtype=int)}
 
     monkeypatch.setattr(results, "fly_baseline", fly)
     for seed, fresh in ((results.EVAL_SEED + 1, False), (results.EVAL_SEED, True)):
-        results.baseline_episodes("fluidsim/Dart-v1", 2, seed, fresh)
+        results.baseline_episodes("fluidsim/Dart-v1", "standard", 2, seed, fresh)
         assert flown == list(results.BASELINES), (seed, fresh)
         flown.clear()
+    # the planner flies standard only: an hour a level on the boat
+    results.baseline_episodes("fluidsim/Dart-v1", "hard", 2, results.EVAL_SEED)
+    assert flown == [*results.PILOTS, "random"]
+    flown.clear()
     # the boat's planner left out (hours): the others flown, the planner not, and then each
     # read back from its cache
-    got = results.baseline_episodes("fluidsim/Boat-v1", 2, results.EVAL_SEED, planner=False)
+    boat = ("fluidsim/Boat-v1", "standard", 2, results.EVAL_SEED)
+    got = results.baseline_episodes(*boat, planner=False)
     assert flown == [*results.PILOTS, "random"] and sorted(got) == sorted(flown)
-    assert results.baseline_episodes("fluidsim/Boat-v1", 2, results.EVAL_SEED) and flown == [
+    assert results.baseline_episodes(*boat) and flown == [
         *results.PILOTS, "random", "planner"]  # fmt: skip
 
 
@@ -235,10 +242,12 @@ def test_the_page_lists_the_baselines_not_yet_flown(tmp_path, monkeypatch):
     results.write_csv(results.EPISODES_CSV, cols, ([int(r[c]) if c == "success" else r[c]
                                                      for c in cols] for r in rows))  # fmt: skip
     lines = results.missing_markdown().splitlines()
-    assert lines[0] == (
-        "- BoatOnStep-v1: the planner's episodes "
+    assert (
+        "- BoatOnStep-v1 at standard: the planner's episodes "
         "(`python -m benchmarks.results --configs boat_on_step_v1_ppo`)"
-    )
+    ) in lines
+    assert not any("planner" in line for line in lines if " at standard" not in line)
+    assert any(line.startswith("- BoatOnStep-v1 at hard: the tuned pilot's") for line in lines)
     assert not any("SubmarineWake-v1:" in line or "PaperAirplane-v1:" in line for line in lines)
 
 
@@ -250,6 +259,34 @@ def test_the_planner_before_issue_44_reads_as_the_clairvoyant_one(tmp_path, monk
     cols = results.EPISODE_COLUMNS
     results.write_csv(results.EPISODES_CSV, cols, ([int(r[c]) if c == "success" else r[c]
                                                      for c in cols] for r in rows))  # fmt: skip
-    assert results.published_baselines("Dart-v1", 2) == {}  # not the planner of now
+    assert results.published_baselines("Dart-v1", "standard", 2) == {}  # not the planner now
     (row,) = {(r["policy"], r["return"]) for r in results.episode_table() if r["return"] == "3.0"}
     assert row == ("planner (clairvoyant, before issue 44)", "3.0")
+
+
+def test_each_level_has_its_own_bar_and_the_planner_its_share(tmp_path, monkeypatch):
+    """A policy above the pilot at easy and below it at hard is said so at each; rows of a
+    level compare within it; at standard the share of the planner's mean is given."""
+    rng = np.random.default_rng(3)
+    rows = []
+    for level, pilot in (("easy", 10.0), ("standard", 8.0), ("hard", 4.0)):
+        rows += episodes("E", "tuned pilot", "-", pilot + rng.normal(0, 1, 64), level)
+        rows += episodes("E", "random", "-", rng.normal(0, 1, 64), level)
+        for k in range(5):
+            rows += episodes("E", "PPO", f"t{k}", 6.0 + k / 4 + rng.normal(0, 0.1, 64), level)
+    rows += episodes("E", "planner", "-", 6.5 + rng.normal(0, 0.1, 64), "standard")
+    summary = results.summary_rows(results.score_matrices(rows))
+    assert [(r["level"], r["policy"]) for r in summary][:3] == [
+        ("easy", "tuned pilot"),
+        ("easy", "PPO"),
+        ("easy", "random"),
+    ]
+    monkeypatch.setattr(results, "CSV", tmp_path / "results.csv")
+    results.write_csv(results.CSV, results.COLUMNS, ([r[c] for c in results.COLUMNS]
+                                                     for r in summary))  # fmt: skip
+    ppo = {line.split(" | ")[1]: line for line in results.markdown().splitlines()
+           if "| PPO |" in line}  # fmt: skip
+    assert "| **below**; under its mean" in ppo["easy"] and ppo["easy"].endswith("|  |")
+    assert "| **below**; under its mean" in ppo["standard"]
+    assert ppo["standard"].endswith(f"| {100 * 6.5 / 6.5:.0f}% |")  # PPO's mean 6.5 of 6.5
+    assert "| above |" in ppo["hard"]
