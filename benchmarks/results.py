@@ -143,6 +143,8 @@ def config_digest(config: str | Path) -> str:
         plain.pop(key, None)
     if not plain.get("curriculum"):
         plain.pop("curriculum", None)  # no curriculum: the digest runs had before there was one
+    if not plain.get("privileged_critic"):
+        plain.pop("privileged_critic", None)  # the critic reads the policy's input: as before
     if not plain.get("levels"):
         plain.pop("levels", None)  # one level: as runs were before the option
     if plain.get("frame_stack") == 1:

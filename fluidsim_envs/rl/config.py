@@ -334,6 +334,9 @@ class TrainConfig:
     # named twice gets two shares; wrappers/levels.py), each at env_kwargs with its own
     # difficulty, so that one policy serves each; empty: env_kwargs' level alone
     levels: tuple[str, ...] = ()
+    # an asymmetric actor-critic (PPO, v1): the value function also reads the exact
+    # observation before the instruments, the policy its readings alone (rl/privileged.py)
+    privileged_critic: bool = False
     policy: PolicyConfig = PolicyConfig()
     normalize: NormalizeConfig = NormalizeConfig()
     eval: EvalConfig = EvalConfig()
@@ -703,6 +706,7 @@ def _check(cfg: TrainConfig, joint: bool = True) -> None:
     _check_env(cfg.env_id, cfg.env_kwargs)
     _check_curriculum(cfg)
     _check_levels(cfg)
+    _check_privileged(cfg)
     if cfg.warm_start.steps and cfg.algorithm.name == "ppo" and cfg.algorithm.gamma >= 1.0:
         raise ConfigError(
             "warm_start.steps with algorithm.gamma 1.0: the warm start's value targets are "
@@ -713,6 +717,23 @@ def _check(cfg: TrainConfig, joint: bool = True) -> None:
             f"warm_start.steps ({cfg.warm_start.steps}) with algorithm.name "
             f"{cfg.algorithm.name!r}: a warm start fits PPO's policy and value function; "
             "set warm_start.steps to 0 or train ppo"
+        )
+
+
+def _check_privileged(cfg: TrainConfig) -> None:
+    """A privileged critic is PPO's value function, on an env with instruments (v1)."""
+    if not cfg.privileged_critic:
+        return
+    if cfg.algorithm.name != "ppo":
+        raise ConfigError(
+            f"privileged_critic with algorithm.name {cfg.algorithm.name!r}: the privileged "
+            "critic is PPO's value function (SAC's critics judge actions on the policy's own "
+            "input); set privileged_critic to false or train ppo"
+        )
+    if not hasattr(_check_env(cfg.env_id, cfg.env_kwargs), "difficulty"):
+        raise ConfigError(
+            f"privileged_critic: {cfg.env_id} has no instruments (its readings are exact); "
+            "the v1 envs have"
         )
 
 

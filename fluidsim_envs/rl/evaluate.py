@@ -171,7 +171,9 @@ def load_run(run_dir: Path, which: str = "final") -> tuple[TrainConfig, Any]:
     probe = vector_cls(num_envs=1, **cfg.env_kwargs)  # its observation follows its params
     obs_shape, act_shape = probe.single_observation_space.shape, probe.single_action_space.shape
     probe.close()
-    obs_shape = (obs_shape[0] * cfg.frame_stack,)  # the policy reads its last frames
+    # the policy reads its last frames, each with the exact observation after the reading
+    # where its critic was privileged (rl/privileged.py)
+    obs_shape = (obs_shape[0] * (2 if cfg.privileged_critic else 1) * cfg.frame_stack,)
     model_obs = getattr(data["observation_space"], "shape", None)
     model_act = getattr(data.get("action_space"), "shape", None)
     if model_obs != obs_shape or model_act != act_shape:
@@ -196,13 +198,26 @@ def model_policy(cfg: TrainConfig, model, run_dir: Path, venv, which: str = "fin
         _, stats = model_files(run_dir, which)
         if not stats.is_file():
             raise RunError(f"{run_dir}: normalization is on but {MODELS[which][1]} is missing")
+        shaped = venv
+        if cfg.privileged_critic:  # the statistics cover the exact columns too
+            from .privileged import WithTruth
+
+            shaped = WithTruth(venv)
         try:
             # VecNormalize.load needs a VecEnv to hang on: the adapter over the eval env
-            vec_normalize = VecNormalize.load(str(stats), SB3VecEnv(venv))
+            vec_normalize = VecNormalize.load(str(stats), SB3VecEnv(shaped))
         except Exception as e:  # a damaged pickle, or statistics of another env's shape
             raise RunError(f"{stats}: unusable normalization statistics ({e})") from e
+        finally:
+            if shaped is not venv:
+                shaped.detach()
         vec_normalize.training = False
         normalize = vec_normalize.normalize_obs
+    if cfg.privileged_critic:  # zeros where the critic read the exact observation
+        from .privileged import pad
+
+        unpadded = normalize
+        normalize = lambda obs: unpadded(pad(obs))  # noqa: E731
 
     if cfg.frame_stack == 1:
 

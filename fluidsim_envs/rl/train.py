@@ -168,6 +168,7 @@ def make_env(
         info_keys=("success",),  # all that training reads (VecMonitor, SB3's success rate)
         stream="evaluation" if evaluation else "training",  # fluidsim_envs.seeding
         levels=() if evaluation else cfg.levels,  # evaluations fly the run's own level
+        truth=cfg.privileged_critic,  # the critic's exact columns (rl/privileged.py)
         **(cfg.env_kwargs if env_kwargs is None else env_kwargs),
     )
     if monitor_file is None:
@@ -730,10 +731,17 @@ def _model(cfg: TrainConfig, run_dir: Path, venv, restart: Restart | None, env_s
     """A new model, or the saved one (with its replay buffer if kept) reseeded to go on."""
     algo_cls = algorithm_class(cfg.algorithm.name)
     if restart is None:
+        policy, kwargs = "MlpPolicy", policy_kwargs(cfg)
+        if cfg.privileged_critic:
+            from .privileged import PrivilegedCriticPolicy, actor_mask
+
+            reading = venv.observation_space.shape[0] // cfg.frame_stack // 2
+            policy = PrivilegedCriticPolicy
+            kwargs["actor_mask"] = actor_mask(reading, cfg.frame_stack)
         return algo_cls(
-            "MlpPolicy",
+            policy,
             venv,
-            policy_kwargs=policy_kwargs(cfg),
+            policy_kwargs=kwargs,
             tensorboard_log=str(run_dir / "tb"),
             seed=cfg.seed,
             device=cfg.device,

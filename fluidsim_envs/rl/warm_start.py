@@ -59,7 +59,8 @@ def fly_teacher(cfg: TrainConfig, model) -> dict[str, np.ndarray]:
     for _ in range(T):
         if norm is not None and norm.norm_obs:
             norm.obs_rms.update(obs)
-        actions = np.asarray(teacher(obs), dtype=np.float32)
+        reading = obs[:, : obs.shape[1] // 2] if cfg.privileged_critic else obs
+        actions = np.asarray(teacher(reading), dtype=np.float32)
         out["obs"].append(obs)
         out["actions"].append(actions)
         obs, rewards, dones, infos = adapter.step(actions)

@@ -56,7 +56,9 @@ class LevelMix(VectorEnv):
 
     metadata: dict[str, Any] = {"autoreset_mode": AutoresetMode.SAME_STEP}
 
-    def __init__(self, env_id: str, levels: Sequence[str], num_envs: int, **env_kwargs: Any):
+    def __init__(
+        self, env_id: str, levels: Sequence[str], num_envs: int, wrap=None, **env_kwargs: Any
+    ):
         from .sb3 import make_vector_env
 
         if "difficulty" in env_kwargs:
@@ -69,6 +71,8 @@ class LevelMix(VectorEnv):
             make_vector_env(env_id, n, difficulty=level, **env_kwargs).unwrapped
             for level, n in split.items()
         ]
+        if wrap is not None:  # each part's observation made another way (rl/privileged.py)
+            self.parts = [wrap(part) for part in self.parts]
         first = self.parts[0]
         for part in self.parts[1:]:
             if (part.single_observation_space, part.single_action_space) != (
@@ -76,8 +80,9 @@ class LevelMix(VectorEnv):
                 first.single_action_space,
             ):
                 raise ValueError(
-                    f"LevelMix: {env_id} at {part.params.difficulty!r} has other spaces than "
-                    f"at {first.params.difficulty!r}; a policy cannot fly both"
+                    f"LevelMix: {env_id} at {part.unwrapped.params.difficulty!r} has other "
+                    f"spaces than at {first.unwrapped.params.difficulty!r}; a policy cannot "
+                    "fly both"
                 )
         self.levels = tuple(level for level, n in split.items() for _ in range(n))
         self.bounds = np.cumsum([0] + [p.num_envs for p in self.parts])
@@ -94,9 +99,9 @@ class LevelMix(VectorEnv):
             high=np.concatenate([p.action_space.high for p in self.parts]),
             dtype=first.action_space.dtype,
         )
-        self.spec = first.spec
-        self.action_names = first.action_names
-        self.version = getattr(first, "version", 0)
+        self.spec = first.unwrapped.spec
+        self.action_names = first.unwrapped.action_names
+        self.version = getattr(first.unwrapped, "version", 0)
 
     def _slices(self):
         return [slice(lo, hi) for lo, hi in zip(self.bounds[:-1], self.bounds[1:], strict=True)]
@@ -168,7 +173,7 @@ class LevelMix(VectorEnv):
     def split(self, make: Callable[[VectorEnv], Callable]) -> Callable:
         """A controller over the mixture from one per part (``make(part)``, e.g. a scene's
         pilot): each acts on its part's rows; ``reset(mask)`` is passed on in parts."""
-        return _Split([make(p) for p in self.parts], self._slices())
+        return _Split([make(p.unwrapped) for p in self.parts], self._slices())
 
     def close(self, **kwargs) -> None:
         for part in self.parts:

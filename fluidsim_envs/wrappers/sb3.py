@@ -356,6 +356,7 @@ def make_sb3_vec_env(
     info_keys: Sequence[str] | None = None,
     stream: str = "evaluation",
     levels: Sequence[str] = (),
+    truth: bool = False,
     **env_kwargs: Any,
 ) -> SB3VecEnv:
     """``n_envs`` sub-envs of ``env_id`` in one native vector env, as an SB3 ``VecEnv``.
@@ -364,14 +365,19 @@ def make_sb3_vec_env(
     ones). With ``seed``, the first ``reset()`` seeds the sub-envs as
     ``venv.reset(seed=seed)`` does (see :meth:`SB3VecEnv.seed`).
     ``success_key``, ``info_keys``, ``stream``: see :class:`SB3VecEnv`. ``levels``: the
-    sub-envs split over these difficulty levels (:class:`~.levels.LevelMix`).
+    sub-envs split over these difficulty levels (:class:`~.levels.LevelMix`). ``truth``:
+    each observation followed by the exact one (``rl.privileged.WithTruth``).
     """
+    wrap = None
+    if truth:
+        from ..rl.privileged import WithTruth as wrap
     if levels:
         from .levels import LevelMix
 
-        venv = LevelMix(env_id, levels, n_envs, **env_kwargs)
+        venv = LevelMix(env_id, levels, n_envs, wrap=wrap, **env_kwargs)
     else:
         venv = make_vector_env(env_id, n_envs, **env_kwargs)
+        venv = venv if wrap is None else wrap(venv)
     sb3_venv = SB3VecEnv(
         venv,
         success_key=success_key,
