@@ -572,6 +572,7 @@ def _train(
         if restart is None and cfg.warm_start.steps:  # a resumed run has it behind it
             meta["warm_start"] = warm_start(cfg, model, say)
             files.write_text(run_dir / "run.yaml", yaml.safe_dump(meta, sort_keys=False))
+            time_offset += meta["warm_start"]["seconds"]  # the run's clock counts it
         if planned > 0:
             callbacks = _callbacks(cfg, run_dir, venv, eval_env, say, resume, time_offset, on_eval)
             model.learn(
