@@ -17,6 +17,7 @@ charts return and success against the budget.
     python -m benchmarks.study_planner                    # every scene, 64 episodes each
     python -m benchmarks.study_planner --env fluidsim/BoatOnStep-v0 --episodes 32
     python -m benchmarks.study_planner --quick            # 8 episodes, two budgets, build/
+    (an env studied replaces its rows of the CSV; the other envs' are kept)
     python -m benchmarks.study_planner --replot           # the chart again from the CSV
 """
 
@@ -210,6 +211,9 @@ def main() -> None:
     for sid in args.env or list(SCENES):
         rows += study(sid, episodes, args.quick, seed)
     folder = out_dir(args.out, args.quick)
+    studied = {r[0] for r in rows}
+    if (folder / "study_planner.csv").is_file():  # the envs not studied now keep their rows
+        rows = [r for r in read_rows(folder / "study_planner.csv") if r[0] not in studied] + rows
     notes = [*machine, f"episodes: reset(seed={seed}) (a tuning seed)", load_average()]
     print(f"written: {write_csv(folder / 'study_planner.csv', COLUMNS, rows, notes)}")
     chart(rows, folder / "study_planner.png")
