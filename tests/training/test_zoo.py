@@ -11,7 +11,15 @@ from benchmarks import zoo
 from benchmarks.results import RUNS_CSV, published_rows
 
 ENTRIES = sorted(p for p in zoo.ZOO.glob("*") if p.is_dir())
-PUBLISHED = sorted({r["config"] for r in published_rows(RUNS_CSV)})
+# configs with published runs of the config as it is now: a config changed since (its runs to
+# train again, docs/results.md lists them) keeps its entry until they are
+PUBLISHED = sorted(
+    {
+        r["config"]
+        for r in published_rows(RUNS_CSV)
+        if r.get("config_digest") == zoo.config_digest(r["config"])
+    }
+)
 
 
 @pytest.mark.parametrize("config", PUBLISHED)
