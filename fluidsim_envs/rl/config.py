@@ -745,7 +745,7 @@ def _check_levels(cfg: TrainConfig) -> None:
     from fluidsim_envs.wrappers.levels import shares
 
     try:
-        shares(list(cfg.levels), cfg.n_envs, f"levels {list(cfg.levels)} with n_envs")
+        shares(list(cfg.levels), cfg.n_envs, "levels with n_envs")
     except ValueError as err:
         raise ConfigError(str(err)) from None
     if "difficulty" in cfg.env_kwargs:

@@ -41,8 +41,8 @@ def shares(levels: Sequence[str], num_envs: int, where: str = "levels") -> dict[
         raise ValueError(f"{where}: unknown difficulty levels {bad}; levels are {list(LEVELS)}")
     if num_envs % len(levels):
         raise ValueError(
-            f"{where}: {num_envs} sub-envs do not split evenly over {len(levels)} levels "
-            f"{list(levels)}; make n_envs a multiple of {len(levels)}"
+            f"{where}: {num_envs} sub-envs do not split evenly over the {len(levels)} levels "
+            f"{list(levels)}; make the sub-envs a multiple of {len(levels)}"
         )
     each = num_envs // len(levels)
     return {level: each * count for level, count in Counter(levels).items()}

@@ -608,7 +608,7 @@ def test_a_stage_with_other_spaces_is_refused_before_training(tmp_path, capsys):
     error naming the stage, and the failed start leaves no folder behind."""
     stage = "curriculum=[{timesteps: 1000, env_kwargs: {observe_samples: false}}]"
     run = tmp_path / "run"
-    args = ["paper_airplane_v1_ppo", "--set", *TINY, stage, "--run-dir", str(run)]
+    args = ["paper_airplane_v1_ppo", "--set", *TINY, "levels=[]", stage, "--run-dir", str(run)]
     assert train_cli.main([*args, "--no-progress-bar"]) == 2
     assert "curriculum[0]: its env's (observation, action) spaces" in capsys.readouterr().err
     assert not run.exists()

@@ -71,7 +71,7 @@ def test_a_mixture_trains_through_the_sb3_adapter_and_splits_a_pilot():
 @pytest.mark.parametrize(
     "levels, n, message",
     [
-        (["easy", "hard"], 5, "do not split evenly"),
+        (["easy", "hard"], 5, "5 sub-envs do not split evenly over the 2 levels"),
         (["easy", "medium"], 4, "unknown difficulty levels \\['medium'\\]"),
         ("easy", 4, "a list of difficulty levels"),
         ([], 4, "a list of difficulty levels"),
