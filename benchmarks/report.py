@@ -227,6 +227,7 @@ BLOCKS = (
 )
 # pages written whole by their benchmark from its CSV: page -> renderer (``module:function``)
 PAGES = {
+    "docs/ablation.md": "ablation:page",
     "docs/bench_peers.md": "bench_peers:page",
     "docs/results.md": "results:page",
 }

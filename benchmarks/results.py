@@ -262,7 +262,8 @@ def run_episodes(
 ) -> dict[str, np.ndarray]:
     """The run's final model on ``episodes`` seeded episodes at ``level`` (cached in the run
     folder)."""
-    cache = run / ("results_eval.npz" if level == "standard" else f"results_eval_{level}.npz")
+    where = "" if level == "standard" else f"_{level}"
+    cache = run / f"results_eval{where}{'' if seed == EVAL_SEED else f'_seed{seed}'}.npz"
     if cache.is_file():
         with np.load(cache) as data:
             if int(data["episodes"]) == episodes and int(data["seed"]) == seed:

@@ -330,9 +330,10 @@ class TrainConfig:
     # frame_stack observations side by side, oldest first (SB3's VecFrameStack over the
     # normalized ones; zeros before an episode's first); 1: the present only
     frame_stack: int = 1
-    # difficulty levels trained side by side: n_envs split evenly over the entries (a level
-    # named twice gets two shares; wrappers/levels.py), each at env_kwargs with its own
-    # difficulty, so that one policy serves each; empty: env_kwargs' level alone
+    # difficulty levels trained side by side: n_envs split over the entries as evenly as whole
+    # sub-envs allow (a level named twice gets two shares; wrappers/levels.py), each at
+    # env_kwargs with its own difficulty, so that one policy serves each; empty: env_kwargs'
+    # level alone
     levels: tuple[str, ...] = ()
     # an asymmetric actor-critic (PPO, v1): the value function also reads the exact
     # observation before the instruments, the policy its readings alone (rl/privileged.py)
@@ -705,7 +706,7 @@ def _check(cfg: TrainConfig, joint: bool = True) -> None:
     check_device(cfg.device)
     _check_env(cfg.env_id, cfg.env_kwargs)
     _check_curriculum(cfg)
-    _check_levels(cfg)
+    _check_levels(cfg, joint)
     _check_privileged(cfg)
     if cfg.warm_start.steps and cfg.algorithm.name == "ppo" and cfg.algorithm.gamma >= 1.0:
         raise ConfigError(
@@ -737,15 +738,15 @@ def _check_privileged(cfg: TrainConfig) -> None:
         )
 
 
-def _check_levels(cfg: TrainConfig) -> None:
-    """Levels split the run's sub-envs evenly, on a v1 env, with neither a difficulty in
-    env_kwargs nor a curriculum (both set the level another way)."""
+def _check_levels(cfg: TrainConfig, joint: bool = True) -> None:
+    """Levels split the run's sub-envs (one at least per entry), on a v1 env, with neither a
+    difficulty in env_kwargs nor a curriculum (both set the level another way)."""
     if not cfg.levels:
         return
     from fluidsim_envs.wrappers.levels import shares
 
     try:
-        shares(list(cfg.levels), cfg.n_envs, "levels with n_envs")
+        shares(list(cfg.levels), cfg.n_envs if joint else len(cfg.levels), "levels with n_envs")
     except ValueError as err:
         raise ConfigError(str(err)) from None
     if "difficulty" in cfg.env_kwargs:

@@ -19,7 +19,6 @@ the child i of the seed's sequence, as sub-env i of one vector env of that size 
 
 from __future__ import annotations
 
-from collections import Counter
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -32,24 +31,28 @@ from ..scenes.realism import LEVELS
 
 
 def shares(levels: Sequence[str], num_envs: int, where: str = "levels") -> dict[str, int]:
-    """Sub-envs per level: ``num_envs`` split evenly over the entries of ``levels`` (a level
+    """Sub-envs per level: ``num_envs`` split over the entries of ``levels`` as evenly as
+    whole sub-envs allow (entries differ by one at most, the earlier ones larger; a level
     named twice gets two shares), or a ValueError naming what cannot be split."""
     if isinstance(levels, str) or not isinstance(levels, Sequence) or not levels:
         raise ValueError(f"{where}: a list of difficulty levels {list(LEVELS)}, got {levels!r}")
     bad = [level for level in levels if level not in LEVELS]
     if bad:
         raise ValueError(f"{where}: unknown difficulty levels {bad}; levels are {list(LEVELS)}")
-    if num_envs % len(levels):
+    if num_envs < len(levels):
         raise ValueError(
-            f"{where}: {num_envs} sub-envs do not split evenly over the {len(levels)} levels "
-            f"{list(levels)}; make the sub-envs a multiple of {len(levels)}"
+            f"{where}: {num_envs} sub-envs for the {len(levels)} entries of {list(levels)}; "
+            f"each entry needs one at least"
         )
-    each = num_envs // len(levels)
-    return {level: each * count for level, count in Counter(levels).items()}
+    each, extra = divmod(num_envs, len(levels))
+    split: dict[str, int] = {}
+    for i, level in enumerate(levels):
+        split[level] = split.get(level, 0) + each + (i < extra)
+    return split
 
 
 class LevelMix(VectorEnv):
-    """``num_envs`` sub-envs of the v1 env ``env_id``, split evenly over ``levels`` (each
+    """``num_envs`` sub-envs of the v1 env ``env_id``, split over ``levels`` (each
     entry a share: ``["standard", "hard", "hard"]`` gives hard two thirds), the parameters
     ``env_kwargs`` (any but ``difficulty``) at every level. Same-step autoreset, as each part.
     ``levels[i]`` names sub-env i's level; ``parts`` are the native vector envs."""

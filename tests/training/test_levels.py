@@ -31,7 +31,7 @@ def test_a_run_trains_on_every_level_and_warm_starts_with_a_pilot_per_level(tmp_
 @pytest.mark.parametrize(
     "extra, message",
     [
-        ("levels: [easy, hard]\nn_envs: 5\n", "n_envs: 5 sub-envs do not split evenly over the 2"),
+        ("levels: [easy, hard, hard]\nn_envs: 2\n", "n_envs: 2 sub-envs for the 3 entries"),
         ("levels: [easy, brutal]\n", "unknown difficulty levels \\['brutal'\\]"),
         (
             "levels: [easy, hard]\nenv_kwargs: {difficulty: hard}\n",

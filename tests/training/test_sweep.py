@@ -279,7 +279,7 @@ def test_a_trial_that_ended_by_itself_is_finished(tmp_path, steps, model, status
 
     from fluidsim_envs.rl.sweep_results import SweepProgress, read_status
 
-    base = config_to_dict(load_config("paper_airplane_v1_ppo"))  # 3,000,000 steps
+    base = {**config_to_dict(load_config("paper_airplane_v1_ppo")), "total_timesteps": 3_000_000}
     run_dir = tmp_path / "runs" / "t0"
     run_dir.mkdir(parents=True)
     if model:

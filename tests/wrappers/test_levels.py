@@ -71,7 +71,7 @@ def test_a_mixture_trains_through_the_sb3_adapter_and_splits_a_pilot():
 @pytest.mark.parametrize(
     "levels, n, message",
     [
-        (["easy", "hard"], 5, "5 sub-envs do not split evenly over the 2 levels"),
+        (["easy", "hard", "hard"], 2, "2 sub-envs for the 3 entries"),
         (["easy", "medium"], 4, "unknown difficulty levels \\['medium'\\]"),
         ("easy", 4, "a list of difficulty levels"),
         ([], 4, "a list of difficulty levels"),
@@ -89,3 +89,8 @@ def test_a_difficulty_beside_the_levels_is_an_error():
 
 def test_a_level_named_twice_gets_two_shares():
     assert shares(["standard", "hard", "hard"], 6) == {"standard": 2, "hard": 4}
+
+
+def test_sub_envs_split_as_evenly_as_whole_ones_allow():
+    assert shares(["easy", "standard", "hard"], 64) == {"easy": 22, "standard": 21, "hard": 21}
+    assert shares(["standard", "hard", "standard"], 5) == {"standard": 3, "hard": 2}
