@@ -151,7 +151,11 @@ class LevelMix(VectorEnv):
         mask = np.zeros(self.num_envs, dtype=bool)
         if "reset_mask" in options:
             given = options["reset_mask"]
-            if not (isinstance(given, np.ndarray) and given.shape == mask.shape):
+            if not (
+                isinstance(given, np.ndarray)
+                and given.dtype == np.bool_
+                and given.shape == mask.shape
+            ):
                 raise ValueError(
                     f"LevelMix.reset: reset_mask must be a boolean array of shape "
                     f"({self.num_envs},), got {CK.show(given)}"

@@ -94,3 +94,19 @@ def test_a_level_named_twice_gets_two_shares():
 def test_sub_envs_split_as_evenly_as_whole_ones_allow():
     assert shares(["easy", "standard", "hard"], 64) == {"easy": 22, "standard": 21, "hard": 21}
     assert shares(["standard", "hard", "standard"], 5) == {"standard": 3, "hard": 2}
+
+
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        ({"reset_mask": np.ones(3)}, "reset_mask must be a boolean array of shape \\(3,\\)"),
+        ({"reset_mask": np.ones(2, dtype=bool)}, "reset_mask must be a boolean array"),
+        ({"env_ids": [0], "reset_mask": np.ones(3, dtype=bool)}, "conflicting options"),
+        ({"stream": "showcase!"}, "unknown seed stream"),
+    ],
+)
+def test_bad_reset_options_are_named(options, message):
+    mix = LevelMix("fluidsim/PaperAirplane-v1", ["easy", "standard", "hard"], num_envs=3)
+    mix.reset(seed=0)
+    with pytest.raises(ValueError, match=message):
+        mix.reset(options=options)
