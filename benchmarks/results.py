@@ -151,6 +151,8 @@ def config_digest(config: str | Path) -> str:
         plain.pop("frame_stack")  # the present only: as runs were before the option
     if not plain.get("warm_start", {}).get("steps"):
         plain.pop("warm_start", None)  # no warm start: as runs were before the option
+    elif plain["warm_start"].get("teacher") == "pilot":
+        plain["warm_start"].pop("teacher")  # the pilot: as runs were before the planner could
     return hashlib.sha256(yaml.safe_dump(plain, sort_keys=True).encode()).hexdigest()[:12]
 
 

@@ -276,15 +276,21 @@ class CheckpointConfig:
     RANGES: ClassVar[dict[str, Range]] = {"freq": NON_NEGATIVE}
 
 
+#: who a warm start copies: the scene's tuned pilot, or its planner (an oracle of the present)
+TEACHERS = ("pilot", "planner")
+
+
 @dataclass(frozen=True)
 class WarmStartConfig:
-    """A warm start before RL (``rl/warm_start.py``; PPO): the scene's tuned pilot flies the
-    training envs for ``steps`` env steps (all envs together), then the policy's mean action
-    is fitted to the pilot's actions and its value function to the returns they earned
-    (``epochs`` passes, minibatches of ``batch_size``, Adam at ``learning_rate``). The pilot's
-    steps are not the run's timesteps: run.yaml counts them apart. 0 steps: none."""
+    """A warm start before RL (``rl/warm_start.py``; PPO): the ``teacher`` (the scene's tuned
+    ``pilot``, or its ``planner`` at its default budget) flies the training envs for ``steps``
+    env steps (all envs together), then the policy's mean action is fitted to the teacher's
+    actions and its value function to the returns they earned (``epochs`` passes, minibatches
+    of ``batch_size``, Adam at ``learning_rate``). The teacher's steps are not the run's
+    timesteps: run.yaml counts them apart. 0 steps: none."""
 
     steps: int = 0
+    teacher: str = "pilot"
     epochs: int = 10
     batch_size: int = 4096
     learning_rate: float = 1.0e-3
@@ -712,6 +718,10 @@ def _check(cfg: TrainConfig, joint: bool = True) -> None:
         raise ConfigError(
             "warm_start.steps with algorithm.gamma 1.0: the warm start's value targets are "
             "discounted returns (gamma < 1)"
+        )
+    if cfg.warm_start.teacher not in TEACHERS:
+        raise ConfigError(
+            f"warm_start.teacher must be one of {list(TEACHERS)}, got {cfg.warm_start.teacher!r}"
         )
     if cfg.warm_start.steps and cfg.algorithm.name != "ppo":
         raise ConfigError(

@@ -1,16 +1,18 @@
-"""A warm start for PPO: behaviour cloning of the scene's tuned pilot before RL.
+"""A warm start for PPO: behaviour cloning of a teacher before RL.
 
 Where RL stalls below a scripted pilot (the submarine and the boat at ``standard``: the
-results), a policy that starts where the pilot is has the pilot's return to improve on
-instead of a random one to climb from. The pilot flies the run's own training envs for
-``warm_start.steps`` env steps; the policy's mean action is fitted to the pilot's actions
-(least squares) and its value function to the discounted returns those actions earned, in
-the units PPO will train it in (the rewards normalized by the run's ``VecNormalize``), so
-that PPO's first updates start from a critic that knows what the pilot's states are worth
-rather than one whose errors would unlearn the copied policy. The log std is left as the
-config sets it: exploration starts where PPO's would.
+results), a policy that starts where its teacher is has the teacher's return to improve on
+instead of a random one to climb from. The teacher (``warm_start.teacher``: the scene's tuned
+pilot, or its planner, an oracle of the present that reads the true state and plans through
+noise of its own) flies the run's own training envs for ``warm_start.steps`` env steps; the
+policy's mean action is fitted to the teacher's actions (least squares) and its value
+function to the discounted returns those actions earned, in the units PPO will train it in
+(the rewards normalized by the run's ``VecNormalize``), so that PPO's first updates start from
+a critic that knows what the teacher's states are worth rather than one whose errors would
+unlearn the copied policy. The log std is left as the config sets it: exploration starts
+where PPO's would.
 
-The pilot steps the adapter beneath ``VecMonitor``: its episodes are not the run's (the
+The teacher steps the adapter beneath ``VecMonitor``: its episodes are not the run's (the
 learning curve and ``monitor.csv`` are PPO's alone), and its steps are not the run's
 timesteps (``run.yaml`` counts them under ``warm_start``). ``VecNormalize``'s statistics are
 updated on the way as they are in training, so RL starts with them warm. The ``imitation``
@@ -36,19 +38,40 @@ def adapter_of(venv):
     return venv
 
 
+#: what run.yaml and the log call each teacher
+TEACHER_NAMES = {"pilot": "tuned pilot", "planner": "planner"}
+
+
+def teacher_factory(cfg: TrainConfig):
+    """``make(venv) -> policy`` for ``cfg.warm_start.teacher``: the scene's pilot, or its
+    planner at the scene's default budget with a generator of its own per vector env (one
+    per level of a mixture), drawn from the run's seed."""
+    from .evaluate import find_scene
+
+    scene = find_scene(cfg.env_id)
+    if cfg.warm_start.teacher == "pilot":
+        return scene.pilot
+    made = []
+
+    def planner(venv):
+        seed = int(np.random.SeedSequence([cfg.seed, len(made)]).generate_state(1)[0])
+        made.append(seed)
+        return scene.planner(venv, seed=seed)
+
+    return planner
+
+
 def fly_teacher(cfg: TrainConfig, model) -> dict[str, np.ndarray]:
-    """The scene's tuned pilot on the run's training envs for ``cfg.warm_start.steps`` env
+    """The warm start's teacher on the run's training envs for ``cfg.warm_start.steps`` env
     steps: raw observations ``obs [T, E, D]``, its actions ``[T, E, A]``, rewards ``[T, E]``,
     episode ends ``dones [T, E]`` and which of them were time limits ``truncated [T, E]``
     (``VecNormalize``'s statistics updated as in training). The adapter's step counters are
     set back after it: the run's timing counts PPO's steps alone."""
-    from .evaluate import find_scene
-
     adapter, norm = adapter_of(model.get_env()), model.get_vec_normalize_env()
-    pilot = find_scene(cfg.env_id).pilot
-    # a mixture of levels: a pilot per level's part (wrappers/levels.py)
+    make = teacher_factory(cfg)
+    # a mixture of levels: a teacher per level's part (wrappers/levels.py)
     split = getattr(adapter.venv, "split", None)
-    teacher = split(pilot) if split is not None else pilot(adapter.venv)
+    teacher = split(make) if split is not None else make(adapter.venv)
     E = adapter.num_envs
     T = -(-cfg.warm_start.steps // E)
     out = {"obs": [], "actions": [], "rewards": [], "dones": [], "truncated": []}
@@ -118,7 +141,7 @@ def value_targets(rewards, dones, truncated, norm, gamma: float):
 
 
 def warm_start(cfg: TrainConfig, model, say=print) -> dict[str, Any]:
-    """Fly the pilot, then fit ``model``'s policy and value function to it (see the module's
+    """Fly the teacher, then fit ``model``'s policy and value function to it (see the module's
     docstring); returns what run.yaml keeps of it."""
     import torch as th
 
@@ -158,17 +181,17 @@ def warm_start(cfg: TrainConfig, model, say=print) -> dict[str, Any]:
             optimizer.step()
     policy.set_training_mode(False)
     stats = {
-        "teacher": "tuned pilot",
+        "teacher": TEACHER_NAMES[ws.teacher],
         "env_steps": int(data["rewards"].size),
         "episodes_ended": int(data["dones"].sum()),
-        # the policy's mean action against the pilot's, over every step flown
+        # the policy's mean action against the teacher's, over every step flown
         "action_mse_before": round(before, 6),
         "action_mse": round(action_mse(), 6),
         "value_mse": round(critic.item(), 6),  # the last minibatch's
         "seconds": round(time.perf_counter() - t0, 1),
     }
     say(
-        f"warm start: the tuned pilot flew {stats['env_steps']:,} env steps "
+        f"warm start: the {stats['teacher']} flew {stats['env_steps']:,} env steps "
         f"({stats['episodes_ended']} episodes ended); policy fitted over {ws.epochs} epochs "
         f"(action mse {stats['action_mse_before']:.3g} -> {stats['action_mse']:.3g}) in "
         f"{stats['seconds']:.0f} s"

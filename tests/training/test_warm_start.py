@@ -71,3 +71,29 @@ def test_the_warm_started_policy_flies_like_the_pilot(tmp_path):
     assert ws["action_mse"] < ws["action_mse_before"] / 2
     monitor = (run_dir / "monitor.csv").read_text().splitlines()
     assert not [line for line in monitor if line and line[0].isdigit()]
+
+
+def test_a_teacher_is_named(tmp_path):
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text(
+        "env_id: fluidsim/PaperAirplane-v1\nalgorithm: {name: ppo}\n"
+        "warm_start: {steps: 100, teacher: oracle}\n"
+    )
+    with pytest.raises(ConfigError, match=r"warm_start.teacher must be one of .*'oracle'"):
+        load_config(cfg)
+
+
+def test_the_planner_teaches_each_level_of_a_mixture(tmp_path):
+    """The planner as the teacher, one per level (easy and hard side by side): run.yaml names
+    it, and the policy's actions moved towards the planner's."""
+    run_dir = tmp_path / "run"
+    args = [
+        "boat_on_step_v1_ppo", "--set", "warm_start.teacher=planner", "warm_start.steps=128",
+        "warm_start.epochs=20", "levels=[easy, hard]", "total_timesteps=32", "n_envs=2",
+        "algorithm.n_steps=16", "algorithm.batch_size=32", "eval.freq=0", "checkpoint.freq=0",
+        "--run-dir", str(run_dir), "--no-progress-bar",
+    ]  # fmt: skip
+    assert train_cli.main(args) == 0
+    ws = yaml.safe_load((run_dir / "run.yaml").read_text())["warm_start"]
+    assert ws["teacher"] == "planner" and ws["env_steps"] == 128
+    assert ws["action_mse"] < ws["action_mse_before"]
