@@ -95,6 +95,9 @@ BLOCKS = (
     Block("docs/reliability.md", "fuzz-v1-table", "docs/fuzz_v1.csv", "report:fuzz_v1_markdown"),
     Block("docs/reliability.md", "kill-table", "docs/kill_resume.csv", "report:kill_markdown"),
     Block("docs/study.md", "cost-table", "docs/study_cost.csv", "study_accuracy:cost_markdown"),
+    Block(
+        "docs/baselines.md", "planner-budget", "docs/study_planner.csv", "study_planner:markdown"
+    ),
     Block("docs/study.md", "hairer-table", "docs/study_hairer.csv", "study_hairer:markdown"),
     Block("docs/study.md", "fixed-table", "docs/study_fixed.csv", "study_fixed:markdown"),
     Block("docs/benchmarks.md", "kernel-table", "docs/bench_kernel.csv", "bench_kernel:markdown"),

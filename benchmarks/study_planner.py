@@ -27,6 +27,7 @@ from __future__ import annotations
 import dataclasses
 import time
 
+import numba
 import numpy as np
 
 from fluidsim_envs import threads
@@ -34,12 +35,13 @@ from fluidsim_envs.evaluation import TUNING_SEEDS, check_tuning_seeds, first_epi
 from fluidsim_envs.rl.evaluate import mean_interval
 from fluidsim_envs.scenes import SCENES
 
-from .common import arguments, describe, load_average, out_dir, read_csv, write_csv
+from .common import DOCS, arguments, describe, load_average, out_dir, read_csv, write_csv
 
 COLUMNS = (
     "env", "policy", "guided", "samples", "horizon", "hold", "lookahead_s", "budget", "episodes",
     "return_mean", "return_lo", "return_hi", "success_rate", "success_lo", "success_hi",
     "ms_per_decision", "ms_per_episode_decision", "rollout_share", "physics_share", "seconds",
+    "numba_threads",
 )  # fmt: skip
 
 
@@ -89,6 +91,7 @@ def row(scene_id, policy, config, results, seconds, timing, action_s, seed) -> l
         timing.get("rollout", 0.0) / total if total else "",
         timing.get("physics", 0.0) / total if total else "",
         seconds,
+        numba.get_num_threads(),
     ]
     return cells
 
@@ -188,7 +191,46 @@ def read_rows(path) -> list[list]:
         number = float(text)
         return int(number) if number.is_integer() and column != "lookahead_s" else number
 
-    return [[cell(c, r[c]) for c in COLUMNS] for r in read_csv(path)[1]]
+    # a row written before a column was kept has it blank
+    return [[cell(c, r.get(c, "")) for c in COLUMNS] for r in read_csv(path)[1]]
+
+
+def markdown(path=None) -> str:
+    """docs/baselines.md's table of the study from ``docs/study_planner.csv``: per env the
+    tuned pilot and each budget, with the time a decision costs per episode and the share of
+    it in the rollouts' physics."""
+    path = DOCS / "study_planner.csv" if path is None else path
+    if not path.is_file():
+        return "(no docs/study_planner.csv yet: run python -m benchmarks.study_planner)"
+    lines = [
+        "| env | policy | K | H x hold | look-ahead (s) | budget | episodes | return [95%] "
+        "| success [95%] | ms per episode-decision | numba threads | physics share |",
+        "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|",
+    ]
+    for r in read_csv(path)[1]:
+        pct = lambda x: f"{100 * float(x):.0f}%"  # noqa: E731
+        planner = r["policy"] == "planner"
+        name = ("guided " if r["guided"] == "True" else "unguided ") + "planner"
+        budget = (
+            f"{r['samples']} | {r['horizon']} x {r['hold']} | {float(r['lookahead_s']):.1f} | "
+            f"{r['budget']}"
+            if planner
+            else " | | | "
+        )
+        lines.append(
+            f"| {r['env'].split('/')[1]} | {name if planner else r['policy']} | {budget} | "
+            f"{r['episodes']} | {float(r['return_mean']):.2f} [{float(r['return_lo']):.2f}, "
+            f"{float(r['return_hi']):.2f}] | {pct(r['success_rate'])} [{pct(r['success_lo'])}, "
+            f"{pct(r['success_hi'])}] | "
+            + (
+                f"{float(r['ms_per_episode_decision']):.2f} | {r.get('numba_threads', '')} | "
+                f"{pct(r['physics_share'])} |"
+                if planner
+                else " | | |"
+            )
+        )
+    lines += ["", "numba threads: blank in rows written before the column was kept."]
+    return "\n".join(lines)
 
 
 def main() -> None:
