@@ -856,13 +856,13 @@ from resampling whole runs (a run's episodes share its policy):
 Wall time is the run's own clock at its last evaluation, two runs at a time on a 2-core
 machine (one core each; a run alone, or beside other work such as the baselines'
 evaluation, ran slower or faster: these are not benchmarks); peak RSS is the training
-process's (torch, SB3 and the env; a Ray worker's where `fluidsim-sweep` trained it). The revision is the commit the run
-was trained at (`+dirty`: with uncommitted changes in the working tree); the digest names
-the config it trained with (resolved, without its seed: a changed config's runs are dropped
-and trained again). A seed trains the same policy again, to the bit, on the same CPU (the
-kernels compile for it; `run.yaml` names it): on another, the kernels and torch round their
-last bits differently and training carries that into another policy. Data: `docs/results_episodes.csv` (every episode of
-every policy),
+process's (torch, SB3 and the env; a Ray worker's where `fluidsim-sweep` trained it). The
+revision is the commit the run was trained at (`+dirty`: with uncommitted changes in the
+working tree); the digest names the config it trained with (resolved, without its seed: a
+changed config's runs are dropped and trained again). A seed trains the same policy again,
+to the bit, on the same CPU (the kernels compile for it; `run.yaml` names it): on another,
+the kernels and torch round their last bits differently and training carries that into
+another policy. Data: `docs/results_episodes.csv` (every episode of every policy),
 `docs/results_history.csv` (the curves), `docs/results_runs.csv`, `docs/results.csv`.
 """
 
