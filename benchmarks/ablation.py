@@ -196,8 +196,8 @@ deterministically on {EPISODES} validation episodes (evaluation stream, seed {SE
 episodes docs/results.md scores on) at each level. A cell is the mean return over seeds, and
 the worst seed's; in bold where every seed is above the best pilot there (the best of the
 tuned, v0-tuned and hand-set pilots on the same episodes, in the config's *best pilot* row).
-Wall time is the run's own clock, two runs at a time on a 2-core machine, the warm start's
-pilot flights included.
+Wall time is the run's own clock, one core a run (one or two at a time on a 2-core machine,
+beside other work: not a benchmark), the warm start's pilot flights included.
 
 {table()}"""
 

@@ -207,8 +207,8 @@ def markdown(path=None) -> str:
         "| success [95%] | ms per episode-decision | numba threads | physics share |",
         "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|",
     ]
+    pct = lambda x: f"{100 * float(x):.0f}%"  # noqa: E731
     for r in read_csv(path)[1]:
-        pct = lambda x: f"{100 * float(x):.0f}%"  # noqa: E731
         planner = r["policy"] == "planner"
         name = ("guided " if r["guided"] == "True" else "unguided ") + "planner"
         budget = (

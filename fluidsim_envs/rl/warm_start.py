@@ -21,6 +21,7 @@ library (the usual choice with SB3) pins gymnasium 0.29 and SB3 2.2, two majors 
 
 from __future__ import annotations
 
+import itertools
 import time
 from typing import Any
 
@@ -51,12 +52,13 @@ def teacher_factory(cfg: TrainConfig):
     scene = find_scene(cfg.env_id)
     if cfg.warm_start.teacher == "pilot":
         return scene.pilot
-    made = []
+    parts = itertools.count()
 
     def planner(venv):
-        seed = int(np.random.SeedSequence([cfg.seed, len(made)]).generate_state(1)[0])
-        made.append(seed)
-        return scene.planner(venv, seed=seed)
+        # its generator draws plans and rollout noise, never an episode: the rollouts' noise
+        # keys are ones no episode start gives (scenes/noise.py foreign_keys) at any seed
+        seed = np.random.SeedSequence([cfg.seed, next(parts)]).generate_state(1)[0]
+        return scene.planner(venv, seed=int(seed))
 
     return planner
 

@@ -97,3 +97,22 @@ def test_the_planner_teaches_each_level_of_a_mixture(tmp_path):
     ws = yaml.safe_load((run_dir / "run.yaml").read_text())["warm_start"]
     assert ws["teacher"] == "planner" and ws["env_steps"] == 128
     assert ws["action_mse"] < ws["action_mse_before"]
+
+
+def test_each_part_gets_a_planner_of_its_own_seeded_by_the_run():
+    """One planner per level's part, each with its own generator, the same again for the same
+    run seed and others for another."""
+    from fluidsim_envs.scenes import SCENES
+
+    def seeds(run_seed):
+        cfg = load_config("boat_on_step_v1_ppo", ["warm_start.teacher=planner", f"seed={run_seed}"])
+        make = WS.teacher_factory(cfg)
+        venv = SCENES["fluidsim/BoatOnStep-v1"].vector_cls(num_envs=1)
+        try:
+            return [make(venv).config.seed for _ in range(2)]
+        finally:
+            venv.close()
+
+    first = seeds(0)
+    assert first[0] != first[1] and seeds(0) == first
+    assert not set(seeds(1)) & set(first)
