@@ -12,7 +12,8 @@ last four observations). The validation episodes are their own: :data:`SEED` of 
 evaluation stream, never the results' seed 0, so that choosing the shipped combination here
 does not fit it to the episodes docs/results.md scores it on. Runs train on the training
 stream, two at a time (one core each), through ``fluidsim-train``; each run's folder under
-``sweeps/ablation/`` keeps its model and its evaluation (a run done is not trained again).
+``sweeps/ablation/<config>/<variant>-<digest>/`` keeps its model and its evaluation (a run
+done is not trained again; a changed config trains its variants anew).
 """
 
 from __future__ import annotations
@@ -69,13 +70,19 @@ def variants(config: str) -> dict[str, list[str]]:
     return out
 
 
-def run_dir(config: str, variant: str, seed: int) -> Path:
-    return FOLDER / config / "_".join(variant.replace("+", "with").split()) / f"seed{seed}"
+def run_dir(config: str, variant: str, overrides: list[str], seed: int) -> Path:
+    """Where ``variant``'s run with ``seed`` lives: under what it trains (the config digest
+    with the variant's overrides), so that a shipped config that changes trains its variants
+    again instead of finding the old ones."""
+    from benchmarks.results import config_digest
+
+    name = "_".join(variant.replace("+", "with").split())
+    return FOLDER / config / f"{name}-{config_digest(config, overrides)}" / f"seed{seed}"
 
 
 def train(config: str, variant: str, overrides: list[str], seed: int) -> Path:
     """The run of ``variant`` with ``seed`` (trained here unless its final model exists)."""
-    folder = run_dir(config, variant, seed)
+    folder = run_dir(config, variant, overrides, seed)
     if (folder / "model.zip").is_file():
         return folder
     cmd = [sys.executable, "-m", "fluidsim_envs.rl.train", config, "--set", *overrides,

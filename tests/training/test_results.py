@@ -148,6 +148,12 @@ def test_runs_of_several_sessions_add_up(tmp_path, monkeypatch):
     (run / "model.zip").write_bytes(b"")
     digest = results.config_digest(name)
     assert results.config_digest(run / "config.yaml") == digest  # seed and threads aside
+    # an override is what the run trains: the same digest as the file that says it
+    changed = tmp_path / "changed.yaml"
+    changed.write_text(yaml.safe_dump({**shipped, "n_envs": 96}))
+    assert results.config_digest(name, ["n_envs=96"]) == results.config_digest(changed)
+    assert results.config_digest(name, ["n_envs=96"]) != digest
+    assert results.config_digest(name, ["seed=7"]) == digest
     path.write_text(f"config,seed,config_digest,train_stream\n{name},0,{digest},training\n"
                     f"{name},1,{digest},training\n{name},2,0123456789ab,training\n"
                     f"{name},5,{digest},evaluation\n")  # fmt: skip
