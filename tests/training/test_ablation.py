@@ -11,7 +11,8 @@ def test_a_variant_run_lives_under_what_it_trains():
     shipped = ablation.run_dir(name, "shipped", [], 0)
     assert shipped.name == "seed0" and shipped.parent.name.startswith("shipped-")
     off = ablation.variants(name)["no warm start"]
-    assert ablation.run_dir(name, "no warm start", off, 0).parent != ablation.run_dir(
-        name, "no warm start", ["n_envs=96", *off], 0
-    ).parent  # the base config changed: another folder, trained anew
+    assert (
+        ablation.run_dir(name, "no warm start", off, 0).parent
+        != ablation.run_dir(name, "no warm start", ["n_envs=96", *off], 0).parent
+    )  # the base config changed: another folder, trained anew
     assert ablation.run_dir(name, "shipped", [], 1).parent == shipped.parent  # seeds side by side
