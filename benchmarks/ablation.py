@@ -1,6 +1,7 @@
 """What each learning option buys: each shipped v1 PPO config trained as shipped and with one
-option switched (off where it ships on, on where it ships off), a few training seeds each,
-every final model on validation episodes at each level beside the pilots.
+option switched (off where it ships on, on where it ships off), and as it shipped before its
+last race (:data:`RACES`), a few training seeds each, every final model on validation
+episodes at each level beside the pilots.
 
     python -m benchmarks.ablation --configs paper_airplane_v1_ppo --seeds 2
     python -m benchmarks.ablation --table          # docs/ablation.md from docs/ablation.csv
@@ -19,6 +20,7 @@ done is not trained again; a changed config trains its variants anew).
 from __future__ import annotations
 
 import argparse
+import re
 import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
@@ -50,8 +52,23 @@ OPTIONS = (
 )  # fmt: skip
 
 
+#: per config, the values it shipped with before its last race (what the change bought)
+RACES = {
+    "paper_airplane_v1_ppo": {
+        "a third at each level, 10 M steps": [
+            "levels=[easy, standard, hard]", "total_timesteps=10000000"],
+    },
+    "boat_on_step_v1_ppo": {
+        "standard twice, 10 epochs, 4 M steps": [
+            "levels=[easy, standard, standard, hard]", "algorithm.n_epochs=10",
+            "total_timesteps=4000000"],
+    },
+}  # fmt: skip
+
+
 def variants(config: str) -> dict[str, list[str]]:
-    """``shipped`` and, per option, the config with it switched (its name says which way)."""
+    """``shipped``, per option the config with it switched (its name says which way), and
+    the config's :data:`RACES`."""
     from fluidsim_envs.rl.config import load_config
 
     cfg = load_config(config)
@@ -67,7 +84,7 @@ def variants(config: str) -> dict[str, list[str]]:
             out[off_name] = off
         else:
             out[f"+ {on_name}"] = on
-    return out
+    return out | RACES.get(config, {})
 
 
 def run_dir(config: str, variant: str, overrides: list[str], seed: int) -> Path:
@@ -76,7 +93,7 @@ def run_dir(config: str, variant: str, overrides: list[str], seed: int) -> Path:
     again instead of finding the old ones."""
     from benchmarks.results import config_digest
 
-    name = "_".join(variant.replace("+", "with").split())
+    name = re.sub(r"[^a-z0-9]+", "_", variant.replace("+", "with").lower()).strip("_")
     return FOLDER / config / f"{name}-{config_digest(config, overrides)}" / f"seed{seed}"
 
 
@@ -197,8 +214,9 @@ def page() -> str:
 
 <!-- written by `python -m benchmarks.ablation` from docs/ablation.csv: do not edit -->
 
-Each shipped v1 PPO config trained as shipped, and with one option switched (off where it
-ships on, `+` where it ships off), each with its seeds, every final model flown
+Each shipped v1 PPO config trained as shipped, with one option switched (off where it
+ships on, `+` where it ships off), and, where its values were raced last, with the values it
+shipped with before (the row named by them), each with its seeds, every final model flown
 deterministically on {EPISODES} validation episodes (evaluation stream, seed {SEED}: not the
 episodes docs/results.md scores on) at each level. A cell is the mean return over seeds, and
 the worst seed's; in bold where every seed is above the best pilot there (the best of the

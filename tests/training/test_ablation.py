@@ -16,3 +16,12 @@ def test_a_variant_run_lives_under_what_it_trains():
         != ablation.run_dir(name, "no warm start", ["n_envs=96", *off], 0).parent
     )  # the base config changed: another folder, trained anew
     assert ablation.run_dir(name, "shipped", [], 1).parent == shipped.parent  # seeds side by side
+
+
+def test_each_race_names_values_a_config_can_take():
+    """A race's row trains the config with its old values: each is a key the config has."""
+    for config, races in ablation.RACES.items():
+        shipped = ablation.run_dir(config, "shipped", [], 0).parent
+        for variant, overrides in races.items():
+            assert variant in ablation.variants(config)
+            assert ablation.run_dir(config, variant, overrides, 0).parent.name != shipped.name
