@@ -1,7 +1,8 @@
 """What each learning option buys: each shipped v1 PPO config trained as shipped and with one
-option switched (off where it ships on, on where it ships off), and as it shipped before its
-last race (:data:`RACES`), a few training seeds each, every final model on validation
-episodes at each level beside the pilots.
+option switched (off where it ships on, on where it ships off), and with the other values
+it was raced against (:data:`RACES`), a few training seeds each (and every seed a variant
+has trained here), every final model on validation episodes at each level beside the
+pilots.
 
     python -m benchmarks.ablation --configs paper_airplane_v1_ppo --seeds 2
     python -m benchmarks.ablation --table          # docs/ablation.md from docs/ablation.csv
@@ -52,16 +53,17 @@ OPTIONS = (
 )  # fmt: skip
 
 
-#: per config, the values it shipped with before its last race (what the change bought)
+#: per config, other values raced against the shipped ones (what it shipped with before its
+#: last race, or what lost the race)
 RACES = {
     "paper_airplane_v1_ppo": {
         "a third at each level, 10 M steps": [
             "levels=[easy, standard, hard]", "total_timesteps=10000000"],
     },
     "boat_on_step_v1_ppo": {
-        "standard twice, 10 epochs, 4 M steps": [
-            "levels=[easy, standard, standard, hard]", "algorithm.n_epochs=10",
-            "total_timesteps=4000000"],
+        "a third at each level, 5 epochs, 6 M steps": [
+            "levels=[easy, standard, hard]", "algorithm.n_epochs=5",
+            "total_timesteps=6000000"],
     },
 }  # fmt: skip
 
@@ -149,7 +151,12 @@ def rows(config: str, seeds: int, workers: int) -> list[tuple]:
     from fluidsim_envs.rl.config import load_config
 
     shipped = local_runs(config)
-    jobs = [(v, o, s) for v, o in variants(config).items() for s in range(seeds)]
+
+    def seeds_of(variant, overrides):  # those asked for, and any trained here already
+        here = run_dir(config, variant, overrides, 0).parent.glob("seed*/model.zip")
+        return sorted(set(range(seeds)) | {int(p.parent.name[4:]) for p in here})
+
+    jobs = [(v, o, s) for v, o in variants(config).items() for s in seeds_of(v, o)]
     if shipped:
         jobs = [j for j in jobs if j[0] != "shipped"] + [("shipped", [], s) for s in shipped]
 
@@ -215,8 +222,9 @@ def page() -> str:
 <!-- written by `python -m benchmarks.ablation` from docs/ablation.csv: do not edit -->
 
 Each shipped v1 PPO config trained as shipped, with one option switched (off where it
-ships on, `+` where it ships off), and, where its values were raced last, with the values it
-shipped with before (the row named by them), each with its seeds, every final model flown
+ships on, `+` where it ships off), and with the other values it was raced against (what it
+shipped with before, or what lost: the row named by them), each with its seeds, every final
+model flown
 deterministically on {EPISODES} validation episodes (evaluation stream, seed {SEED}: not the
 episodes docs/results.md scores on) at each level. A cell is the mean return over seeds, and
 the worst seed's; in bold where every seed is above the best pilot there (the best of the
