@@ -191,7 +191,7 @@ def table() -> str:
         "|---|---|--:|" + "---|" * len(LEVELS) + "--:|",
     ]
     best = {}
-    for config in dict.fromkeys(r["config"] for r in data):
+    for config in [c for c in CONFIGS if any(r["config"] == c for r in data)]:
         flown = [r for r in data if r["config"] == config and r["variant"] in PILOTS]
         best[config] = {
             level: max(float(r["mean_return"]) for r in flown if r["level"] == level)
@@ -246,7 +246,9 @@ def main(argv: list[str] | None = None) -> int:
         new = [r for c in args.configs for r in rows(c, args.seeds, args.workers)]
         old = [r for r in (read_csv(CSV)[1] if CSV.is_file() else [])
                if r["config"] not in args.configs]  # fmt: skip
-        write_csv(CSV, COLUMNS, [[r[c] for c in COLUMNS] for r in old] + new,
+        every = [tuple(r[c] for c in COLUMNS) for r in old] + new
+        every.sort(key=lambda r: CONFIGS.index(r[0]))  # the configs in CONFIGS' order
+        write_csv(CSV, COLUMNS, every,
                   [f"validation episodes: {EPISODES} at each level, seed {SEED}"])  # fmt: skip
     PAGE.write_text(page())
     print(table())
