@@ -66,8 +66,8 @@ def test_a_stacked_run_trains_and_evaluates(tmp_path):
     evaluation flies it through the stacking policy."""
     run_dir = tmp_path / "run"
     args = [
-        "paper_airplane_v1_ppo", "--set", "frame_stack=2", "total_timesteps=512", "n_envs=3",
-        "algorithm.n_steps=128", "algorithm.batch_size=128", "eval.freq=0",
+        "paper_airplane_v1_ppo", "--set", "frame_stack=2", "total_timesteps=512", "n_envs=4",
+        "algorithm.n_steps=128", "algorithm.batch_size=128", "eval.freq=0", "warm_start.steps=256",
         "checkpoint.freq=0", "--run-dir", str(run_dir), "--no-progress-bar",
     ]  # fmt: skip
     assert train_cli.main(args) == 0
