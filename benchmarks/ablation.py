@@ -225,11 +225,12 @@ Each shipped v1 PPO config trained as shipped, with one option switched (off whe
 ships on, `+` where it ships off), and with the other values it was raced against (what it
 shipped with before, or what lost: the row named by them), each with its seeds, every final
 model flown deterministically on {EPISODES} validation episodes (evaluation stream, seed
-{SEED}: not the episodes docs/results.md scores on) at each level. A cell is the mean return over seeds, and
-the worst seed's; in bold where every seed is above the best pilot there (the best of the
-tuned, v0-tuned and hand-set pilots on the same episodes, in the config's *best pilot* row).
-Wall time is the run's own clock, one core a run (one or two at a time on a 2-core machine,
-beside other work: not a benchmark), the warm start's pilot flights included.
+{SEED}: not the episodes docs/results.md scores on) at each level. A cell is the mean return
+over seeds, and the worst seed's; in bold where every seed is above the best pilot there
+(the best of the tuned, v0-tuned and hand-set pilots on the same episodes, in the config's
+*best pilot* row). Wall time is the run's own clock, one core a run (one or two at a time
+on a 2-core machine, beside other work: not a benchmark), the warm start's pilot flights
+included.
 
 {table()}"""
 
