@@ -134,9 +134,8 @@ def config_digest(config: str | Path, overrides: Sequence[str] = ()) -> str:
     """What a run trains, as 12 hex digits: the config (a shipped name, or a run's
     config.yaml) with ``overrides`` (``key=value``) resolved, every env parameter filled
     in, without its seed and thread counts (fluidsim_envs.threads': they change no
-    hyperparameter). A shipped config that changes
-    (a new race's values, an env's new default) no longer matches its published runs: they
-    are dropped and trained again."""
+    hyperparameter). A shipped config that changes (a new race's values, an env's new
+    default) no longer matches its published runs: they are dropped and trained again."""
     from fluidsim_envs.rl.config import config_to_dict, load_config, resolved
 
     plain = config_to_dict(resolved(load_config(config, overrides)))

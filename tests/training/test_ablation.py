@@ -19,7 +19,8 @@ def test_a_variant_run_lives_under_what_it_trains():
 
 
 def test_each_race_names_values_a_config_can_take():
-    """A race's row trains the config with its old values: each is a key the config has."""
+    """A race's row trains the config with the values it was raced against: each is a key
+    the config has (an unknown one fails at load), and its folder is not the shipped one."""
     for config, races in ablation.RACES.items():
         shipped = ablation.run_dir(config, "shipped", [], 0).parent
         for variant, overrides in races.items():
