@@ -31,6 +31,7 @@ import numpy as np
 import yaml
 
 from benchmarks.common import DOCS, ROOT, read_csv, write_csv
+from fluidsim_envs.rl.runs import MODEL
 
 CONFIGS = ("paper_airplane_v1_ppo", "submarine_wake_v1_ppo", "boat_on_step_v1_ppo")
 LEVELS = ("easy", "standard", "hard")
@@ -102,7 +103,7 @@ def run_dir(config: str, variant: str, overrides: list[str], seed: int) -> Path:
 def train(config: str, variant: str, overrides: list[str], seed: int) -> Path:
     """The run of ``variant`` with ``seed`` (trained here unless its final model exists)."""
     folder = run_dir(config, variant, overrides, seed)
-    if (folder / "model.zip").is_file():
+    if (folder / MODEL).is_file():
         return folder
     cmd = [sys.executable, "-m", "fluidsim_envs.rl.train", config, "--set", *overrides,
            f"seed={seed}", "numba_threads=1", "torch_threads=1", "checkpoint.freq=0",
@@ -153,7 +154,7 @@ def rows(config: str, seeds: int, workers: int) -> list[tuple]:
     shipped = local_runs(config)
 
     def seeds_of(variant, overrides):  # those asked for, and any trained here already
-        here = run_dir(config, variant, overrides, 0).parent.glob("seed*/model.zip")
+        here = run_dir(config, variant, overrides, 0).parent.glob(f"seed*/{MODEL}")
         return sorted(set(range(seeds)) | {int(p.parent.name[4:]) for p in here})
 
     jobs = [(v, o, s) for v, o in variants(config).items() for s in seeds_of(v, o)]

@@ -8,12 +8,12 @@ fluidsim_envs.rl.train``). Each trial starts it (the first one new, the others w
 
 - ``random``: at a uniform moment 0.5-10 s after the start (start-up, the resume's own
   trimming of the folder, training, evaluations, checkpoints alike);
-- ``after-checkpoint``: as soon as a new checkpoint zip appears;
+- ``after-checkpoint``: as soon as a new checkpoint appears;
 - ``mid-write``: inside an atomic write: the run is started with ``FLUIDSIM_WRITE_DELAY_S``
   (:mod:`fluidsim_envs.rl.files`), which sleeps 0.3 s between writing each temporary file and
   renaming it, and the kill lands when the k-th temporary file (k random, 1-16) appears: where a
   writer in place would have left a truncated checkpoint, best model, history or run.yaml;
-- ``torn-checkpoint``: a ``random`` kill, after which the newest checkpoint zip is cut to half
+- ``torn-checkpoint``: a ``random`` kill, after which the newest checkpoint's model is cut to half
   its size (what a writer in place leaves), so the resume must fall back to the one before.
 
 The first trial's kill is timed from the first checkpoint (a run killed before it has nothing
@@ -27,7 +27,7 @@ interrupted commit completed, the logs past the restart point dropped) runs here
   (two for ``torn-checkpoint``). The timesteps at the kill are the newest the folder shows: its
   last monitor.csv row (episodes end every few steps) or checkpoint or evaluation;
 - ``best``: best/best.yaml's score is at least every evaluation any session printed, its model
-  zip is of the timesteps best.yaml names, and that model with best/vecnormalize.pkl scores
+  model is of the timesteps best.yaml names, and that model with its statistics scores
   the same again on the same seeded episodes (model, statistics and score belong together);
 - ``history``: eval/evaluations.npz and history.csv hold the same evaluations, one at every
   multiple of the evaluation period up to the restart point, in order;
@@ -57,7 +57,7 @@ from pathlib import Path
 import numpy as np
 
 from fluidsim_envs.rl.config import read_yaml
-from fluidsim_envs.rl.runs import zip_timesteps
+from fluidsim_envs.rl.runs import checkpoint_paths, checkpoints, saved_timesteps
 
 from .common import ROOT, arguments, describe, load_average, write_csv
 
@@ -103,14 +103,9 @@ def launch(run_dir: Path, log: Path, resume: bool, delay_s: float = 0.0) -> subp
 
 
 def newest_checkpoint(run_dir: Path, whole: bool = False) -> int:
-    """The timesteps of the newest checkpoint zip (0: none); ``whole``: of those whose zip can
+    """The timesteps of the newest checkpoint (0: none); ``whole``: of those whose model can
     be read (not one this script tore)."""
-    steps = [
-        int(m.group(1))
-        for p in (run_dir / "checkpoints").glob("model_*_steps.zip")
-        if (m := re.fullmatch(r"model_(\d+)_steps\.zip", p.name))
-        and (not whole or zip_timesteps(p) is not None)
-    ]
+    steps = [n for n, p in checkpoints(run_dir) if not whole or saved_timesteps(p) is not None]
     return max(steps, default=0)
 
 
@@ -140,7 +135,7 @@ def kill_at(phase: str, proc: subprocess.Popen, run_dir: Path, rng) -> str:
     if phase == "after-checkpoint":
         before = newest_checkpoint(run_dir)
         wait_until(lambda: newest_checkpoint(run_dir) > before, proc)
-        killed_in = f"model_{newest_checkpoint(run_dir)}_steps.zip written"
+        killed_in = f"{checkpoint_paths(run_dir, newest_checkpoint(run_dir)).model.name} written"
     elif phase == "mid-write":
         seen: set[str] = set()
         target = int(rng.integers(1, 17))
@@ -163,7 +158,8 @@ def kill_at(phase: str, proc: subprocess.Popen, run_dir: Path, rng) -> str:
 
 
 def _final_name(partial: str) -> str:
-    """``.model_1024_steps.zip.abc123.partial.zip`` -> ``model_1024_steps.zip``."""
+    """``.model_1024_steps.safetensors.abc123.partial.safetensors`` ->
+    ``model_1024_steps.safetensors``."""
     return partial[1:].split(".partial")[0].rsplit(".", 1)[0]
 
 
@@ -209,10 +205,11 @@ def prepare_resume(run_dir: Path):
 
 
 def check_best(cfg, run_dir: Path, logs: list[Path]) -> bool:
-    from stable_baselines3 import PPO
     from stable_baselines3.common.evaluation import evaluate_policy
 
+    from fluidsim_envs.rl import saved
     from fluidsim_envs.rl import train as train_cli
+    from fluidsim_envs.rl.evaluate import load_run
     from fluidsim_envs.rl.runs import BestModel
 
     best = BestModel.open(run_dir / "best")
@@ -221,15 +218,16 @@ def check_best(cfg, run_dir: Path, logs: list[Path]) -> bool:
         return True
     if best.score < max(printed) - 5e-4 or list((run_dir / "best").glob(".pending-*")):
         return False
-    model = PPO.load(run_dir / "best" / "best_model.zip", device="cpu")
-    if model.num_timesteps != best.record.get("timesteps"):
+    model_path, stats = BestModel(run_dir / "best").committed()
+    if saved.model_header(model_path)["num_timesteps"] != best.record.get("timesteps"):
         return False
+    _, model = load_run(run_dir, "best")  # its policy
     env = train_cli.make_env(
         cfg,
         cfg.eval.n_episodes,
         cfg.eval.seed,
         evaluation=True,
-        stats=run_dir / "best" / "vecnormalize.pkl",
+        stats=stats,
     )
     try:
         env.seed(cfg.eval.seed)
@@ -336,10 +334,11 @@ def _meta(run_dir: Path) -> dict:
 
 
 def tear_newest_checkpoint(run_dir: Path) -> None:
-    """Cut the newest checkpoint zip to half (what a kill during a write in place leaves)."""
+    """Cut the newest checkpoint's model to half (what a kill during a write in place
+    leaves)."""
     steps = newest_checkpoint(run_dir)
     if steps:
-        path = run_dir / "checkpoints" / f"model_{steps}_steps.zip"
+        path = checkpoint_paths(run_dir, steps).model
         path.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
 
 

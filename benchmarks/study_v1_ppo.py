@@ -15,7 +15,7 @@ PPO does: the multi-seed statistics are issue 24's):
 ``docs/study_v1_ppo_LEVEL.csv``).
 
 Each run is ``fluidsim-train CONFIG --set env_id=... seed=S ... --run-dir RUNS/...`` (the real
-CLI, in a subprocess; a run whose ``model.zip`` exists is kept), its final model evaluated by
+CLI, in a subprocess; a run whose final model exists is kept), its final model evaluated by
 the project's evaluator on ``--episodes`` seeded episodes (seed 0) beside the tuned pilot
 (tuned on v0, never shown a level) and random actions, on the same episodes. Writes
 ``docs/study_v1_ppo.csv`` (a row per run and policy), ``docs/study_v1_ppo_curves.csv`` (each

@@ -9,7 +9,7 @@ order, so that both variants of a config run one after the other under much the 
 
 1. ``fluidsim-train CONFIG --set seed=S [BEFORE] --run-dir RUNS/CONFIG-VARIANT-sS`` (the real
    CLI, in a subprocess), with the load average before and after written to the run folder's
-   ``wallclock.yaml``; a run whose ``model.zip`` exists is not trained again;
+   ``wallclock.yaml``; a run whose final model exists is not trained again;
 2. :func:`fluidsim_envs.rl.evaluate.evaluate` of its final model on ``--episodes`` episodes
    (seed 0; without the planner: ``fluidsim-evaluate RUN --episodes 256 --no-planner``),
    unless its ``evaluation.csv`` exists;
@@ -43,6 +43,7 @@ from benchmarks.bench_training import V0_BEFORE as BEFORE
 from benchmarks.bench_training import V0_CONFIGS
 from benchmarks.common import DOCS, ROOT, read_csv, write_csv
 from fluidsim_envs import threads
+from fluidsim_envs.rl.runs import MODEL
 
 CSV = DOCS / "training_wallclock.csv"
 #: the v1 configs' retune (issue 43): ``before`` their settings before it, ``after`` as they
@@ -91,7 +92,7 @@ def train(
     config's ``total_timesteps``), trained unless it has finished; ``sets``: the variant's
     ``--set`` items (default: :data:`VARIANTS`')."""
     out = run_dir(runs, config, variant, seed, steps)
-    if (out / "model.zip").is_file():
+    if (out / MODEL).is_file():
         return out
     if out.exists():  # a run killed before its end: start it afresh, not resumed
         import shutil

@@ -9,13 +9,13 @@ evaluation that the README shows.
 For each config of :data:`benchmarks.results.CONFIGS`, the run with the best mean return on
 the results' episodes (``docs/results_episodes.csv``, written by ``python -m
 benchmarks.results``: the runs of every session; the run must be on this machine) is
-copied to ``zoo/<Env-vN>-<algo>/``: ``config.yaml``, ``model.zip``, ``vecnormalize.pkl`` and
-``run.yaml`` (how it was trained: command, revision, seeds, versions), the model without its
-optimizers' state (:func:`save_policy`). Then ``fluidsim-evaluate
-zoo/<name> --episodes 256 --seed 3 --no-planner`` writes its ``evaluation.csv`` (the trained
-policy beside the tuned and hand-set pilots and random, on the same episodes: fresh ones,
-not the seed-0 episodes the run was chosen on), whose trained row the README's zoo table
-will show, and ``python -m fluidsim_envs.enjoy`` draws its GIF,
+copied to ``zoo/<Env-vN>-<algo>/``: ``config.yaml``, ``model.safetensors`` (the policy's
+weights alone: :func:`save_policy`), ``vecnormalize.safetensors`` and ``run.yaml`` (how it
+was trained: command, revision, seeds, versions); nothing in them runs as code when loaded.
+Then ``fluidsim-evaluate zoo/<name> --episodes 256 --seed 3 --no-planner`` writes its
+``evaluation.csv`` (the trained policy beside the tuned and hand-set pilots and random, on
+the same episodes: fresh ones, not the seed-0 episodes the run was chosen on), whose trained
+row the README's zoo table will show, and ``python -m fluidsim_envs.enjoy`` draws its GIF,
 ``docs/zoo_<Env-vN>-<algo>.gif``.
 
 ``--check`` runs the same evaluation again into a temporary folder and compares it with the
@@ -48,13 +48,15 @@ from benchmarks.results import (
 )
 from fluidsim_envs import threads
 from fluidsim_envs.physics.jit import target_cpu
+from fluidsim_envs.rl import saved
+from fluidsim_envs.rl.runs import MODEL, STATS
 
 #: the zoo's evaluation episodes: not the results' (seed 0), on which its runs were ranked,
 #: so the published row is not the best of five on its own episodes
 EVAL_SEED = 3  # and not the pilots' tuning seeds (1, 2: evaluation.TUNING_SEEDS)
 
 ZOO = ROOT / "zoo"
-FILES = ("config.yaml", "model.zip", "vecnormalize.pkl", "run.yaml")
+FILES = ("config.yaml", MODEL, STATS, "run.yaml")
 EPISODES = 256
 MAX_BYTES = 2 * 1024 * 1024
 #: each env's GIF: (every Nth frame, times real time), 320 px wide, a few dozen frames (25
@@ -94,7 +96,7 @@ def best_seed(config: str) -> int | None:
 def entry_seed(folder: Path) -> int | None:
     """The training seed of the zoo entry in ``folder`` (None: no entry)."""
     path = folder / "config.yaml"
-    if not (folder / "model.zip").is_file() or not path.is_file():
+    if not (folder / MODEL).is_file() or not path.is_file():
         return None
     return int(yaml.safe_load(path.read_text())["seed"])
 
@@ -109,15 +111,7 @@ def holds(folder: Path, config: str, seed: int) -> bool:
 def save_policy(run: Path, path: Path) -> None:
     """The run's final model without its optimizers' state (Adam's moments: as large again
     as the networks, needed to train on, not to act; SAC's would pass the 2 MiB)."""
-    import functools
-
-    from fluidsim_envs.rl.evaluate import load_run
-
-    _, model = load_run(run, "final")
-    for name in model._get_torch_save_params()[0]:
-        if name.endswith("optimizer"):
-            functools.reduce(getattr, name.split("."), model).state.clear()
-    model.save(path)
+    saved.copy_policy(run / MODEL, path)
 
 
 def evaluate(folder: Path, out: Path) -> None:
@@ -146,9 +140,9 @@ def publish(config: str) -> None:
         shutil.rmtree(folder)
     folder.mkdir(parents=True)
     for name in FILES:
-        if name != "model.zip":
+        if name != MODEL:
             shutil.copy2(run / name, folder / name)
-    save_policy(run, folder / "model.zip")
+    save_policy(run, folder / MODEL)
     size = sum(p.stat().st_size for p in folder.iterdir())
     if size > MAX_BYTES:
         raise SystemExit(f"{folder}: {size / 2**20:.1f} MiB, over the zoo's 2 MiB")
@@ -273,20 +267,18 @@ def main(argv: list[str] | None = None) -> int:
     if args.gifs:
         for config in args.configs:
             folder = ZOO / entry_name(config)
-            if (folder / "model.zip").is_file():
+            if (folder / MODEL).is_file():
                 print(f"{draw_gif(folder).name} drawn")
         return 0
     if args.evaluate:
         for config in args.configs:
             folder = ZOO / entry_name(config)
-            if (folder / "model.zip").is_file():
+            if (folder / MODEL).is_file():
                 evaluate(folder, folder)
                 print(f"{folder.name}: evaluated again")
         return 0
     if args.check:
-        bad = [
-            line for f in sorted(ZOO.glob("*")) if (f / "model.zip").is_file() for line in check(f)
-        ]
+        bad = [line for f in sorted(ZOO.glob("*")) if (f / MODEL).is_file() for line in check(f)]
         print("\n".join(bad) or "every zoo entry reproduces its evaluation.csv")
         return 1 if bad else 0
     for config in args.configs:

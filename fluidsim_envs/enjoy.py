@@ -2,7 +2,7 @@
 
     python -m fluidsim_envs.enjoy zoo/PaperAirplane-v1-ppo [--episodes N] [--seed S]
                                   [--env KEY=VALUE ...] [--rerun FILE.rrd] [--video FILE.mp4]
-                                  [--stride N] [--width PIXELS] [--speed X]
+                                  [--stride N] [--width PIXELS] [--speed X] [--allow-pickle]
 
 The policy acts deterministically on observations normalized with the statistics saved
 beside it (``fluidsim-evaluate``'s rule), in one env, episode after episode from ``--seed``;
@@ -14,8 +14,10 @@ MP4 (moviepy, the ``play`` extra) or, for a name ending ``.gif``, a GIF (Pillow)
 ``--video`` and ``--rerun``.
 
 A zoo entry is a run folder cut to what flying and checking it needs: ``config.yaml``,
-``model.zip``, ``vecnormalize.pkl``, and ``evaluation.csv`` (the row the README shows, which
-``fluidsim-evaluate zoo/<name>`` writes again).
+``model.safetensors`` (the policy's weights), ``vecnormalize.safetensors`` and
+``evaluation.csv`` (the row the README shows, which ``fluidsim-evaluate zoo/<name>`` writes
+again). Loading them runs no code from them (:mod:`fluidsim_envs.rl.saved`); a folder that
+holds SB3's pickled ``model.zip`` instead flies only with ``--allow-pickle``.
 """
 
 from __future__ import annotations
@@ -32,19 +34,21 @@ class EnjoyError(RuntimeError):
     """A folder or an option that cannot be used; the message names it."""
 
 
-def load_policy(folder: Path, venv):
-    """The folder's final model as a policy of ``venv`` (checked: config, model, statistics)."""
+def load_policy(folder: Path, venv, allow_pickle: bool = False):
+    """The folder's final model as a policy of ``venv`` (checked: config, model, statistics;
+    SB3's pickles only with ``allow_pickle``)."""
     from fluidsim_envs.rl.evaluate import load_run, model_policy
+    from fluidsim_envs.rl.runs import MODEL, PICKLED, STATS
 
     if not folder.is_dir():
         raise EnjoyError(f"{folder}: no such folder")
-    if not (folder / "model.zip").is_file():
+    if not (folder / MODEL).is_file() and not (folder / PICKLED[MODEL]).is_file():
         raise EnjoyError(
-            f"{folder}: no model.zip; a zoo entry (or a finished run folder) holds model.zip, "
-            "vecnormalize.pkl and config.yaml"
+            f"{folder}: no {MODEL}; a zoo entry (or a finished run folder) holds {MODEL}, "
+            f"{STATS} and config.yaml"
         )
-    cfg, model = load_run(folder, "final")
-    return cfg, model_policy(cfg, model, folder, venv)
+    cfg, model = load_run(folder, "final", allow_pickle)
+    return cfg, model_policy(cfg, model, folder, venv, "final", allow_pickle)
 
 
 def make_env(folder: Path, overrides: dict, frames: bool, rerun: str | None):
@@ -189,6 +193,7 @@ def enjoy(
     width: int | None = None,
     realtime: bool = True,
     speed: float = 1.0,
+    allow_pickle: bool = False,
 ) -> list[dict]:
     """Fly the folder's policy (see the module docstring); returns the episodes' results."""
     if episodes < 1:
@@ -204,7 +209,7 @@ def enjoy(
         require("play", "python -m fluidsim_envs.enjoy without --video or --rerun")
     env_id, venv = make_env(folder, overrides or {}, frames=video is not None or shown, rerun=rerun)
     try:
-        _, policy = load_policy(folder, venv.unwrapped if rerun else venv)
+        _, policy = load_policy(folder, venv.unwrapped if rerun else venv, allow_pickle)
         fps = venv.metadata["render_fps"]
         frames: list[np.ndarray] = []
         on_frame = None
@@ -244,6 +249,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--speed", type=float, default=1.0, help="--video plays at this many times real time"
     )
+    parser.add_argument(
+        "--allow-pickle",
+        action="store_true",
+        help="fly SB3's pickled model.zip and vecnormalize.pkl (a folder of an older version): "
+        "unpickling runs any code the files carry, so only for files you trust",
+    )
     args = parser.parse_args(argv)
     try:
         require("train", prog)
@@ -258,6 +269,7 @@ def main(argv: list[str] | None = None) -> int:
             stride=args.stride,
             width=args.width,
             speed=args.speed,
+            allow_pickle=args.allow_pickle,
         )
     except (EnjoyError, NoDisplay, RunError, ConfigError, ImportError, ValueError) as e:
         print(f"{prog}: error: {e}", file=sys.stderr)

@@ -64,7 +64,7 @@ def test_a_folder_without_a_model_is_named(run, tmp_path, capsys):
     bare.mkdir()
     shutil.copy(run / "config.yaml", bare)
     assert enjoy.main([str(bare), "--video", str(tmp_path / "x.gif")]) == 2
-    assert f"{bare}: no model.zip" in capsys.readouterr().err
+    assert f"{bare}: no model.safetensors" in capsys.readouterr().err
     assert enjoy.main([str(tmp_path / "missing")]) == 2
     assert "no config.yaml" in capsys.readouterr().err
 

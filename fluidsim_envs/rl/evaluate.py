@@ -68,16 +68,21 @@ import numpy as np
 
 from .. import threads
 from ..physics.jit import target_cpu
-from . import files
+from . import files, saved
 from .config import ConfigError, TrainConfig, load_config, load_yaml, parse_assignment
 from .files import RunError
-from .runs import BestModel, read_run_meta
-from .train import algorithm_class
+from .runs import MODEL, PICKLED, STATS, BestModel, read_run_meta
+from .train import algorithm_class, build_policy
 
 #: the models a run folder holds: (model, its normalization statistics), by --model name
 MODELS = {
-    "final": ("model.zip", "vecnormalize.pkl"),
-    "best": ("best/best_model.zip", "best/vecnormalize.pkl"),
+    "final": (MODEL, STATS),
+    "best": (f"best/{BestModel.MODEL}", f"best/{BestModel.STATS}"),
+}
+#: the same in SB3's pickled format (an older version's runs): read only with --allow-pickle
+PICKLED_MODELS = {
+    "final": (PICKLED[MODEL], PICKLED[STATS]),
+    "best": ("best/best_model.zip", f"best/{PICKLED[STATS]}"),
 }
 
 RERUN_ENVS = 4  # sub-envs logged with --rerun
@@ -100,37 +105,48 @@ BOOTSTRAP_STREAM = 0xB007
 # loading a run, with the checks that catch a mismatched or damaged folder
 
 
-def _expected_policy(algo: str) -> type:
-    from stable_baselines3.common.policies import ActorCriticPolicy
-    from stable_baselines3.sac.policies import SACPolicy
-
-    return {"ppo": ActorCriticPolicy, "sac": SACPolicy}[algo]
-
-
-def model_files(run_dir: Path, which: str) -> tuple[Path, Path]:
+def model_files(run_dir: Path, which: str, allow_pickle: bool = False) -> tuple[Path, Path]:
     """The model and statistics files of ``which`` in ``run_dir``. The folder is only read:
-    a trainer may be writing a new best beside this evaluation (``BestModel.committed``)."""
+    a trainer may be writing a new best beside this evaluation (``BestModel.committed``).
+    Where only SB3's pickled files are there (an older version's run, a file from
+    elsewhere): those with ``allow_pickle``, else an error that says what they are."""
     if which == "best":
-        return BestModel(run_dir / "best").committed()
-    return tuple(run_dir / name for name in MODELS[which])
+        paths = BestModel(run_dir / "best").committed()
+    else:
+        paths = tuple(run_dir / name for name in MODELS[which])
+    pickled = tuple(run_dir / name for name in PICKLED_MODELS[which])
+    if paths[0].is_file() or not pickled[0].is_file():
+        return paths
+    if not allow_pickle:
+        raise RunError(
+            f"{pickled[0]}: an SB3 pickle, not a saved model of numbers (an older version "
+            "wrote it, or it comes from elsewhere): loading it runs any code it carries. If "
+            "you trust its source, pass --allow-pickle, or convert the folder once with "
+            f"python -m fluidsim_envs.rl.convert {run_dir} --allow-pickle"
+        )
+    return pickled
 
 
-def load_run(run_dir: Path, which: str = "final") -> tuple[TrainConfig, Any]:
-    """The run's config and model (``which``: a key of :data:`MODELS`), after checking that
-    they belong together: the model file is a readable SB3 model, of the config's algorithm,
-    for the config's env."""
+def load_run(
+    run_dir: Path, which: str = "final", allow_pickle: bool = False
+) -> tuple[TrainConfig, Any]:
+    """The run's config and policy (``which``: a key of :data:`MODELS`): the policy the config
+    describes, with the saved weights loaded into it after checking that they belong together
+    (the file is a saved model, of the config's algorithm, for the config's env). Nothing
+    in the folder runs: see :mod:`.saved` (SB3's pickles only with ``allow_pickle``)."""
     import gymnasium as gym
+    from gymnasium import spaces
     from gymnasium.envs.registration import load_env_creator
-    from stable_baselines3.common.save_util import load_from_zip_file
 
     if not run_dir.is_dir():
-        raise RunError(f"run folder not found: {run_dir}")
+        what = "is a file, not a run folder" if run_dir.exists() else "run folder not found"
+        raise RunError(f"{run_dir}: {what}")
     if not (run_dir / "config.yaml").is_file():
         raise RunError(f"{run_dir}: not a run folder (no config.yaml)")
     cfg = load_config(run_dir / "config.yaml")
     if which not in MODELS:
         raise RunError(f"--model must be one of {list(MODELS)}, got {which!r}")
-    model_path, _ = model_files(run_dir, which)
+    model_path, _ = model_files(run_dir, which, allow_pickle)
     if not model_path.is_file() and which == "best":
         raise RunError(
             f"{run_dir}: no {MODELS['best'][0]} (the run never evaluated: eval.freq was 0 or "
@@ -138,75 +154,69 @@ def load_run(run_dir: Path, which: str = "final") -> tuple[TrainConfig, Any]:
         )
     if not model_path.is_file():
         raise RunError(
-            f"{run_dir}: no model.zip (an unfinished run? continue it with "
+            f"{run_dir}: no {MODELS['final'][0]} (an unfinished run? continue it with "
             f"fluidsim-train --resume {run_dir})"
         )
-    try:
-        data, _, _ = load_from_zip_file(model_path, device="cpu")
-    except Exception as e:  # whatever a damaged file raises (zip, JSON, pickle, torch)
-        raise RunError(
-            f"{model_path}: corrupt or not an SB3 model ({type(e).__name__}: {e})"
-        ) from e
-    if not data or "policy_class" not in data or "observation_space" not in data:
-        raise RunError(f"{model_path}: corrupt or not an SB3 model (no model data)")
-
-    policy_class = data["policy_class"]
-    expected = _expected_policy(cfg.algorithm.name)
-    if not (isinstance(policy_class, type) and issubclass(policy_class, expected)):
-        found = getattr(policy_class, "__module__", repr(policy_class))
-        kind = next(
-            (
-                a
-                for a in ("ppo", "sac")
-                if isinstance(policy_class, type) and issubclass(policy_class, _expected_policy(a))
-            ),
-            f"unknown ({found})",
-        )
-        raise RunError(
-            f"{run_dir}: config.yaml says algorithm {cfg.algorithm.name!r} but model.zip "
-            f"holds a {kind} model (policy {getattr(policy_class, '__name__', policy_class)})"
-        )
-
     vector_cls = load_env_creator(gym.spec(cfg.env_id).vector_entry_point)
     probe = vector_cls(num_envs=1, **cfg.env_kwargs)  # its observation follows its params
-    obs_shape, act_shape = probe.single_observation_space.shape, probe.single_action_space.shape
+    box, action_space = probe.single_observation_space, probe.single_action_space
     probe.close()
     # the policy reads its last frames, each with the exact observation after the reading
     # where its critic was privileged (rl/privileged.py)
-    obs_shape = (obs_shape[0] * (2 if cfg.privileged_critic else 1) * cfg.frame_stack,)
-    model_obs = getattr(data["observation_space"], "shape", None)
-    model_act = getattr(data.get("action_space"), "shape", None)
-    if model_obs != obs_shape or model_act != act_shape:
+    obs_shape = (box.shape[0] * (2 if cfg.privileged_critic else 1) * cfg.frame_stack,)
+    if model_path.suffix == ".zip":
+        return cfg, _pickled_policy(cfg, model_path, obs_shape, action_space.shape)
+    saved.check_model(model_path, cfg.algorithm.name, cfg.env_id, obs_shape, action_space.shape)
+    policy = build_policy(cfg, spaces.Box(-np.inf, np.inf, obs_shape, box.dtype), action_space)
+    saved.load_policy_weights(policy, model_path)
+    return cfg, policy
+
+
+def _pickled_policy(cfg: TrainConfig, path: Path, obs_shape: tuple, act_shape: tuple):
+    """The policy of an SB3 model zip (``--allow-pickle``), checked as a saved model is."""
+    algo_cls = algorithm_class(cfg.algorithm.name)
+    try:
+        model = saved.load_pickled_model(algo_cls, path)
+    except Exception as e:  # whatever a damaged file raises (zip, JSON, pickle, torch)
+        raise RunError(f"{path}: corrupt or not an SB3 model ({type(e).__name__}: {e})") from e
+    if type(model) is not algo_cls:
         raise RunError(
-            f"{run_dir}: model.zip was trained on observations {model_obs} and actions "
-            f"{model_act}, but config.yaml's env {cfg.env_id} has {obs_shape} and {act_shape}: "
+            f"{path}: config.yaml says algorithm {cfg.algorithm.name!r} but the file holds a "
+            f"{type(model).__name__} model"
+        )
+    shapes = (model.observation_space.shape, model.action_space.shape)
+    if shapes != (obs_shape, act_shape):
+        raise RunError(
+            f"{path}: the model was trained on observations {shapes[0]} and actions "
+            f"{shapes[1]}, but config.yaml's env {cfg.env_id} has {obs_shape} and {act_shape}: "
             "the model belongs to another env"
         )
-    model = algorithm_class(cfg.algorithm.name).load(model_path, device="cpu")
-    return cfg, model
+    return model.policy
 
 
-def model_policy(cfg: TrainConfig, model, run_dir: Path, venv, which: str = "final") -> Callable:
-    """A policy for :func:`first_episodes`: ``model.predict`` (deterministic) on observations
-    normalized with the statistics saved with that model (``MODELS[which]``)."""
+def model_policy(
+    cfg: TrainConfig, model, run_dir: Path, venv, which: str = "final", allow_pickle: bool = False
+) -> Callable:
+    """A policy for :func:`first_episodes`: ``model.predict`` (deterministic: ``model`` is
+    an SB3 policy or algorithm) on observations normalized with the statistics saved with
+    that model (``MODELS[which]``; SB3's pickle with ``allow_pickle``)."""
     normalize: Callable[[np.ndarray], np.ndarray] = lambda obs: obs  # noqa: E731
     if cfg.normalize.enabled:
-        from stable_baselines3.common.vec_env import VecNormalize
-
         from fluidsim_envs.wrappers.sb3 import SB3VecEnv
 
-        _, stats = model_files(run_dir, which)
+        _, stats = model_files(run_dir, which, allow_pickle)
         if not stats.is_file():
-            raise RunError(f"{run_dir}: normalization is on but {MODELS[which][1]} is missing")
+            raise RunError(f"{run_dir}: normalization is on but {stats.name} is missing")
+        load = saved.load_pickled_statistics if stats.suffix == ".pkl" else saved.load_statistics
         shaped = venv
         if cfg.privileged_critic:  # the statistics cover the exact columns too
             from .privileged import WithTruth
 
             shaped = WithTruth(venv)
         try:
-            # VecNormalize.load needs a VecEnv to hang on: the adapter over the eval env
-            vec_normalize = VecNormalize.load(str(stats), SB3VecEnv(shaped))
-        except Exception as e:  # a damaged pickle, or statistics of another env's shape
+            # the statistics need a VecEnv to hang on: the adapter over the eval env
+            vec_normalize = load(stats, SB3VecEnv(shaped))
+        except Exception as e:  # damaged, or statistics of another env's shape
             raise RunError(f"{stats}: unusable normalization statistics ({e})") from e
         finally:
             if shaped is not venv:
@@ -477,15 +487,17 @@ def evaluate(
     planner_kwargs: Mapping[str, int] | None = None,
     out: Path | None = None,
     say: Callable[[str], None] = lambda text: None,
+    allow_pickle: bool = False,
 ) -> list[dict[str, Any]]:
-    """Evaluate the run's model (``which``: final or best) and the baselines
+    """Evaluate the run's model (``which``: final or best; ``allow_pickle``: SB3's pickled
+    files too, :mod:`.saved`) and the baselines
     (:func:`baseline_rows`) on the same ``episodes`` seeded episodes of the run's env, with
     the parameters ``env`` on top of the run's; write ``evaluation.csv`` (``which`` best:
     ``evaluation_best.csv``) into the run, or into ``out``, and return its rows. ``say``
     hears what is being evaluated and how long each policy took."""
     env = dict(env or {})
     _check_counts(episodes, planner_kwargs, seed, say)
-    cfg, model = load_run(run_dir, which)
+    cfg, model = load_run(run_dir, which, allow_pickle)
     env_kwargs = env_kwargs_with(cfg.env_id, cfg.env_kwargs, env)
     label = f"trained {cfg.algorithm.name.upper()}" + (" (best)" if which == "best" else "")
 
@@ -506,7 +518,7 @@ def evaluate(
         except ImportError as e:
             raise RunError(f"--rerun needs the Rerun logger and rerun-sdk: {e}") from e
     try:
-        policy = model_policy(cfg, model, run_dir, venv, which)
+        policy = model_policy(cfg, model, run_dir, venv, which, allow_pickle)
         rows = [_fly(label, trained_env, lambda: policy, seed, say)]
     finally:
         if trained_env is not venv:
@@ -728,6 +740,13 @@ def parse_args(argv: list[str] | None, prog: str) -> argparse.Namespace:
     what.add_argument(
         "--model", choices=list(MODELS), help="which model of the run (default: final)"
     )
+    what.add_argument(
+        "--allow-pickle",
+        action="store_true",
+        help="load SB3's pickled model.zip and vecnormalize.pkl where the run has no "
+        "safetensors files (an older version's run): unpickling runs any code the files "
+        "carry, so only for files you trust",
+    )
     episodes = parser.add_argument_group("the episodes")
     episodes.add_argument(
         "--episodes",
@@ -794,7 +813,8 @@ def _argument_error(args: argparse.Namespace) -> str | None:
     if args.env_id is not None:
         if args.out is None:
             return "--env-id needs --out DIR (where evaluation.csv goes)"
-        given = [f for f, v in (("--model", args.model), ("--rerun", args.rerun)) if v]
+        flags = {"--model": args.model, "--rerun": args.rerun, "--allow-pickle": args.allow_pickle}
+        given = [f for f, v in flags.items() if v]
         if given:
             verb = "needs" if len(given) == 1 else "need"
             return f"{' and '.join(given)} {verb} a run folder (--env-id evaluates no model)"
@@ -842,7 +862,7 @@ def main(argv: list[str] | None = None, prog: str = "fluidsim-evaluate") -> int:
         if args.run is not None:
             rows = evaluate(
                 args.run, args.episodes, args.seed, args.rerun, which, env=env, out=args.out,
-                **options,
+                allow_pickle=args.allow_pickle, **options,
             )  # fmt: skip
         else:
             rows = evaluate_baselines(

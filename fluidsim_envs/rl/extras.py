@@ -7,7 +7,16 @@ import importlib.util
 
 #: each extra of pyproject.toml and the modules the commands import from it
 EXTRAS = {
-    "train": ("stable_baselines3", "torch", "yaml", "tensorboard", "tqdm", "rich", "scipy"),
+    "train": (
+        "stable_baselines3",
+        "torch",
+        "yaml",
+        "tensorboard",
+        "tqdm",
+        "rich",
+        "scipy",
+        "safetensors",
+    ),
     "rerun": ("rerun",),
     "tune": ("optuna",),
     "sweep": ("ray", "optuna", "pandas", "pyarrow"),

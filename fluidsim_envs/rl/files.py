@@ -2,7 +2,7 @@
 and checking, before a command starts, that it can write where it was told to.
 
 Every file a run writes (checkpoints, the best model and its statistics, the evaluation
-history, ``run.yaml``, ``config.yaml``, ``model.zip``) goes first to a temporary file beside it
+history, ``run.yaml``, ``config.yaml``, the final model) goes first to a temporary file beside it
 (``.<name>.<random>.partial<suffix>``: same folder, so the final step is a rename within one
 file system) and then takes the final name with :func:`os.replace`, which is atomic on POSIX:
 a reader sees the old file or the new one, whole. A killed write leaves only the temporary

@@ -1,14 +1,15 @@
 """What a run folder keeps across kills and resumes, and how ``--resume`` finds its way back.
 
 - **Saved states** (:func:`save_state`): a checkpoint, the final model or the state saved on
-  Ctrl-C is its replay buffer (when kept), its normalization statistics, then its model zip,
-  each written atomically (:mod:`.files`) and the zip last: a zip under its final name means
-  the files before it are whole. :func:`restart_point` takes the newest saved state whose zip
-  and statistics both load, and says on stderr which newer ones it skipped and why.
+  Ctrl-C is its replay buffer (when kept), its normalization statistics, then its model, each
+  a file of numbers and plain metadata (:mod:`.saved`) written atomically (:mod:`.files`),
+  the model last: a model under its final name means the files before it are whole.
+  :func:`restart_point` takes the newest saved state whose model and statistics both read,
+  and says on stderr which newer ones it skipped and why.
 - **The evaluation history** (:class:`EvalLog`): ``eval/evaluations.npz`` (SB3's arrays) and
   ``eval/history.csv`` (a row per evaluation), both written whole from the same arrays after
   each evaluation; a resume drops the evaluations past its restart point and goes on.
-- **The best model** (:class:`BestModel`): ``best/best_model.zip``, the normalization
+- **The best model** (:class:`BestModel`): ``best/best_model.safetensors``, the normalization
   statistics it was evaluated with and ``best/best.yaml`` (its score), replaced only by a
   better evaluation, whatever the resumes in between.
 - **Training episodes** (``monitor.csv``): each row carries the run's timesteps when its
@@ -20,14 +21,11 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 import os
-import pickle
 import re
 import secrets
 import sys
-import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -35,11 +33,17 @@ from typing import Any
 import numpy as np
 import yaml
 
-from . import files
+from . import files, saved
 from .config import ConfigError, read_yaml
 from .files import RunError
 
 CHECKPOINT_PREFIX = "model"
+MODEL = f"model{saved.SUFFIX}"  # the final model and statistics (and replay buffer, kept)
+STATS = f"vecnormalize{saved.SUFFIX}"
+REPLAY = f"replay_buffer{saved.SUFFIX}"
+#: SB3's pickled files of each of those, which an older version wrote: read only behind
+#: --allow-pickle (:mod:`.saved`)
+PICKLED = {MODEL: "model.zip", STATS: "vecnormalize.pkl", REPLAY: "replay_buffer.pkl"}
 EVAL_HISTORY_COLUMNS = (
     "timesteps",
     "mean_return",
@@ -73,28 +77,27 @@ class Restart:
 def checkpoint_stats(model_path: Path) -> Path:
     """The normalization statistics saved with a checkpoint (SB3's naming)."""
     steps = model_path.name[len(CHECKPOINT_PREFIX) + 1 :]
-    return model_path.with_name(f"{CHECKPOINT_PREFIX}_vecnormalize_{steps}").with_suffix(".pkl")
+    return model_path.with_name(f"{CHECKPOINT_PREFIX}_vecnormalize_{steps}")
 
 
 def checkpoint_paths(run_dir: Path, steps: int) -> Restart:
     """Where a checkpoint at ``steps`` goes (SB3's CheckpointCallback's naming)."""
-    model = run_dir / "checkpoints" / f"{CHECKPOINT_PREFIX}_{steps}_steps.zip"
-    replay = model.with_name(f"{CHECKPOINT_PREFIX}_replay_buffer_{steps}_steps.pkl")
+    model = run_dir / "checkpoints" / f"{CHECKPOINT_PREFIX}_{steps}_steps{saved.SUFFIX}"
+    replay = model.with_name(f"{CHECKPOINT_PREFIX}_replay_buffer_{steps}_steps{saved.SUFFIX}")
     return Restart(steps, model, checkpoint_stats(model), replay)
 
 
 def final_paths(run_dir: Path, steps: int) -> Restart:
     """Where the final model of a run at ``steps`` goes."""
-    return Restart(
-        steps, run_dir / "model.zip", run_dir / "vecnormalize.pkl", run_dir / "replay_buffer.pkl"
-    )
+    return Restart(steps, run_dir / MODEL, run_dir / STATS, run_dir / REPLAY)
 
 
-def checkpoints(run_dir: Path) -> list[tuple[int, Path]]:
-    """(timesteps, model path) of every checkpoint in ``run_dir/checkpoints``, newest first."""
+def checkpoints(run_dir: Path, suffix: str = saved.SUFFIX) -> list[tuple[int, Path]]:
+    """(timesteps, model path) of every checkpoint in ``run_dir/checkpoints``, newest first
+    (``suffix``: ``.zip``, those of SB3's format)."""
     found = []
-    for path in (run_dir / "checkpoints").glob(f"{CHECKPOINT_PREFIX}_*_steps.zip"):
-        m = re.fullmatch(rf"{CHECKPOINT_PREFIX}_(\d+)_steps\.zip", path.name)
+    for path in (run_dir / "checkpoints").glob(f"{CHECKPOINT_PREFIX}_*_steps{suffix}"):
+        m = re.fullmatch(rf"{CHECKPOINT_PREFIX}_(\d+)_steps{re.escape(suffix)}", path.name)
         if m:
             found.append((int(m.group(1)), path))
     return sorted(found, reverse=True)
@@ -103,68 +106,64 @@ def checkpoints(run_dir: Path) -> list[tuple[int, Path]]:
 def save_state(model, where: Restart, replay: bool) -> None:
     """The model, its normalization statistics and (``replay``, off-policy) its replay
     buffer at the paths ``where`` names, each written atomically and the model last: a model
-    zip under its final name says the files before it are complete."""
+    under its final name says the files before it are complete."""
     where.model.parent.mkdir(parents=True, exist_ok=True)
     if replay and getattr(model, "replay_buffer", None) is not None:
-        files.write_with(where.replay, model.save_replay_buffer)
+        files.write_with(where.replay, lambda tmp: saved.save_replay(model.replay_buffer, tmp))
     vec_normalize = model.get_vec_normalize_env()
     if vec_normalize is not None:
-        files.write_with(where.stats, lambda tmp: vec_normalize.save(str(tmp)))
-    files.write_with(where.model, model.save)
+        files.write_with(where.stats, lambda tmp: saved.save_statistics(vec_normalize, tmp))
+    files.write_with(where.model, lambda tmp: saved.save_model(model, tmp))
 
 
-def zip_timesteps(path: Path) -> int | None:
-    """The timesteps an SB3 model zip says it has done (from its JSON data alone), or None
-    when the zip or its data cannot be read."""
+def saved_timesteps(path: Path) -> int | None:
+    """The timesteps a saved model says it has done (its header alone), or None when it
+    cannot be read."""
     try:
-        with zipfile.ZipFile(path) as z:
-            steps = json.loads(z.read("data")).get("num_timesteps")
-    except (OSError, zipfile.BadZipFile, KeyError, ValueError, AttributeError):
+        return saved.model_header(path)["num_timesteps"]
+    except RunError:
         return None
-    return steps if isinstance(steps, int) else None
 
 
 def saved_states(run_dir: Path) -> list[Restart]:
     """The run's saved states, newest first: its checkpoints and its final model (the
-    timesteps in its zip; a damaged one sorts first, to be reported)."""
+    timesteps in its header; a damaged one sorts first, to be reported)."""
     found = [checkpoint_paths(run_dir, steps) for steps, _ in checkpoints(run_dir)]
-    final = run_dir / "model.zip"
+    final = run_dir / MODEL
     if final.is_file():
-        steps = zip_timesteps(final)
+        steps = saved_timesteps(final)
         found.append(final_paths(run_dir, steps if steps is not None else -1))
     # a final model that cannot say its timesteps is examined (and reported) first
     return sorted(found, key=lambda r: math.inf if r.steps < 0 else r.steps, reverse=True)
 
 
 def state_problem(restart: Restart, normalize: bool, replay: bool) -> str | None:
-    """Why ``restart`` cannot be resumed from (its zip, or with ``normalize`` its statistics,
-    or a kept replay buffer, does not load), or None."""
-    from stable_baselines3.common.save_util import load_from_pkl, load_from_zip_file
-    from stable_baselines3.common.vec_env import VecNormalize
-
-    # whatever a damaged file raises (zip, JSON, pickle, torch): the reason is reported
-    try:
-        data, params, _ = load_from_zip_file(restart.model, device="cpu")
-    except Exception as e:
-        return f"the model does not load ({type(e).__name__}: {e})"
-    if not data or not params or restart.steps < 0:
-        return "the zip holds no model data"
+    """Why ``restart`` cannot be resumed from (its model, or with ``normalize`` its
+    statistics, or a kept replay buffer, does not read), or None."""
+    needed = [(restart.model, "model")]
     if normalize:
-        if not restart.stats.is_file():
-            return f"its statistics {restart.stats.name} are missing"
-        try:
-            with restart.stats.open("rb") as f:
-                stats = pickle.load(f)
-        except Exception as e:
-            return f"{restart.stats.name} does not load ({type(e).__name__}: {e})"
-        if not isinstance(stats, VecNormalize):
-            return f"{restart.stats.name} holds no VecNormalize statistics"
+        needed.append((restart.stats, "statistics"))
     if replay and restart.replay.is_file():
+        needed.append((restart.replay, "replay"))
+    for path, kind in needed:
+        if kind == "statistics" and not path.is_file():
+            return f"its statistics {path.name} are missing"
         try:
-            load_from_pkl(restart.replay)
-        except Exception as e:
-            return f"{restart.replay.name} does not load ({type(e).__name__}: {e})"
+            header, _ = saved.read_arrays(path, kind)
+        except RunError as e:
+            return f"{path.name} does not load: {str(e).removeprefix(f'{path}: ')}"
+        if header.get("policy_only"):
+            return f"{path.name} {saved.POLICY_ONLY}"
+    if restart.steps < 0:
+        return "the model holds no timesteps"
     return None
+
+
+def pickled_states(run_dir: Path) -> list[Path]:
+    """The model files an older version saved in SB3's pickled format (the final model,
+    the checkpoints), which ``--resume`` does not read."""
+    found = [p for _, p in checkpoints(run_dir, ".zip")]
+    return [run_dir / PICKLED[MODEL]] * (run_dir / PICKLED[MODEL]).is_file() + found
 
 
 def restart_point(
@@ -322,9 +321,9 @@ def _std(values) -> float:
 
 
 class BestModel:
-    """``best/``: the best evaluated model (``best_model.zip``), the normalization statistics
-    it was evaluated with (``vecnormalize.pkl``) and its score (``best.yaml``: mean return,
-    timesteps, when).
+    """``best/``: the best evaluated model (``best_model.safetensors``), the normalization
+    statistics it was evaluated with (``vecnormalize.safetensors``) and its score
+    (``best.yaml``: mean return, timesteps, when).
 
     A new best is written in three steps so that a kill at any moment leaves the three files
     of one evaluation together: (1) the model and statistics go to pending files named with a
@@ -334,8 +333,8 @@ class BestModel:
     commit: the old best stands, whole).
     """
 
-    MODEL = "best_model.zip"
-    STATS = "vecnormalize.pkl"
+    MODEL = f"best_model{saved.SUFFIX}"
+    STATS = STATS
     SCORE = "best.yaml"
 
     def __init__(self, folder: Path) -> None:
@@ -420,11 +419,13 @@ class BestModel:
         self.folder.mkdir(parents=True, exist_ok=True)
         token = secrets.token_hex(6)
         pending = {self.MODEL: self.folder / f".pending-{token}-{self.MODEL}"}
-        files.write_with(pending[self.MODEL], model.save)
+        files.write_with(pending[self.MODEL], lambda tmp: saved.save_model(model, tmp))
         vec_normalize = model.get_vec_normalize_env()
         if vec_normalize is not None:
             pending[self.STATS] = self.folder / f".pending-{token}-{self.STATS}"
-            files.write_with(pending[self.STATS], lambda tmp: vec_normalize.save(str(tmp)))
+            files.write_with(
+                pending[self.STATS], lambda tmp: saved.save_statistics(vec_normalize, tmp)
+            )
         record = {**record, "commit": token}
         files.write_text(self.folder / self.SCORE, yaml.safe_dump(record, sort_keys=False))
         for name, path in pending.items():
@@ -526,5 +527,5 @@ __all__ = [
     "save_state",
     "trim_logs",
     "trim_monitor",
-    "zip_timesteps",
+    "saved_timesteps",
 ]

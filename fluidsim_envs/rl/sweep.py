@@ -66,6 +66,7 @@ from .config import (
     read_yaml,
 )
 from .files import RunError
+from .runs import MODEL, checkpoints
 from .space import (
     Dimension,
     apply_params,
@@ -237,7 +238,7 @@ def run_trial(params: dict[str, Any], sweep: Sweep) -> None:
 def _resumable(run_dir: Path) -> bool:
     """A run folder with a saved state to continue from (a checkpoint or its final model)."""
     return (run_dir / "config.yaml").is_file() and (
-        any((run_dir / "checkpoints").glob("*.zip")) or (run_dir / "model.zip").is_file()
+        any(checkpoints(run_dir)) or (run_dir / MODEL).is_file()
     )
 
 

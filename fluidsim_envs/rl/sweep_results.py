@@ -23,7 +23,7 @@ from ray.tune import Callback
 
 from . import files
 from .config import read_yaml
-from .runs import read_history
+from .runs import MODEL, read_history
 from .space import plain
 
 STATUS_FILE = "status.yaml"
@@ -85,7 +85,7 @@ class SweepProgress(Callback):
         # a run that ended by itself has its final model; one ASHA cut short has none (its
         # last evaluation may fall short of total_timesteps either way: evaluations come
         # every eval.freq steps, the end after the last whole rollout)
-        complete = (Path(last.get("run_dir", "")) / "model.zip").is_file()
+        complete = (Path(last.get("run_dir", "")) / MODEL).is_file()
         if sweep.target is not None and last.get("best_return", -math.inf) >= sweep.target:
             status = "reached target"
         elif sweep.target is not None and last.get("wall_s", 0.0) >= sweep.wall_budget_s:

@@ -58,7 +58,7 @@ import yaml  # noqa: E402  (after the check that names the missing extra)
 from .. import seeding as SD  # noqa: E402
 from .. import threads  # noqa: E402
 from ..physics.jit import target_cpu  # noqa: E402
-from . import files  # noqa: E402
+from . import files, saved  # noqa: E402
 from .config import (  # noqa: E402
     ACTIVATIONS,
     ConfigError,
@@ -74,12 +74,14 @@ from .files import RunError  # noqa: E402
 from .runs import (  # noqa: E402, F401  (CHECKPOINT_PREFIX ... are this module's names too)
     CHECKPOINT_PREFIX,
     EVAL_HISTORY_COLUMNS,
+    MODEL,
     BestModel,
     EvalLog,
     Restart,
     checkpoint_paths,
     checkpoint_stats,
     final_paths,
+    pickled_states,
     read_run_meta,
     restart_point,
     save_state,
@@ -95,6 +97,36 @@ def algorithm_class(name: str) -> type:
     from stable_baselines3 import PPO, SAC
 
     return {"ppo": PPO, "sac": SAC}[name]
+
+
+def policy_spec(cfg: TrainConfig, observation_space) -> tuple[Any, dict[str, Any]]:
+    """The policy (SB3's alias or our class) and its keyword arguments for observations of
+    ``observation_space`` (the stacked frames, with the exact columns where privileged)."""
+    kwargs = policy_kwargs(cfg)
+    if not cfg.privileged_critic:
+        return "MlpPolicy", kwargs
+    from .privileged import PrivilegedCriticPolicy, actor_mask
+
+    reading = observation_space.shape[0] // cfg.frame_stack // 2
+    kwargs["actor_mask"] = actor_mask(reading, cfg.frame_stack)
+    return PrivilegedCriticPolicy, kwargs
+
+
+def build_policy(cfg: TrainConfig, observation_space, action_space):
+    """The policy alone, as the algorithm builds it for ``cfg`` (weights to be loaded into
+    it: :func:`.saved.load_policy_weights`), in evaluation mode."""
+    algo_cls = algorithm_class(cfg.algorithm.name)
+    policy, kwargs = policy_spec(cfg, observation_space)
+    policy_cls = algo_cls.policy_aliases[policy] if isinstance(policy, str) else policy
+    built = policy_cls(
+        observation_space,
+        action_space,
+        lambda _: 0.0,  # no optimizer step is ever taken
+        use_sde=cfg.algorithm.use_sde,
+        **kwargs,
+    )
+    built.set_training_mode(False)
+    return built
 
 
 def policy_kwargs(cfg: TrainConfig) -> dict[str, Any]:
@@ -146,7 +178,7 @@ def make_env(
     recorded by ``VecMonitor`` (raw returns; with ``monitor_file``, a :class:`RunMonitor`
     writing there, appended to when ``append``, its rows stamped with the run's timesteps from
     ``start_timesteps`` on and its times going on from ``time_offset_s``), then
-    ``VecNormalize`` when enabled (``stats``: a saved ``.pkl`` to load), then
+    ``VecNormalize`` when enabled (``stats``: saved statistics to load, :mod:`.saved`), then
     ``VecFrameStack`` with ``cfg.frame_stack`` > 1.
 
     ``evaluation``: frozen statistics, raw rewards and the evaluation's seed stream (else the
@@ -187,7 +219,7 @@ def make_env(
     if not n.enabled:
         return _stacked(venv, cfg.frame_stack)
     if stats is not None:
-        venv = VecNormalize.load(str(stats), venv)
+        venv = saved.load_statistics(stats, venv)
     else:
         venv = VecNormalize(
             venv,
@@ -613,10 +645,17 @@ def _restart(run_dir: Path, cfg: TrainConfig) -> tuple[Restart, float]:
     ``monitor.csv`` had reached (its times go on from there)."""
     files.remove_partials(run_dir)
     restart = restart_point(run_dir, cfg.normalize.enabled, cfg.checkpoint.save_replay_buffer)
+    if restart is None and pickled_states(run_dir):
+        raise RunError(
+            f"{run_dir}: its saved states are SB3 pickles ({pickled_states(run_dir)[0].name}: "
+            "an older version's format, and loading a pickle runs any code it carries); if "
+            "you trust them, convert them once with python -m fluidsim_envs.rl.convert "
+            f"{run_dir} --allow-pickle, then resume"
+        )
     if restart is None:
         raise RunError(
             f"{run_dir}: nothing saved to resume from (no checkpoint in checkpoints/ nor "
-            "model.zip that loads with its normalization statistics); a run stopped before "
+            f"{MODEL} that loads with its normalization statistics); a run stopped before "
             "its first checkpoint starts again with another --run-dir, or after removing it"
         )
     # before the trim: a run of an older version takes its best score from the whole history
@@ -730,30 +769,23 @@ def _meta(
 
 def _model(cfg: TrainConfig, run_dir: Path, venv, restart: Restart | None, env_seed: int):
     """A new model, or the saved one (with its replay buffer if kept) reseeded to go on."""
-    algo_cls = algorithm_class(cfg.algorithm.name)
+    policy, kwargs = policy_spec(cfg, venv.observation_space)
+    model = algorithm_class(cfg.algorithm.name)(
+        policy,
+        venv,
+        policy_kwargs=kwargs,
+        tensorboard_log=str(run_dir / "tb"),
+        seed=cfg.seed,
+        device=cfg.device,
+        verbose=0,
+        **algorithm_kwargs(cfg),
+    )
     if restart is None:
-        policy, kwargs = "MlpPolicy", policy_kwargs(cfg)
-        if cfg.privileged_critic:
-            from .privileged import PrivilegedCriticPolicy, actor_mask
-
-            reading = venv.observation_space.shape[0] // cfg.frame_stack // 2
-            policy = PrivilegedCriticPolicy
-            kwargs["actor_mask"] = actor_mask(reading, cfg.frame_stack)
-        return algo_cls(
-            policy,
-            venv,
-            policy_kwargs=kwargs,
-            tensorboard_log=str(run_dir / "tb"),
-            seed=cfg.seed,
-            device=cfg.device,
-            verbose=0,
-            **algorithm_kwargs(cfg),
-        )
-    model = algo_cls.load(restart.model, env=venv, device=cfg.device)
-    model.tensorboard_log = str(run_dir / "tb")
+        return model
+    saved.load_into(model, restart.model)  # weights, optimizers' states, timesteps
     model.set_random_seed(env_seed)  # torch, the action space and the envs (SeedSequence)
     if restart.replay.exists():
-        model.load_replay_buffer(restart.replay)
+        saved.load_replay(model.replay_buffer, restart.replay)
     return model
 
 

@@ -11,7 +11,6 @@ import dataclasses
 import shutil
 import subprocess
 import sys
-import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -78,21 +77,21 @@ def test_train_writes_a_self_describing_run_folder(run):
     for name in (
         "config.yaml",
         "run.yaml",
-        "model.zip",
-        "vecnormalize.pkl",
+        "model.safetensors",
+        "vecnormalize.safetensors",
         "monitor.csv",
         "learning_curve.png",
         "eval/history.csv",
         "eval/evaluations.npz",
-        "best/best_model.zip",
-        "best/vecnormalize.pkl",  # the statistics the best model was evaluated with
+        "best/best_model.safetensors",
+        "best/vecnormalize.safetensors",  # the statistics the best model was evaluated with
     ):
         assert (run / name).is_file(), name
     assert sorted(p.name for p in (run / "checkpoints").iterdir()) == [
-        "model_1024_steps.zip",
-        "model_2048_steps.zip",
-        "model_vecnormalize_1024_steps.pkl",
-        "model_vecnormalize_2048_steps.pkl",
+        "model_1024_steps.safetensors",
+        "model_2048_steps.safetensors",
+        "model_vecnormalize_1024_steps.safetensors",
+        "model_vecnormalize_2048_steps.safetensors",
     ]
     assert any((run / "tb").rglob("events.out.tfevents.*"))
     # the resolved config: the file's values with the overrides applied, all keys present
@@ -181,18 +180,16 @@ def test_train_warns_when_evaluation_or_checkpoints_never_happen(tmp_path, capsy
 def test_evaluate_the_best_model_with_its_own_statistics(run, tmp_path):
     """best/ holds the statistics of the step the best model comes from (its checkpoint's),
     and evaluating it needs no other."""
-    import pickle
+    from safetensors.numpy import load_file
 
     with (run / "eval" / "history.csv").open() as f:
         rows = list(csv.DictReader(f))
     best_step = max(rows, key=lambda r: float(r["mean_return"]))["timesteps"]
-    saved = run / "checkpoints" / f"model_vecnormalize_{best_step}_steps.pkl"
-    counts = [
-        pickle.loads(p.read_bytes()).obs_rms.count for p in (run / "best/vecnormalize.pkl", saved)
-    ]
+    saved = run / "checkpoints" / f"model_vecnormalize_{best_step}_steps.safetensors"
+    counts = [load_file(p)["obs_rms/count"] for p in (run / "best/vecnormalize.safetensors", saved)]
     assert counts[0] == counts[1]
     run = copy_run(run, tmp_path)
-    (run / "vecnormalize.pkl").unlink()  # the final model's: the best one must not need it
+    (run / "vecnormalize.safetensors").unlink()  # the final model's: the best one must not need it
     rows = evaluate_cli.evaluate(run, 4, 0, which="best", planner=False)
     assert rows[0]["policy"] == "trained PPO (best)"
     assert (run / "evaluation_best.csv").is_file() and not (run / "evaluation.csv").exists()
@@ -343,14 +340,14 @@ def test_resume_continues_an_interrupted_run(run, tmp_path, capsys):
     unless an evaluation beats it; its evaluation history and its episodes go on from the
     checkpoint, without the lost stretch and with times that never step back."""
     run = copy_run(run, tmp_path)
-    for name in ("model.zip", "vecnormalize.pkl"):
+    for name in ("model.safetensors", "vecnormalize.safetensors"):
         (run / name).unlink()
-    newest = run / "checkpoints" / "model_2048_steps.zip"
+    newest = run / "checkpoints" / "model_2048_steps.safetensors"
     newest.write_bytes(newest.read_bytes()[:2000])
     # the best score of an evaluation in the lost stretch, out of reach of the resumed run
     score = yaml.safe_load((run / "best" / "best.yaml").read_text())
     (run / "best" / "best.yaml").write_text(yaml.safe_dump({**score, "mean_return": 1e9}))
-    best_model = (run / "best" / "best_model.zip").read_bytes()
+    best_model = (run / "best" / "best_model.safetensors").read_bytes()
     history = [r for r in history_rows(run) if int(r["timesteps"]) <= 1024]
     episodes = [r for r in monitor_rows(run) if int(r["timesteps"]) <= 1024]
     npz = np.load(run / "eval" / "evaluations.npz")["results"][:1]
@@ -358,18 +355,20 @@ def test_resume_continues_an_interrupted_run(run, tmp_path, capsys):
     # in-process (the CLI's main, without the interpreter start-up of the tests above)
     assert train_cli.main(["--resume", str(run), "--no-progress-bar"]) == 0
     err = capsys.readouterr().err
-    assert "--resume: skipped checkpoints/model_2048_steps.zip: the model does not load" in err
-    from stable_baselines3 import PPO
+    skipped = "--resume: skipped checkpoints/model_2048_steps.safetensors: model_2048_steps"
+    assert f"{skipped}.safetensors does not load" in err
+    from fluidsim_envs.rl.runs import saved_timesteps
 
-    assert PPO.load(run / "model.zip", device="cpu").num_timesteps == 2048
-    assert (run / "checkpoints" / "model_2048_steps.zip").is_file()
+    assert saved_timesteps(run / "model.safetensors") == 2048
+    assert (run / "checkpoints" / "model_2048_steps.safetensors").is_file()
     meta = yaml.safe_load((run / "run.yaml").read_text())
     (resumed,) = meta["resumes"]
-    assert resumed["from"] == "checkpoints/model_1024_steps.zip" and resumed["timesteps"] == 1024
+    assert resumed["from"] == "checkpoints/model_1024_steps.safetensors"
+    assert resumed["timesteps"] == 1024
     assert "--resume" in resumed["command_line"] and resumed["device"] == "cpu"
     assert meta["num_timesteps"] == 2048
     # no worse evaluation replaced the best
-    assert (run / "best" / "best_model.zip").read_bytes() == best_model
+    assert (run / "best" / "best_model.safetensors").read_bytes() == best_model
     assert yaml.safe_load((run / "best" / "best.yaml").read_text())["mean_return"] == 1e9
     # the lost stretch's evaluation (2048) dropped, then evaluated again: once each, the
     # evaluation before the checkpoint as it was
@@ -392,31 +391,36 @@ def test_resume_continues_an_interrupted_run(run, tmp_path, capsys):
 @pytest.mark.parametrize(
     ("damage", "why"),
     [
-        ("empty zip", "the model does not load"),
-        ("zip without data", "the zip holds no model data"),
-        ("statistics missing", "its statistics model_vecnormalize_2048_steps.pkl are missing"),
-        ("statistics truncated", "model_vecnormalize_2048_steps.pkl does not load"),
+        ("empty", "model_2048_steps.safetensors does not load: not a saved model"),
+        ("foreign", "model_2048_steps.safetensors does not load: not a saved model (no fluidsim"),
+        ("statistics missing", "its statistics model_vecnormalize_2048_steps.safetensors are"),
+        ("statistics truncated", "model_vecnormalize_2048_steps.safetensors does not load"),
+        ("statistics as model", "model_2048_steps.safetensors does not load: holds a saved 'st"),
     ],
 )
 def test_resume_falls_back_to_the_newest_checkpoint_that_loads(run, tmp_path, damage, why):
+    from safetensors.numpy import save_file
+
     run = copy_run(run, tmp_path)
-    model, stats = (run / "checkpoints" / f"model{p}_2048_steps" for p in ("", "_vecnormalize"))
-    model, stats = model.with_suffix(".zip"), stats.with_suffix(".pkl")
-    if damage == "empty zip":
+    model, stats = (
+        run / "checkpoints" / f"model{p}_2048_steps.safetensors" for p in ("", "_vecnormalize")
+    )
+    if damage == "empty":
         model.write_bytes(b"")
-    elif damage == "zip without data":
-        with zipfile.ZipFile(model, "w") as z:
-            z.writestr("readme.txt", "no model here")
+    elif damage == "foreign":  # a safetensors file of someone else's: no header of ours
+        save_file({"w": np.zeros(3, np.float32)}, model)
     elif damage == "statistics missing":
         stats.unlink()
+    elif damage == "statistics as model":
+        shutil.copy(stats, model)
     else:
         stats.write_bytes(stats.read_bytes()[:100])
-    (run / "model.zip").write_bytes(b"")  # the final model, damaged too: skipped first
+    (run / "model.safetensors").write_bytes(b"")  # the final model, damaged too: skipped first
     said = []
     restart = train_cli.restart_point(run, normalize=True, say=said.append)
-    assert restart.steps == 1024 and restart.model.name == "model_1024_steps.zip"
-    assert said[0].startswith("--resume: skipped model.zip: the model does not load")
-    assert said[1].startswith(f"--resume: skipped checkpoints/model_2048_steps.zip: {why}")
+    assert restart.steps == 1024 and restart.model.name == "model_1024_steps.safetensors"
+    assert said[0].startswith("--resume: skipped model.safetensors: model.safetensors does not")
+    assert said[1].startswith(f"--resume: skipped checkpoints/model_2048_steps.safetensors: {why}")
 
 
 def test_a_run_folder_keeps_its_best_score(run, tmp_path, capsys):
@@ -461,12 +465,13 @@ def test_a_start_that_fails_leaves_nothing_that_blocks_a_retry(tmp_path, monkeyp
 def test_resume_a_finished_run_for_more_steps(run, tmp_path, capsys):
     """--resume with a larger total continues from the final model when it went furthest."""
     run = copy_run(run, tmp_path)
-    for name in ("model_2048_steps.zip", "model_vecnormalize_2048_steps.pkl"):
+    for name in ("model_2048_steps.safetensors", "model_vecnormalize_2048_steps.safetensors"):
         (run / "checkpoints" / name).unlink()
     args = ["--resume", str(run), "--set", "total_timesteps=3072", "--no-progress-bar"]
     assert train_cli.main(args) == 0
     meta = yaml.safe_load((run / "run.yaml").read_text())
-    assert meta["resumes"][-1]["from"] == "model.zip" and meta["resumes"][-1]["timesteps"] == 2048
+    assert meta["resumes"][-1]["from"] == "model.safetensors"
+    assert meta["resumes"][-1]["timesteps"] == 2048
     assert meta["num_timesteps"] == 3072
     assert train_cli.main(["--resume", str(run), "--no-progress-bar"]) == 0
     out = capsys.readouterr().out
@@ -476,7 +481,7 @@ def test_resume_a_finished_run_for_more_steps(run, tmp_path, capsys):
 def test_resume_needs_a_checkpoint(run, tmp_path, capsys):
     run = copy_run(run, tmp_path)
     shutil.rmtree(run / "checkpoints")
-    (run / "model.zip").unlink()  # an interrupted run that never checkpointed
+    (run / "model.safetensors").unlink()  # an interrupted run that never checkpointed
     assert train_cli.main(["--resume", str(run)]) == 2
     assert "nothing saved to resume from" in capsys.readouterr().err
     assert train_cli.main([str(CONFIG), "--resume", str(run)]) == 2
@@ -509,14 +514,16 @@ def test_train_cli_bad_inputs(tmp_path, capsys):
 def test_evaluate_refuses_a_model_of_another_algorithm(run, tmp_path, capsys):
     from stable_baselines3 import SAC
 
+    from fluidsim_envs.rl import saved
     from fluidsim_envs.wrappers.sb3 import make_sb3_vec_env
 
     run = copy_run(run, tmp_path)
     venv = make_sb3_vec_env("fluidsim/PaperAirplane-v0", 1)
-    SAC("MlpPolicy", venv, buffer_size=10, device="cpu").save(run / "model.zip")
+    sac = SAC("MlpPolicy", venv, buffer_size=10, device="cpu")
+    saved.save_model(sac, run / "model.safetensors")
     assert evaluate_cli.main([str(run), "--episodes", "2"]) == 2
     err = capsys.readouterr().err
-    assert "config.yaml says algorithm 'ppo' but model.zip holds a sac model" in err
+    assert "config.yaml says algorithm 'ppo' but the file holds a sac model" in err
 
 
 def test_evaluate_refuses_a_model_of_another_env(run, tmp_path, capsys):
@@ -530,19 +537,38 @@ def test_evaluate_refuses_a_model_of_another_env(run, tmp_path, capsys):
     assert "belongs to another env" in err
 
 
-@pytest.mark.parametrize("damage", ["garbage", "truncated", "no data"])
-def test_evaluate_refuses_a_corrupt_model(run, tmp_path, capsys, damage):
+@pytest.mark.parametrize(
+    ("damage", "why"),
+    [
+        ("garbage", "not a saved model (SafetensorError"),
+        ("truncated", "not a saved model (SafetensorError"),
+        ("no header", "not a saved model (no fluidsim-envs header)"),
+        ("other shapes", "does not fit the config's policy"),
+    ],
+)
+def test_evaluate_refuses_a_corrupt_model(run, tmp_path, capsys, damage, why):
+    import json
+
+    from safetensors.numpy import load_file, save_file
+
     run = copy_run(run, tmp_path)
-    model = run / "model.zip"
+    model = run / "model.safetensors"
     if damage == "garbage":
-        model.write_bytes(b"this is not a zip file")
+        model.write_bytes(b"this is not a safetensors file")
     elif damage == "truncated":
-        model.write_bytes(model.read_bytes()[:2000])
-    else:
-        with zipfile.ZipFile(model, "w") as z:
-            z.writestr("readme.txt", "no model here")
+        model.write_bytes(model.read_bytes()[:-2000])
+    elif damage == "no header":
+        save_file(load_file(model), model)
+    else:  # the header of the model, the weights of another size
+        from safetensors import safe_open
+
+        with safe_open(model, "numpy") as f:
+            metadata = f.metadata()
+        arrays = {k: np.zeros((3,), v.dtype) for k, v in load_file(model).items()}
+        save_file(arrays, model, metadata=metadata)
+        assert json.loads(metadata["fluidsim"])["kind"] == "model"
     assert evaluate_cli.main([str(run), "--episodes", "2"]) == 2
-    assert "model.zip: corrupt or not an SB3 model" in capsys.readouterr().err
+    assert f"model.safetensors: {why}" in capsys.readouterr().err
 
 
 def test_evaluate_bad_run_folders(run, tmp_path, capsys):
@@ -551,12 +577,14 @@ def test_evaluate_bad_run_folders(run, tmp_path, capsys):
     assert evaluate_cli.main([str(tmp_path)]) == 2
     assert "not a run folder (no config.yaml)" in capsys.readouterr().err
     run = copy_run(run, tmp_path)
-    (run / "vecnormalize.pkl").unlink()
+    (run / "vecnormalize.safetensors").unlink()
     assert evaluate_cli.main([str(run), "--episodes", "2"]) == 2
-    assert "vecnormalize.pkl is missing" in capsys.readouterr().err
-    (run / "model.zip").unlink()
+    assert "vecnormalize.safetensors is missing" in capsys.readouterr().err
+    (run / "model.safetensors").unlink()
     assert evaluate_cli.main([str(run)]) == 2
-    assert "no model.zip" in capsys.readouterr().err
+    assert "no model.safetensors" in capsys.readouterr().err
+    assert evaluate_cli.main([str(run / "config.yaml")]) == 2
+    assert "config.yaml: is a file, not a run folder" in capsys.readouterr().err
 
 
 def test_sac_config_trains_and_evaluates(tmp_path):
@@ -573,10 +601,11 @@ def test_sac_config_trains_and_evaluates(tmp_path):
     ]
     args = ["paper_airplane_sac", "--set", *overrides, "--run-dir", str(run), "--no-progress-bar"]
     assert train_cli.main(args) == 0
-    from stable_baselines3 import SAC
+    cfg, policy = evaluate_cli.load_run(run)
+    assert cfg.algorithm.name == "sac" and policy.actor.latent_pi[0].out_features == 256
+    from fluidsim_envs.rl.runs import saved_timesteps
 
-    model = SAC.load(run / "model.zip", device="cpu")
-    assert model.num_timesteps == 200 and model.policy.actor.latent_pi[0].out_features == 256
+    assert saved_timesteps(run / "model.safetensors") == 200
     rows = evaluate_cli.evaluate(run, 2, 0, planner=False)
     assert [r["policy"] for r in rows] == ["trained SAC", *baselines()]
 

@@ -75,8 +75,8 @@ def test_a_privileged_run_trains_across_levels_and_is_evaluated(tmp_path):
         "--run-dir", str(run_dir), "--no-progress-bar",
     ]  # fmt: skip
     assert train_cli.main(args) == 0
-    cfg, model = evaluate_cli.load_run(run_dir)
-    assert cfg.privileged_critic and isinstance(model.policy, PrivilegedCriticPolicy)
+    cfg, policy = evaluate_cli.load_run(run_dir)  # the policy rebuilt, its weights loaded
+    assert cfg.privileged_critic and isinstance(policy, PrivilegedCriticPolicy)
     rows = evaluate_cli.evaluate(run_dir, episodes=2, seed=0, planner=False)
     assert rows[0]["episodes"] == 2
 

@@ -145,7 +145,7 @@ def test_runs_of_several_sessions_add_up(tmp_path, monkeypatch):
     shipped = config_to_dict(load_config(name))
     (run / "config.yaml").write_text(yaml.safe_dump({**shipped, "seed": 3, "torch_threads": 1}))
     (run / "run.yaml").write_text(yaml.safe_dump({"seeds": {"train_stream": "training"}}))
-    (run / "model.zip").write_bytes(b"")
+    (run / "model.safetensors").write_bytes(b"")
     digest = results.config_digest(name)
     assert results.config_digest(run / "config.yaml") == digest  # seed and threads aside
     # an override is what the run trains: the same digest as the file that says it
@@ -170,7 +170,7 @@ def test_runs_of_several_sessions_add_up(tmp_path, monkeypatch):
         other.mkdir()
         (other / "config.yaml").write_text(yaml.safe_dump({**shipped, "seed": seed, **change}))
         (other / "run.yaml").write_text(yaml.safe_dump({"seeds": {"train_stream": stream}}))
-        (other / "model.zip").write_bytes(b"")
+        (other / "model.safetensors").write_bytes(b"")
     # not the run of another config, nor the one of the shared stream
     assert list(results.local_runs(name)) == [3]
 

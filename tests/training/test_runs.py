@@ -15,7 +15,7 @@ import pytest
 import torch
 import yaml
 
-from fluidsim_envs.rl import files
+from fluidsim_envs.rl import files, saved
 from fluidsim_envs.rl.config import (
     ConfigError,
     config_from_dict,
@@ -33,17 +33,17 @@ MINIMAL = {"env_id": "fluidsim/PaperAirplane-v0", "algorithm": {"name": "ppo"}}
 
 
 def test_a_failed_write_leaves_the_old_file_whole_and_no_temporary(tmp_path):
-    path = tmp_path / "model.zip"
+    path = tmp_path / "model.safetensors"
     path.write_bytes(b"old model")
     with pytest.raises(RuntimeError), files.atomic_path(path) as tmp:
         tmp.write_bytes(b"half a ne")
-        assert tmp.parent == tmp_path and tmp.suffix == ".zip" and tmp.name.startswith(".")
+        assert tmp.parent == tmp_path and tmp.suffix == path.suffix and tmp.name.startswith(".")
         raise RuntimeError("killed")
     assert path.read_bytes() == b"old model"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["model.zip"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [path.name]
     files.write_bytes(path, b"new model")
     assert path.read_bytes() == b"new model"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["model.zip"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [path.name]
 
 
 def test_temporary_files_of_killed_writes_are_removed_and_nothing_else(tmp_path):
@@ -76,8 +76,16 @@ def test_unwritable_paths_are_named_with_the_reason(tmp_path, where):
 # the best model
 
 
+@pytest.fixture(autouse=True)
+def fake_files(monkeypatch):
+    """The saved files as the fakes below write them (a word each, not weights)."""
+    monkeypatch.setattr(saved, "save_model", lambda model, path: model.save(path))
+    monkeypatch.setattr(saved, "save_statistics", lambda stats, path: stats.save(path))
+
+
 class FakeModel:
-    """What BestModel.save uses of an SB3 model: save(path), get_vec_normalize_env()."""
+    """What BestModel.save uses of an SB3 model: the model and its statistics written
+    (:func:`fake_files`), get_vec_normalize_env()."""
 
     def __init__(self, name: str, fail_stats: bool = False) -> None:
         self.name, self.fail_stats = name, fail_stats
@@ -100,8 +108,8 @@ class FakeModel:
 def best_files(folder: Path) -> tuple[str, str, float]:
     score = yaml.safe_load((folder / "best.yaml").read_text())["mean_return"]
     return (
-        (folder / "best_model.zip").read_text(),
-        (folder / "vecnormalize.pkl").read_text(),
+        (folder / BestModel.MODEL).read_text(),
+        (folder / BestModel.STATS).read_text(),
         score,
     )
 
@@ -133,9 +141,9 @@ def test_a_kill_after_the_commit_is_completed_on_the_next_start(tmp_path, monkey
     with pytest.raises(KeyboardInterrupt):
         best.save(FakeModel("b"), {"mean_return": 2.0})
     monkeypatch.undo()
-    assert replaced[2:] == ["best.yaml", "best_model.zip"]
-    assert (tmp_path / "best_model.zip").read_text() == "model b"  # statistics still "a"
-    assert (tmp_path / "vecnormalize.pkl").read_text() == "stats a"
+    assert replaced[2:] == ["best.yaml", BestModel.MODEL]
+    assert (tmp_path / BestModel.MODEL).read_text() == "model b"  # statistics still "a"
+    assert (tmp_path / BestModel.STATS).read_text() == "stats a"
     assert BestModel.open(tmp_path).score == 2.0
     assert best_files(tmp_path) == ("model b", "stats b", 2.0)
     assert not list(tmp_path.glob(".pending-*"))
@@ -163,7 +171,7 @@ def test_an_evaluation_reads_the_committed_best_without_touching_the_folder(tmp_
     model, stats = BestModel(tmp_path).committed()
     assert (model.read_text(), stats.read_text()) == ("model b", "stats b")
     assert sorted(p.name for p in tmp_path.iterdir()) == before
-    assert BestModel(tmp_path / "none").committed()[0] == tmp_path / "none" / "best_model.zip"
+    assert BestModel(tmp_path / "none").committed()[0] == tmp_path / "none" / BestModel.MODEL
 
 
 def test_run_files_get_the_mode_a_plain_write_gives(tmp_path):

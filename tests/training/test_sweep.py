@@ -223,7 +223,7 @@ def test_a_two_trial_search_writes_run_folders_and_one_table(swept):
         assert cfg["torch_threads"] == 1
         assert float(row["peak_rss_mb"]) > 0 and float(row["wall_s"]) > 0
         if row["status"] == "finished":
-            assert int(row["timesteps"]) == 1024 and (run / "model.zip").is_file()
+            assert int(row["timesteps"]) == 1024 and (run / "model.safetensors").is_file()
     # the first trial is the config itself: learning rate 3e-4, its n_epochs of 10 outside
     # the space, so the nearest the space draws, 6
     assert {(float(r["algorithm.learning_rate"]), int(r["algorithm.n_epochs"])) for r in rows} >= {
@@ -258,7 +258,7 @@ def test_seeds_of_one_sampled_config_race_to_a_target(tmp_path):
         assert row["status"] == "reached target" and int(row["timesteps"]) == 256
         assert float(row["time_to_target_s"]) == float(row["wall_s"]) > 0
         # the trial ended itself and its run finished before Tune heard the last evaluation
-        assert (folder / row["run_dir"] / "model.zip").is_file()
+        assert (folder / row["run_dir"] / "model.safetensors").is_file()
         # two CPUs: numba's threads take them, torch keeps one (docs/training.md)
         run_config = yaml.safe_load((folder / row["run_dir"] / "config.yaml").read_text())
         assert run_config["torch_threads"] == 1
@@ -283,7 +283,7 @@ def test_a_trial_that_ended_by_itself_is_finished(tmp_path, steps, model, status
     run_dir = tmp_path / "runs" / "t0"
     run_dir.mkdir(parents=True)
     if model:
-        (run_dir / "model.zip").write_bytes(b"")
+        (run_dir / "model.safetensors").write_bytes(b"")
     said = []
     progress = SweepProgress(sweep_cli.Sweep(folder=str(tmp_path), base=base), said.append)
     last = {"timesteps": steps, "run_dir": str(run_dir), "best_return": 1.0, "wall_s": 9.0}
