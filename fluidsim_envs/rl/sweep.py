@@ -464,7 +464,13 @@ def parse_args(argv: list[str] | None, prog: str) -> argparse.Namespace:
         "of the speed, docs/training.md); numba's threads take --cpus-per-trial",
     )
     parser.add_argument("--sweep-dir", type=Path, help="default sweeps/<env>-<algo>-<time>")
-    parser.add_argument("--resume", type=Path, metavar="DIR", help="continue this sweep")
+    parser.add_argument(
+        "--resume",
+        type=Path,
+        metavar="DIR",
+        help="continue this sweep (Ray Tune restores its state from pickles: only a sweep "
+        "folder your machine wrote)",
+    )
     parser.add_argument(
         "--target",
         type=float,
