@@ -21,10 +21,13 @@ compiling.install()  # a line on stderr while numba compiles (only on a cold cac
 # No ``reward_threshold``: an episode is solved by its success flag (``info["success"]``,
 # ``Scene.success``: landed on the target, the course run, the station held), which no return
 # states (a return mixes progress, comfort and effort terms whose weights are parameters).
+# ``max_episode_steps``: the scene's default, what ``spec.max_episode_steps`` says; the env
+# takes gym.make's own (FluidEnv.spec), and make_vec hands it to the vector env.
 for _scene in SCENES.values():
     register(
         id=_scene.id,
         entry_point=_scene.entry_point,
         vector_entry_point=_scene.vector_entry_point,
+        max_episode_steps=_scene.params_cls().max_episode_steps,
     )
 del _scene

@@ -34,6 +34,7 @@ instead of at each start.
 from __future__ import annotations
 
 import dataclasses
+import sys
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -566,6 +567,7 @@ class FluidEnv(gym.Env):
 
     vector_cls: type[FluidVectorEnv]
     metadata = FluidVectorEnv.metadata
+    _spec = None
 
     def __init__(self, render_mode: str | None = None, **kwargs) -> None:
         self.vector = self.vector_cls(
@@ -600,6 +602,31 @@ class FluidEnv(gym.Env):
     def get_state(self) -> EnvState:
         """A snapshot of the env (:meth:`FluidVectorEnv.get_state`)."""
         return self.vector.get_state()
+
+    def limit_episodes(self, steps: int) -> None:
+        """Truncate episodes after ``steps`` actions from now on (``max_episode_steps``)."""
+        params = dataclasses.replace(self.params, max_episode_steps=steps)  # checked
+        self.vector.params = self.params = params
+
+    @property
+    def spec(self):
+        return self._spec
+
+    @spec.setter
+    def spec(self, spec) -> None:
+        # gym.make(id, max_episode_steps=N) gives N to the TimeLimit it wraps around the env
+        # and nothing to the env, which truncates (and scores an episode's last step) on its
+        # own limit: set on the env right after building it, the spec is the one moment the
+        # env can take N from make's frame, so that both limits agree (-1, no TimeLimit: the
+        # env keeps its own)
+        self._spec = spec
+        caller = sys._getframe(1)
+        if caller.f_code is gym.envs.registration.make.__code__:
+            steps = caller.f_locals.get("max_episode_steps")
+            if steps is None:  # the spec's (gym.make(env.spec) of an env made with N)
+                steps = getattr(caller.f_locals.get("env_spec"), "max_episode_steps", None)
+            if isinstance(steps, int) and steps > 0 and steps != self.params.max_episode_steps:
+                self.limit_episodes(steps)
 
     def set_state(self, state: EnvState) -> np.ndarray:
         """Restore a snapshot of this env (or of one sub-env of a vector env of it: take it

@@ -220,6 +220,22 @@ def test_time_limit_truncates_without_terminating(scene):
     assert venv.episode_steps.tolist() == [0, 0]  # the next episode has started
 
 
+def test_gym_make_s_time_limit_is_the_env_s(scene):
+    """``gym.make(id, max_episode_steps=N)``: the env's own limit (on which it truncates and
+    scores an episode's last step) is N too, longer than its default as well; the spec says
+    the default without it, and ``make_vec`` hands N to the vector env."""
+    default = scene.params_cls().max_episode_steps
+    for n in (5, default + 100):
+        env = gym.make(scene.id, max_episode_steps=n)
+        assert env.unwrapped.params.max_episode_steps == env.spec.max_episode_steps == n
+        assert gym.make(env.spec).unwrapped.params.max_episode_steps == n
+    env = gym.make(scene.id)
+    assert env.spec.max_episode_steps == env.unwrapped.params.max_episode_steps == default
+    venv = gym.make_vec(scene.id, 2, max_episode_steps=7)
+    assert venv.unwrapped.params.max_episode_steps == 7
+    venv.close()
+
+
 def test_step_after_the_end_needs_a_reset(scene):
     env = scene.env_cls(max_episode_steps=2)
     with pytest.raises(RuntimeError, match="call reset first"):
