@@ -353,6 +353,7 @@ class BestModel:
         ``history`` (read before it is trimmed: the best may come from after the restart)."""
         best = cls(folder)
         best.recover()
+        best.set_aside_if_damaged(say)
         path = folder / cls.SCORE
         if path.is_file():
             try:
@@ -370,6 +371,28 @@ class BestModel:
                 best.record = {"mean_return": score}
                 files.write_text(path, yaml.safe_dump(best.record, sort_keys=False))
         return best
+
+    def set_aside_if_damaged(self, say=warn) -> None:
+        """A best model or statistics that does not read (a disk fault, a hand edit) is moved
+        with its score into ``best/damaged-<token>/``, said, and the next evaluation makes a
+        new best (the run goes on: the damaged files are kept for a look, never loaded)."""
+        problem = None
+        for name, kind in ((self.MODEL, "model"), (self.STATS, "statistics")):
+            path = self.folder / name
+            if path.is_file():
+                try:
+                    saved.read_arrays(path, kind)
+                except RunError as e:
+                    problem = problem or str(e)
+        if problem is None:
+            return
+        aside = self.folder / f"damaged-{secrets.token_hex(4)}"
+        aside.mkdir()
+        for name in (self.MODEL, self.STATS, self.SCORE):
+            if (self.folder / name).is_file():
+                os.replace(self.folder / name, aside / name)
+        say(f"--resume: {problem}; the best model is set aside in {aside} and the next "
+            "evaluation makes a new one")  # fmt: skip
 
     def _pending(self) -> list[tuple[str, str, Path]]:
         """(token, final name, path) of each pending file."""

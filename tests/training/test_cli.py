@@ -423,6 +423,27 @@ def test_resume_falls_back_to_the_newest_checkpoint_that_loads(run, tmp_path, da
     assert said[1].startswith(f"--resume: skipped checkpoints/model_2048_steps.safetensors: {why}")
 
 
+def test_a_damaged_best_model_is_set_aside_on_resume(run, tmp_path, capsys):
+    """A truncated best model is noticed, moved aside with its score (kept for a look), and
+    the resumed run's next evaluation makes a new best."""
+    run = copy_run(run, tmp_path)
+    model = run / "best" / "best_model.safetensors"
+    model.write_bytes(model.read_bytes()[:1000])
+    for name in ("model_2048_steps.safetensors", "model_vecnormalize_2048_steps.safetensors"):
+        (run / "checkpoints" / name).unlink()
+    (run / "model.safetensors").unlink()
+    assert train_cli.main(["--resume", str(run), "--no-progress-bar"]) == 0
+    err = capsys.readouterr().err
+    assert "best_model.safetensors: not a saved model" in err and "set aside in" in err
+    (aside,) = (run / "best").glob("damaged-*")
+    assert sorted(p.name for p in aside.iterdir()) == [
+        "best.yaml", "best_model.safetensors", "vecnormalize.safetensors"
+    ]  # fmt: skip
+    best = yaml.safe_load((run / "best" / "best.yaml").read_text())
+    assert best["timesteps"] == 2048  # the resumed run's evaluation, the new best
+    evaluate_cli.load_run(run, "best")
+
+
 def test_a_run_folder_keeps_its_best_score(run, tmp_path, capsys):
     """best/best.yaml holds the best evaluation's score, which a resume reads back; a run of
     an older version, without it, takes the best of its whole evaluation history (before the
