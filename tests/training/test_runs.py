@@ -128,7 +128,7 @@ def test_a_kill_before_the_commit_keeps_the_old_best_whole(tmp_path):
 def test_a_kill_after_the_commit_is_completed_on_the_next_start(tmp_path, monkeypatch):
     best = BestModel(tmp_path)
     best.save(FakeModel("a"), {"mean_return": 1.0})
-    replaced = []
+    real_replace, replaced = os.replace, []
 
     def replace(src, dst):
         # the renames of a save: the pending model and statistics, best.yaml (the commit),
@@ -141,7 +141,7 @@ def test_a_kill_after_the_commit_is_completed_on_the_next_start(tmp_path, monkey
     monkeypatch.setattr(os, "replace", replace)
     with pytest.raises(KeyboardInterrupt):
         best.save(FakeModel("b"), {"mean_return": 2.0})
-    monkeypatch.undo()
+    monkeypatch.setattr(os, "replace", real_replace)
     assert replaced[2:] == ["best.yaml", BestModel.MODEL]
     assert (tmp_path / BestModel.MODEL).read_text() == "model b"  # statistics still "a"
     assert (tmp_path / BestModel.STATS).read_text() == "stats a"
@@ -167,7 +167,7 @@ def test_an_evaluation_reads_the_committed_best_without_touching_the_folder(tmp_
     monkeypatch.setattr(os, "replace", replace)
     with pytest.raises(KeyboardInterrupt):
         best.save(FakeModel("b"), {"mean_return": 2.0})
-    monkeypatch.undo()
+    monkeypatch.setattr(os, "replace", real_replace)
     before = sorted(p.name for p in tmp_path.iterdir())
     model, stats = BestModel(tmp_path).committed()
     assert (model.read_text(), stats.read_text()) == ("model b", "stats b")
