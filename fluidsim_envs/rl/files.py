@@ -51,9 +51,28 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
         _flush_to_disk(tmp_path)
         _test_delay()
         os.replace(tmp_path, path)
-    except BaseException:
+    except BaseException as e:
         tmp_path.unlink(missing_ok=True)
+        if disk_full(e):
+            raise RunError(
+                f"{path}: no space left on the disk; this file's last whole version and every "
+                "file written before it are kept as they were"
+            ) from None
         raise
+
+
+def disk_full(error: BaseException) -> bool:
+    """Whether ``error``, or an error it was raised from or during, is a full disk (or quota):
+    libraries wrap the OSError (torch, safetensors)."""
+    seen = set()
+    while error is not None and id(error) not in seen:
+        seen.add(id(error))
+        if isinstance(error, OSError) and error.errno in (errno.ENOSPC, errno.EDQUOT):
+            return True
+        if "No space left on device" in str(error):  # a library's own error, its text kept
+            return True
+        error = error.__cause__ or error.__context__
+    return False
 
 
 def _umask() -> int:

@@ -24,13 +24,14 @@ repeats each trial over seeds.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 import numbers
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .config import SHIPPED, ConfigError, config_from_dict, get_key, set_key
+from .config import ALGORITHMS, SHIPPED, ConfigError, config_from_dict, get_key, set_key
 
 #: the search spaces that ship with the package, found by name (``--search ppo``)
 SHIPPED_SPACES = SHIPPED / "search"
@@ -147,6 +148,7 @@ def check_space(space: dict[str, Dimension], base: dict[str, Any], source: str) 
     ``base`` (a config as plain data) one dimension at a time. What ties keys together (a
     batch no larger than a rollout) is checked by each trial, on its whole config: a trial
     whose combination is refused ends as an error that names it."""
+    _check_algorithm(space, base, source)
     for dim in space.values():
         for value in dim.values:
             raw = copy.deepcopy(base)
@@ -155,6 +157,21 @@ def check_space(space: dict[str, Dimension], base: dict[str, Any], source: str) 
                 config_from_dict(raw, joint=False)
             except ConfigError as e:
                 raise ConfigError(f"{source}: {dim.key} = {value!r}: {e}") from None
+
+
+def _check_algorithm(space: dict[str, Dimension], base: dict[str, Any], source: str) -> None:
+    """A space that tunes another algorithm's keys: an error that says whose they are."""
+    ours = base.get("algorithm", {}).get("name")
+    keys = [k.split(".", 1)[1] for k in space if k.startswith("algorithm.")]
+    fields = {n: {f.name for f in dataclasses.fields(c)} for n, c in ALGORITHMS.items()}
+    foreign = [k for k in keys if k not in fields.get(ours, set())]
+    theirs = [n for n, names in fields.items() if n != ours and foreign and set(keys) <= names]
+    if foreign and theirs:
+        raise ConfigError(
+            f"{source}: tunes {theirs[0]}'s keys ({', '.join(f'algorithm.{k}' for k in foreign)}), "
+            f"but the config's algorithm is {ours}: pass --search {ours} (or a space of "
+            f"{ours}'s keys)"
+        )
 
 
 def base_point(space: dict[str, Dimension], base: dict[str, Any]) -> tuple[dict, list[str]]:

@@ -58,7 +58,7 @@ import yaml  # noqa: E402  (after the check that names the missing extra)
 from .. import seeding as SD  # noqa: E402
 from .. import threads  # noqa: E402
 from ..physics.jit import target_cpu  # noqa: E402
-from . import files, saved  # noqa: E402
+from . import files, memory, saved  # noqa: E402
 from .config import (  # noqa: E402
     ACTIVATIONS,
     ConfigError,
@@ -426,23 +426,36 @@ def _curriculum(cfg: TrainConfig, done_steps: int, say) -> list:
     ]
 
 
+def env_spaces(env_id: str, env_kwargs: dict[str, Any]) -> tuple:
+    """The (observation, action) spaces of one sub-env of ``env_id`` with ``env_kwargs``."""
+    from fluidsim_envs.wrappers.sb3 import make_vector_env
+
+    env = make_vector_env(env_id, 1, **env_kwargs)
+    try:
+        return env.single_observation_space, env.single_action_space
+    finally:
+        env.close()
+
+
+def _check_memory(cfg: TrainConfig) -> None:
+    """A run the machine's available memory cannot hold: an error with the estimate and the
+    keys that set it (:mod:`.memory`), before any env is built."""
+    obs, act = env_spaces(cfg.env_id, cfg.env_kwargs)
+    # the policy's observation: each frame's reading, and the exact one where privileged
+    obs_dim = obs.shape[0] * (2 if cfg.privileged_critic else 1) * cfg.frame_stack
+    why = memory.problem(cfg, obs_dim, act.shape[0], memory.available_bytes())
+    if why is not None:
+        raise RunError(why)
+
+
 def _check_stage_spaces(cfg: TrainConfig) -> None:
     """Every curriculum stage's env has the spaces of the run's own (the policy reads and
     acts on both): a mismatch is an error naming the stage before training, not at its
     start."""
-    from fluidsim_envs.wrappers.sb3 import make_vector_env
-
-    def spaces(env_kwargs: dict[str, Any]) -> tuple:
-        env = make_vector_env(cfg.env_id, 1, **env_kwargs)
-        try:
-            return env.single_observation_space, env.single_action_space
-        finally:
-            env.close()
-
     *stages, (_, own_kwargs) = stage_starts(cfg)
-    own = spaces(own_kwargs)
+    own = env_spaces(cfg.env_id, own_kwargs)
     for i, (_, kwargs) in enumerate(stages):
-        theirs = spaces(kwargs)
+        theirs = env_spaces(cfg.env_id, kwargs)
         if theirs != own:
             raise ConfigError(
                 f"curriculum[{i}]: its env's (observation, action) spaces {theirs} differ "
@@ -573,6 +586,7 @@ def _train(
 ) -> Path:
     cfg = resolved(cfg)  # every env parameter written down: the run replays whatever changes
     files.check_writable_folder(run_dir, "--resume" if resume else "--run-dir")
+    _check_memory(cfg)
     restart, time_offset = _restart(run_dir, cfg) if resume else (None, 0.0)
     # seeding, in one place: training env i gets seeding.root(seed, "training").spawn(n_envs)[i]
     # at its first reset (SB3VecEnv.seed, as the env's own reset(seed=..., options={"stream":
@@ -914,6 +928,7 @@ def _run_folder(args: argparse.Namespace) -> tuple[TrainConfig, Path]:
 def main(argv: list[str] | None = None, prog: str = "fluidsim-train") -> int:
     args = parse_args(argv, prog)
     command = [prog, *(sys.argv[1:] if argv is None else argv)]
+    run_dir = None
     try:
         cfg, run_dir = _run_folder(args)
         train(
@@ -923,11 +938,18 @@ def main(argv: list[str] | None = None, prog: str = "fluidsim-train") -> int:
             resume=args.resume is not None,
             progress_bar=not args.no_progress_bar,
         )
-    except (ConfigError, RunError) as e:
-        print(f"{prog}: error: {e}", file=sys.stderr)
-        return 2
     except KeyboardInterrupt:
         return 130
+    except Exception as e:
+        full = files.disk_full(e)  # the run's files say so (RunError); others are wrapped
+        named = isinstance(e, ConfigError | RunError)
+        if not (full or named):
+            raise
+        text = str(e) if named else f"no space left on the disk ({type(e).__name__}: {e})"
+        if full and run_dir is not None:
+            text += f"; free space, then continue the run: {prog} --resume {run_dir}"
+        print(f"{prog}: error: {text}", file=sys.stderr)
+        return 2
     return 0
 
 

@@ -355,7 +355,14 @@ def state_rows() -> list[Row]:
     # fmt: on
 
 
-ROWS = param_rows() + reset_rows() + action_rows() + state_rows()
+# a sea past what linear wave theory holds, from knobs each within its own range: the
+# message names the knobs and the height and period that would do
+SEA_ROWS = [
+    Row("boat1-steep-sea", make_vec(BOAT1, sea_hs_m=2.0, wind_mps=30.0), ValueError,
+        ["sea_hs_m=2", "sea_tp_s=2.5", "steepness", "sea_tp_s >= 3.78", "sea_hs_m <= 0.873"]),
+]  # fmt: skip
+
+ROWS = param_rows() + reset_rows() + action_rows() + state_rows() + SEA_ROWS
 
 
 @pytest.mark.parametrize("row", params(ROWS))

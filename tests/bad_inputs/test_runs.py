@@ -545,7 +545,40 @@ RESUME_ROWS = [
 ]
 
 
-ROWS = CONFIG_ROWS + FILE_ROWS + SET_ROWS + PATH_ROWS + RESUME_ROWS
+def too_large() -> None:
+    """``fluidsim-train`` with more sub-envs than the machine holds (its available memory
+    made 1 GiB: the refusal, not the machine, is under test; were it to build the envs,
+    the patched ``_build`` fails the row)."""
+    with (
+        mock.patch.object(train_cli.memory, "available_bytes", return_value=2**30),
+        mock.patch.object(train_cli, "_build", side_effect=AssertionError("envs built")),
+    ):
+        cli(train_cli.main, "paper_airplane_v1_ppo", "--set", "n_envs=100000",
+            "--run-dir", folder() / "r", "--no-progress-bar")  # fmt: skip
+
+
+def sweep(*argv) -> None:
+    from fluidsim_envs.rl import sweep as sweep_cli
+
+    cli(sweep_cli.main, *argv)
+
+
+FAULT_ROWS = [
+    Row("evaluate-a-file", lambda: evaluate(a_file()), CliError,
+        ("a_file", "is a file, not a run folder")),
+    Row("evaluate-pickled-model", lambda: evaluate(run_folder({"model.zip": GARBAGE})),
+        CliError, ("model.zip", "an SB3 pickle", "runs any code", "--allow-pickle")),
+    Row("resume-pickled-states", resume(lambda: run_folder({"model.zip": GARBAGE})), CliError,
+        ("SB3 pickles", "python -m fluidsim_envs.rl.convert", "--allow-pickle")),
+    Row("train-more-than-memory", too_large, CliError,
+        ("n_envs=100,000", "GiB", "1.0 GiB available", "lower n_envs")),
+    Row("sweep-search-of-another-algorithm",
+        lambda: sweep("paper_airplane_v1_ppo", "--search", "sac", "--trials", "2"), CliError,
+        ("tunes sac's keys", "algorithm.gradient_steps", "algorithm is ppo", "--search ppo")),
+]  # fmt: skip
+
+
+ROWS = CONFIG_ROWS + FILE_ROWS + SET_ROWS + PATH_ROWS + RESUME_ROWS + FAULT_ROWS
 
 
 @pytest.mark.parametrize("row", params(ROWS))

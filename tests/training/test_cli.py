@@ -444,6 +444,42 @@ def test_a_damaged_best_model_is_set_aside_on_resume(run, tmp_path, capsys):
     evaluate_cli.load_run(run, "best")
 
 
+def test_a_full_disk_is_named_and_loses_nothing(tmp_path, capsys, monkeypatch):
+    """The disk fills up while a checkpoint is written: one clear error that says how to go
+    on, the checkpoint before it whole, and the run resumes from it once there is room."""
+    import errno
+
+    from fluidsim_envs.rl import saved
+
+    real_save, calls = saved.save_model, []
+
+    def save_model(model, path, *args):
+        calls.append(path)
+        if model.num_timesteps == 2048:
+            open(path, "wb").write(b"half a mo")  # noqa: SIM115 (what a full disk leaves)
+            raise RuntimeError("safetensors: write failed") from OSError(
+                errno.ENOSPC, "No space left on device"
+            )
+        real_save(model, path, *args)
+
+    monkeypatch.setattr(saved, "save_model", save_model)
+    run = tmp_path / "run"
+    args = ["paper_airplane_ppo", "--set", *TINY, "--run-dir", str(run), "--no-progress-bar"]
+    assert train_cli.main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no space left on the disk" in err[0], err
+    assert f"continue the run: fluidsim-train --resume {run}" in err[0]
+    # the checkpoint at 2048 stops short of its model (its statistics were written first:
+    # without the model they are no checkpoint); no temporary file is left
+    assert sorted(p.name for p in (run / "checkpoints").iterdir()) == [
+        "model_1024_steps.safetensors",
+        "model_vecnormalize_1024_steps.safetensors",
+        "model_vecnormalize_2048_steps.safetensors",
+    ]
+    monkeypatch.setattr(saved, "save_model", real_save)
+    assert train_cli.main(["--resume", str(run), "--no-progress-bar"]) == 0
+
+
 def test_a_run_folder_keeps_its_best_score(run, tmp_path, capsys):
     """best/best.yaml holds the best evaluation's score, which a resume reads back; a run of
     an older version, without it, takes the best of its whole evaluation history (before the

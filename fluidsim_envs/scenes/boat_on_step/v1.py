@@ -4,6 +4,7 @@ a difficulty level (``scenes/realism.py``)."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -11,7 +12,7 @@ import numpy as np
 
 from ...craft.hull import HULLS
 from ...physics import World
-from ...physics.surface import irregular_sea
+from ...physics.surface import MAX_STEEPNESS, irregular_sea
 from ..base import FluidEnv
 from ..limits import WEIGHT, Bound
 from ..probes import Probe
@@ -202,6 +203,7 @@ class BoatOnStepV1VectorEnv(Version1, BoatOnStepVectorEnv):
         k = self.params.knobs
         swell = self.params.swell
         if k.sea_hs_m > 0.0:  # the components straddle the peak: a fixed sea, a random moment
+            _check_sea(k.sea_hs_m, k.sea_tp_s, k.sea_gamma)
             swell = irregular_sea(k.sea_hs_m, k.sea_tp_s, k.sea_gamma, spread_deg=30.0)
         return World(water=True, swell=swell, wave_orbital_velocity=True)
 
@@ -327,3 +329,22 @@ BoatOnStepV1Env.__doc__ = v1_doc(
 
 __all__ = ["LEVELS", "OBSERVATION_V1", "PLAN", "SENSORS", "BoatOnStepV1Env",
            "BoatOnStepV1Params", "BoatOnStepV1VectorEnv"]  # fmt: skip
+
+
+def _check_sea(hs_m: float, tp_s: float, gamma: float) -> None:
+    """A ValueError naming the knobs where ``sea_hs_m`` and ``sea_tp_s`` make a sea whose
+    steepest component is past what linear wave theory holds (``surface.MAX_STEEPNESS``),
+    with the largest height and the shortest period that would do."""
+    # a component's steepness 2 pi a / wavelength grows with the height and falls with the
+    # period squared (deep water): measured on a low sea of the same shape, then scaled
+    low = irregular_sea(1e-3, tp_s, gamma, spread_deg=30.0)
+    steepness = max(w.steepness for w in low) * hs_m / 1e-3
+    if steepness <= MAX_STEEPNESS:
+        return
+    raise ValueError(
+        f"sea_hs_m={hs_m:g} with sea_tp_s={tp_s:g} (sea_gamma={gamma:g}) makes waves of "
+        f"steepness {steepness:.3g}, past the {MAX_STEEPNESS:g} that linear wave theory "
+        f"holds: a sea of that height needs sea_tp_s >= "
+        f"{tp_s * math.sqrt(steepness / MAX_STEEPNESS):.3g} s, or at that period "
+        f"sea_hs_m <= {hs_m * MAX_STEEPNESS / steepness:.3g} m"
+    )
