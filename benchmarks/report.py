@@ -94,6 +94,7 @@ BLOCKS = (
     Block("docs/reliability.md", "fuzz-table", "docs/fuzz.csv", "report:fuzz_markdown"),
     Block("docs/reliability.md", "fuzz-v1-table", "docs/fuzz_v1.csv", "report:fuzz_v1_markdown"),
     Block("docs/reliability.md", "kill-table", "docs/kill_resume.csv", "report:kill_markdown"),
+    Block("docs/reliability.md", "ranges-table", "docs/ranges.csv", "ranges:markdown"),
     Block("docs/study.md", "cost-table", "docs/study_cost.csv", "study_accuracy:cost_markdown"),
     Block(
         "docs/baselines.md", "planner-budget", "docs/study_planner.csv", "study_planner:markdown"
@@ -385,8 +386,6 @@ def params_markdown() -> str:
     from fluidsim_envs.physics.kernels import INTEGRATORS
     from fluidsim_envs.scenes import SCENES
     from fluidsim_envs.scenes import limits as LIM
-    from fluidsim_envs.scenes.realism import KNOB_RANGES
-
     lines = []
     for env_id, scene in SCENES.items():
         own = env_id.split("/")[1]
@@ -395,10 +394,7 @@ def params_markdown() -> str:
         lines += [f"**{own}** (`{cls.__name__}`)", "", "| parameter | default | allowed |"]
         lines.append("|---|---|---|")
         for f in dataclasses.fields(cls):
-            rule = cls.RANGES.get(f.name) or (
-                KNOB_RANGES.get(f.name) if f.name in getattr(cls, "__dataclass_fields__", {})
-                else None
-            )  # fmt: skip
+            rule = cls.RANGES.get(f.name) or getattr(cls, "KNOB_RANGES", {}).get(f.name)
             if f.name == "difficulty":
                 allowed = "easy, standard, hard"
             elif f.name == "actuators":

@@ -11,7 +11,7 @@ import pytest
 from PIL import Image
 
 from fluidsim_envs import enjoy
-from fluidsim_envs.rl import train as train_cli
+from tests.tiny_run import train_tiny
 
 TINY = [
     "env_id=fluidsim/PaperAirplane-v1",
@@ -26,10 +26,7 @@ TINY = [
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory) -> Path:
-    folder = tmp_path_factory.mktemp("enjoy") / "run"
-    argv = ["paper_airplane_ppo", "--set", *TINY, "--run-dir", str(folder), "--no-progress-bar"]
-    assert train_cli.main(argv) == 0
-    return folder
+    return train_tiny(tmp_path_factory.mktemp("enjoy") / "run", "paper_airplane_ppo", *TINY)
 
 
 def test_a_policy_flies_to_a_gif_and_a_recording(run, tmp_path, capsys):

@@ -30,6 +30,7 @@ from __future__ import annotations
 import dataclasses
 import inspect
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -86,6 +87,10 @@ class KnobParams:
     """The fields every v1 parameter class adds to its v0 one (inherit from both; the
     knobs' documentation is :class:`Knobs`'): ``difficulty`` and each knob, None for its
     level's value. The class's ``__post_init__`` calls :func:`resolve` first."""
+
+    #: every knob's range, the shared :data:`KNOB_RANGES` with the scene's own over them (its
+    #: knobs, and where its craft holds less: ``docs/ranges.csv``); a scene's class sets it
+    KNOB_RANGES: ClassVar[dict] = KNOB_RANGES
 
     difficulty: str = "standard"
     observe_samples: bool = True  # the probes' columns (the plan's) end the observation

@@ -21,6 +21,7 @@ from fluidsim_envs.rl import convert, saved
 from fluidsim_envs.rl import evaluate as evaluate_cli
 from fluidsim_envs.rl import train as train_cli
 from fluidsim_envs.rl.config import load_config
+from tests.tiny_run import train_tiny
 
 TINY = [
     "total_timesteps=256",
@@ -35,10 +36,7 @@ TINY = [
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory) -> Path:
-    folder = tmp_path_factory.mktemp("saved") / "run"
-    argv = ["paper_airplane_ppo", "--set", *TINY, "--run-dir", str(folder), "--no-progress-bar"]
-    assert train_cli.main(argv) == 0
-    return folder
+    return train_tiny(tmp_path_factory.mktemp("saved") / "run", "paper_airplane_ppo", *TINY)
 
 
 class Payload:

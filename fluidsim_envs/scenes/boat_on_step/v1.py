@@ -13,8 +13,9 @@ import numpy as np
 from ...craft.hull import HULLS
 from ...physics import World
 from ...physics.surface import MAX_STEEPNESS, irregular_sea
+from .. import realism as RL
 from ..base import FluidEnv
-from ..limits import WEIGHT, Bound
+from ..limits import WEIGHT, Bound, Span
 from ..probes import Probe
 from ..realism import (
     V1_STATE,
@@ -86,8 +87,20 @@ class BoatKnobs(Knobs):
 
 KNOB_RANGES = {
     "wind_mps": Bound(0.0, 30.0),
-    "sea_hs_m": Bound(0.0, 2.0),
-    "sea_tp_s": Bound(1.0, 20.0),
+    # where the boat holds (docs/ranges.csv, reliability.md#knob-ranges-that-hold), at every
+    # corner of them: its centre of mass within 50 cm (hard: 20 cm); its mass, inertia,
+    # areas, the water's density and its thrust within a factor 1.5 (a light hull with large
+    # planing areas at full power porpoises into a runaway)
+    "com_shift_m": Bound(0.0, 0.5),
+    "mass_scale": Span(0.67, 1.5),
+    "inertia_scale": Span(0.67, 1.5),
+    "area_scale": Span(0.67, 1.5),
+    "density_scale": Span(0.67, 1.5),
+    "thrust_scale": Span(0.0, 1.5),
+    # each end a sea linear wave theory holds with the other at hard's (hs 0.4 m, tp 3 s):
+    # steeper seas are refused, naming both knobs (_check_sea)
+    "sea_hs_m": Bound(0.0, 1.2),
+    "sea_tp_s": Bound(1.7, 20.0),
     "sea_gamma": Bound(1.0, 10.0),
 }
 KNOBS = BoatKnobs  # what docs/environments.md's level table lists
@@ -154,6 +167,7 @@ class BoatOnStepV1Params(BoatOnStepParams, KnobParams):
     ``LEVELS``)."""
 
     NAME: ClassVar[str] = "BoatOnStep-v1"
+    KNOB_RANGES: ClassVar[dict] = {**RL.KNOB_RANGES, **KNOB_RANGES}
     RANGES: ClassVar[dict] = {
         **BoatOnStepParams.RANGES,
         "ride_limit_g": Bound(1e-3, 10.0),
@@ -176,7 +190,7 @@ class BoatOnStepV1Params(BoatOnStepParams, KnobParams):
     sea_gamma: float | None = None
 
     def __post_init__(self) -> None:
-        resolve(self, self.NAME, LEVELS, BoatKnobs, KNOB_RANGES)
+        resolve(self, self.NAME, LEVELS, BoatKnobs, self.KNOB_RANGES)
         super().__post_init__()
         if self.knobs.sea_hs_m > 0.0 and self.swell:
             raise ValueError(

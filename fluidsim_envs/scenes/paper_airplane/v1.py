@@ -9,9 +9,10 @@ from typing import ClassVar
 
 import numpy as np
 
+from .. import realism as RL
 from .. import turbulence as TB
 from ..base import FluidEnv
-from ..limits import Bound
+from ..limits import Bound, Span
 from ..probes import Probe
 from ..realism import (
     V1_STATE,
@@ -85,6 +86,15 @@ class DartKnobs(Knobs):
 
 
 KNOB_RANGES = {
+    # where the dart holds (docs/ranges.csv, reliability.md#knob-ranges-that-hold), at every
+    # corner of them: its centre of mass within 3 cm (a tenth of its length; hard moves it
+    # 6 mm); mass, inertia and areas within a factor 1.5 of its own and the air's density
+    # within 1.25 (a light dart of large area in dense air is stiffer than its step)
+    "com_shift_m": Bound(0.0, 0.03),
+    "mass_scale": Span(0.67, 1.5),
+    "inertia_scale": Span(0.67, 1.5),
+    "area_scale": Span(0.67, 1.5),
+    "density_scale": Span(0.8, 1.25),
     "gust_mps": Bound(0.0, 20.0),
     "gust_duration_s": Bound(0.05, 10.0),
     "gust_within_s": Bound(0.01, 1000.0),
@@ -138,13 +148,14 @@ class PaperAirplaneV1Params(PaperAirplaneParams, KnobParams):
     ``LEVELS``)."""
 
     NAME: ClassVar[str] = "PaperAirplane-v1"
+    KNOB_RANGES: ClassVar[dict] = {**RL.KNOB_RANGES, **KNOB_RANGES}
     turbulence: str | None = None
     gust_mps: float | None = None
     gust_duration_s: float | None = None
     gust_within_s: float | None = None
 
     def __post_init__(self) -> None:
-        resolve(self, self.NAME, LEVELS, DartKnobs, KNOB_RANGES, CHOICES)
+        resolve(self, self.NAME, LEVELS, DartKnobs, self.KNOB_RANGES, CHOICES)
         super().__post_init__()
 
 

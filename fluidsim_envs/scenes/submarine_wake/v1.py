@@ -10,8 +10,9 @@ from typing import ClassVar
 import numpy as np
 
 from .. import currents as CU
+from .. import realism as RL
 from ..base import FluidEnv
-from ..limits import Bound
+from ..limits import Bound, Span
 from ..probes import Probe
 from ..realism import (
     V1_STATE,
@@ -84,6 +85,17 @@ class SubKnobs(Knobs):
 
 
 KNOB_RANGES = {
+    # where the UUV holds (docs/ranges.csv, reliability.md#knob-ranges-that-hold), at every
+    # corner of them: its centre of mass within 10 cm (hard: 2 cm); its mass and the water's
+    # density within a factor 1.25 (a UUV trimmed near neutral: a light one in dense water
+    # is buoyant enough to leap), its inertia from 0.8 to 2, its areas from half to 1.5
+    # times, its thrust up to twice
+    "com_shift_m": Bound(0.0, 0.1),
+    "mass_scale": Span(0.8, 1.25),
+    "density_scale": Span(0.8, 1.25),
+    "inertia_scale": Span(0.8, 2.0),
+    "area_scale": Span(0.5, 1.5),
+    "thrust_scale": Span(0.0, 2.0),
     "current_mps": Bound(0.0, 3.0),
     "current_variation_mps": Bound(0.0, 2.0),
     "current_time_s": Bound(1.0, 1e5),
@@ -144,12 +156,13 @@ class SubmarineWakeV1Params(SubmarineWakeParams, KnobParams):
     ``LEVELS``)."""
 
     NAME: ClassVar[str] = "SubmarineWake-v1"
+    KNOB_RANGES: ClassVar[dict] = {**RL.KNOB_RANGES, **KNOB_RANGES}
     current_mps: float | None = None
     current_variation_mps: float | None = None
     current_time_s: float | None = None
 
     def __post_init__(self) -> None:
-        resolve(self, self.NAME, LEVELS, SubKnobs, KNOB_RANGES)
+        resolve(self, self.NAME, LEVELS, SubKnobs, self.KNOB_RANGES)
         super().__post_init__()
 
 
