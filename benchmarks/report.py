@@ -386,6 +386,7 @@ def params_markdown() -> str:
     from fluidsim_envs.physics.kernels import INTEGRATORS
     from fluidsim_envs.scenes import SCENES
     from fluidsim_envs.scenes import limits as LIM
+
     lines = []
     for env_id, scene in SCENES.items():
         own = env_id.split("/")[1]

@@ -1,7 +1,7 @@
 """The Stable-Baselines3 parts of a run that write into its folder, written so that a kill at
 any moment leaves it resumable (see :mod:`.runs`):
 
-- :class:`Checkpoints`: SB3's ``CheckpointCallback`` with atomic writes, the model zip last;
+- :class:`Checkpoints`: SB3's ``CheckpointCallback`` with atomic writes, the model last;
 - :class:`Evaluations`: SB3's ``EvalCallback`` with atomic writes, the best model replaced
   only by a better score than the run's best so far (kept in ``best/best.yaml`` across
   resumes), and the evaluation history continued;

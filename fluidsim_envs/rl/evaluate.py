@@ -3,7 +3,7 @@ episodes, with 95% confidence intervals.
 
     fluidsim-evaluate RUN [--model final|best] [--episodes N] [--seed S] [--env KEY=VALUE ...]
                       [--planner-samples K] [--planner-horizon H] [--no-planner]
-                      [--out DIR] [--rerun FILE.rrd]
+                      [--out DIR] [--rerun FILE.rrd] [--allow-pickle]
     fluidsim-evaluate --env-id ID --out DIR [--episodes N] [--seed S] [--env KEY=VALUE ...]
                       [--planner-samples K] [--planner-horizon H] [--no-planner]
 
@@ -12,8 +12,10 @@ policy flies the same N seeded episodes, one in each sub-env of one native vecto
 (:func:`fluidsim_envs.evaluation.first_episodes`). The rows, in this order:
 
 ``trained PPO`` (or SAC; ``(best)`` for ``--model best``)
-    the run's final model (``model.zip``) or the best evaluated one (``best/``), acting
-    deterministically on observations normalized with the statistics saved beside it
+    the run's final model (``model.safetensors``) or the best evaluated one (``best/``),
+    acting deterministically on observations normalized with the statistics saved beside it
+    (numbers only, :mod:`.saved`: SB3's pickled files of an older run with
+    ``--allow-pickle``)
 ``planner``
     the scene's sampling planner (``Scene.planner(venv, samples=K, horizon=H)``). It reads
     the true state of the env it flies, not the observations, but not the episode's noise

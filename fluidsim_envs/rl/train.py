@@ -14,12 +14,14 @@ it. The run folder holds everything needed to replay or continue the run:
                           seeds, package versions (fluidsim_envs included), the device the
                           model ran on (``auto`` resolved), timesteps done, resumes, where the
                           time went
-``model.zip``             the final model; ``vecnormalize.pkl`` its normalization statistics
+``model.safetensors``     the final model (numbers only, :mod:`.saved`);
+                          ``vecnormalize.safetensors`` its normalization statistics
 ``checkpoints/``          periodic (and on Ctrl-C) model + statistics, for ``--resume``
 ``eval/``                 ``history.csv`` (one row per evaluation), SB3's ``evaluations.npz``
-``best/``                 the best evaluated model, ``best_model.zip``, with the normalization
-                          statistics it was evaluated with, ``vecnormalize.pkl``, and its score,
-                          ``best.yaml`` (a resume reads it: only a better evaluation replaces it)
+``best/``                 the best evaluated model, ``best_model.safetensors``, with the
+                          statistics it was evaluated with, ``vecnormalize.safetensors``, and
+                          its score, ``best.yaml`` (a resume reads it: only a better
+                          evaluation replaces it)
 ``monitor.csv``           every training episode (return, length, time, success, and the run's
                           timesteps at its end)
 ``learning_curve.png``    training and evaluation returns against timesteps
@@ -813,7 +815,7 @@ def _finish(model, cfg: TrainConfig, run_dir: Path, meta: dict, timing: dict, sa
     meta["finished"] = datetime.datetime.now().isoformat(timespec="seconds")
     files.write_text(run_dir / "run.yaml", yaml.safe_dump(meta, sort_keys=False))
     plot_learning_curve(run_dir)
-    best = (run_dir / "best" / "best_model.zip").is_file()
+    best = (run_dir / "best" / BestModel.MODEL).is_file()
     for line in _next_steps(run_dir, timing, best=best):
         say(line)
     return final.model
@@ -861,7 +863,7 @@ def _next_steps(run_dir: Path, timing: dict, best: bool) -> list[str]:
     run = shlex.quote(str(run_dir))
     lines = [
         f"done: {timing['env_steps']:,} env steps in {timing['wall_s']:,.0f} s "
-        f"({timing['env_steps_per_s']:,.0f} env-steps/s); final model {run_dir / 'model.zip'}",
+        f"({timing['env_steps_per_s']:,.0f} env-steps/s); final model {run_dir / MODEL}",
         f"  evaluate:    fluidsim-evaluate {run}" + ("   (best model: --model best)" * best),
         f"  replay:      fluidsim-evaluate {run} --episodes 8 --rerun {run}/episodes.rrd"
         f"  then  rerun {run}/episodes.rrd",

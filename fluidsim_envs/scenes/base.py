@@ -623,7 +623,8 @@ class FluidEnv(gym.Env):
         caller = sys._getframe(1)
         if caller.f_code is gym.envs.registration.make.__code__:
             steps = caller.f_locals.get("max_episode_steps")
-            if steps is None:  # the spec's (gym.make(env.spec) of an env made with N)
+            given = "max_episode_steps" in (caller.f_locals.get("env_spec_kwargs") or {})
+            if steps is None and not given:  # the spec's (gym.make(env.spec) of one made so)
                 steps = getattr(caller.f_locals.get("env_spec"), "max_episode_steps", None)
             if isinstance(steps, int) and steps > 0 and steps != self.params.max_episode_steps:
                 self.limit_episodes(steps)

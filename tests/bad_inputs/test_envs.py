@@ -131,7 +131,7 @@ KNOBS = [
     ("thrust-tau-0", {"thrust_time_constant_s": 0}, ["thrust_time_constant_s", "got 0"]),
     ("rate-nan", {"surface_rate_dps": NAN}, ["surface_rate_dps", "nan"]),
     ("mass-reversed", {"mass_scale": (1.2, 0.8)}, ["mass_scale", "(1.2, 0.8)", "low <= high"]),
-    ("mass-0", {"mass_scale": (0.0, 1.0)}, ["mass_scale", "0.0", "[0.25, 4]"]),
+    ("mass-0", {"mass_scale": (0.0, 1.0)}, ["mass_scale", "0.0", "finite number in ["]),
     ("efficiency-up", {"efficiency_scale": (1.0, 1.2)}, ["efficiency_scale", "1.2", "[0, 1]"]),
     ("actuators-int", {"actuators": 1}, ["actuators", "got 1", "True or False"]),
     ("probes-str", {"observe_samples": "yes"}, ["observe_samples", "'yes'", "True or False"]),
@@ -144,7 +144,7 @@ OWN[DART1] += [  # the dart's moving air
     ("gust-duration-0", {"gust_duration_s": 0.0}, ["gust_duration_s", "0.0"]),
 ]
 OWN[BOAT1] += [  # the boat's moving air and water
-    ("sea-neg", {"sea_hs_m": -0.1}, ["sea_hs_m", "-0.1", "[0, 2]"]),
+    ("sea-neg", {"sea_hs_m": -0.1}, ["sea_hs_m", "-0.1", "[0, 1.2]"]),
     ("sea-and-swell", {"sea_hs_m": 0.2, "swell": [(0.1, 20.0)]}, ["swell", "sea_hs_m", "both"]),
     ("wind-nan", {"wind_mps": NAN}, ["wind_mps", "nan"]),
 ]
@@ -358,8 +358,9 @@ def state_rows() -> list[Row]:
 # a sea past what linear wave theory holds, from knobs each within its own range: the
 # message names the knobs and the height and period that would do
 SEA_ROWS = [
-    Row("boat1-steep-sea", make_vec(BOAT1, sea_hs_m=2.0, wind_mps=30.0), ValueError,
-        ["sea_hs_m=2", "sea_tp_s=2.5", "steepness", "sea_tp_s >= 3.78", "sea_hs_m <= 0.873"]),
+    Row("boat1-steep-sea", make_vec(BOAT1, sea_hs_m=1.2, sea_tp_s=1.7, wind_mps=30.0),
+        ValueError, ["sea_hs_m=1.2", "sea_tp_s=1.7", "steepness", "sea_tp_s >=",
+                     "sea_hs_m <="]),
 ]  # fmt: skip
 
 ROWS = param_rows() + reset_rows() + action_rows() + state_rows() + SEA_ROWS
