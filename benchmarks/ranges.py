@@ -16,7 +16,7 @@ the one the table measured, and that no end and no corner diverges in 1% of its 
 or more (:data:`LIMIT`)::
 
     python -m benchmarks.ranges --jobs 2        # the published table (2 cores)
-    python -m benchmarks.ranges --quick         # 16 episodes a case, into build/
+    python -m benchmarks.ranges --quick         # 16 episodes a case, printed only
 """
 
 from __future__ import annotations

@@ -59,7 +59,7 @@ import yaml
 
 from benchmarks.common import DOCS, ROOT, read_csv, write_csv
 from fluidsim_envs import threads
-from fluidsim_envs.rl.runs import MODEL, read_history
+from fluidsim_envs.rl.runs import MODEL, PICKLED, read_history
 
 #: what is trained: the shipped v1 configs, and their envs
 CONFIGS = {
@@ -232,9 +232,12 @@ def local_runs(config: str) -> dict[int, Path]:
     training stream, by seed."""
     digest, out = config_digest(config), {}
     for run in sorted((SWEEPS / config).glob("*/runs/*")):
-        if (run / MODEL).is_file():
+        if (run / MODEL).is_file() or (run / PICKLED[MODEL]).is_file():
             why = None
-            if config_digest(run / "config.yaml") != digest:
+            if not (run / MODEL).is_file():
+                why = f"its model is an SB3 pickle (python -m fluidsim_envs.rl.convert {run} "
+                why += "--allow-pickle, once)"
+            elif config_digest(run / "config.yaml") != digest:
                 why = f"trained with another {config}"
             elif train_stream(run) != "training":
                 why = f"trained on the {train_stream(run)} stream"

@@ -43,7 +43,7 @@ from benchmarks.bench_training import V0_BEFORE as BEFORE
 from benchmarks.bench_training import V0_CONFIGS
 from benchmarks.common import DOCS, ROOT, read_csv, write_csv
 from fluidsim_envs import threads
-from fluidsim_envs.rl.runs import MODEL
+from fluidsim_envs.rl.runs import MODEL, PICKLED
 
 CSV = DOCS / "training_wallclock.csv"
 #: the v1 configs' retune (issue 43): ``before`` their settings before it, ``after`` as they
@@ -94,6 +94,11 @@ def train(
     out = run_dir(runs, config, variant, seed, steps)
     if (out / MODEL).is_file():
         return out
+    if (out / PICKLED[MODEL]).is_file():  # finished by an older version: never deleted
+        raise SystemExit(
+            f"{out}: its model is an SB3 pickle; convert the run once (python -m "
+            f"fluidsim_envs.rl.convert {out} --allow-pickle) and run this again"
+        )
     if out.exists():  # a run killed before its end: start it afresh, not resumed
         import shutil
 

@@ -8,15 +8,14 @@ Each pickled file is loaded with SB3 (which runs whatever code it carries: hence
 that must be given) and written beside it in :mod:`.saved`'s format: the final model and its
 statistics (``model.zip``, ``vecnormalize.pkl``, ``replay_buffer.pkl``), the best model
 (``best/``) and every checkpoint. A file already converted is left as it is.
-``--policy-only`` keeps the policy's weights alone (a zoo entry); ``--remove`` deletes each
-pickle once its conversion is written. From then on every command reads the folder without
-``--allow-pickle``.
+``--policy-only`` keeps the final model's policy weights alone (a zoo entry); ``--remove``
+deletes each pickle once its conversion is written. From then on every command reads the
+folder without ``--allow-pickle``.
 """
 
 from __future__ import annotations
 
 import argparse
-import pickle
 import sys
 from pathlib import Path
 
@@ -26,6 +25,7 @@ from .files import RunError
 from .runs import (
     MODEL,
     PICKLED,
+    PICKLED_BEST,
     REPLAY,
     STATS,
     BestModel,
@@ -42,7 +42,7 @@ def pickled_pairs(folder: Path) -> list[tuple[Path, Path, str]]:
         (folder / PICKLED[MODEL], final.model, "model"),
         (folder / PICKLED[STATS], final.stats, "statistics"),
         (folder / PICKLED[REPLAY], final.replay, "replay"),
-        (best / "best_model.zip", best / BestModel.MODEL, "model"),
+        (best / PICKLED_BEST, best / BestModel.MODEL, "model"),
         (best / PICKLED[STATS], best / BestModel.STATS, "statistics"),
     ]
     for steps, old_model in checkpoints(folder, ".zip"):
@@ -55,30 +55,38 @@ def pickled_pairs(folder: Path) -> list[tuple[Path, Path, str]]:
     return [(old, new, kind) for old, new, kind in pairs if old.is_file()]
 
 
-def convert(folder: Path, policy_only: bool = False, remove: bool = False, say=print) -> int:
-    """Convert ``folder``'s pickles (see the module docstring); returns how many."""
-    from stable_baselines3.common.save_util import load_from_pkl
-
+def convert(
+    folder: Path, *, allow_pickle: bool, policy_only: bool = False, remove: bool = False, say=print
+) -> int:
+    """Convert ``folder``'s pickles (see the module docstring); returns how many.
+    ``allow_pickle`` must be True: it is the caller's word that the folder is trusted.
+    ``policy_only`` strips the final model alone (a zoo entry's); checkpoints and the best
+    model keep what training on needs."""
     from .train import algorithm_class
 
+    if not allow_pickle:
+        raise RunError(
+            f"{folder}: converting loads SB3's pickles, which runs any code they carry: "
+            "allow_pickle=True (--allow-pickle) for a folder whose source you trust"
+        )
     if not (folder / "config.yaml").is_file():
         raise RunError(f"{folder}: not a run folder or zoo entry (no config.yaml)")
     algo_cls = algorithm_class(load_config(folder / "config.yaml").algorithm.name)
+    final = folder / MODEL
     done = 0
     for old, new, kind in pickled_pairs(folder):
         if new.is_file():
             say(f"{new}: there already; {old.name} left as it is")
             continue
-        saved.pickle_warning(old)
         if kind == "model":
-            model = algo_cls.load(old, device="cpu")
-            files.write_with(new, lambda tmp, m=model: saved.save_model(m, tmp, policy_only))
+            model = saved.load_pickled_model(algo_cls, old)
+            strip = policy_only and new == final
+            files.write_with(new, lambda tmp, m=model, p=strip: saved.save_model(m, tmp, p))
         elif kind == "statistics":
-            with old.open("rb") as f:
-                stats = pickle.load(f)
+            stats = saved.load_pickled_vec_normalize(old)
             files.write_with(new, lambda tmp, v=stats: saved.save_statistics(v, tmp))
         else:
-            buffer = load_from_pkl(old)
+            buffer = saved.load_pickled_replay(old)
             files.write_with(new, lambda tmp, b=buffer: saved.save_replay(b, tmp))
         if remove:
             old.unlink()
@@ -109,7 +117,8 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         for folder in args.folders:
-            n = convert(folder, args.policy_only, args.remove)
+            n = convert(folder, allow_pickle=True, policy_only=args.policy_only,
+                        remove=args.remove)  # fmt: skip
             print(f"{folder}: {n} file{'s' * (n != 1)} converted")
     except (RunError, ConfigError) as e:
         print(f"{prog}: error: {e}", file=sys.stderr)

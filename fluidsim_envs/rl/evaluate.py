@@ -73,8 +73,8 @@ from ..physics.jit import target_cpu
 from . import files, saved
 from .config import ConfigError, TrainConfig, load_config, load_yaml, parse_assignment
 from .files import RunError
-from .runs import MODEL, PICKLED, STATS, BestModel, read_run_meta
-from .train import algorithm_class, build_policy
+from .runs import MODEL, PICKLED, PICKLED_BEST, STATS, BestModel, read_run_meta
+from .train import algorithm_class, build_policy, policy_obs_dim
 
 #: the models a run folder holds: (model, its normalization statistics), by --model name
 MODELS = {
@@ -84,7 +84,7 @@ MODELS = {
 #: the same in SB3's pickled format (an older version's runs): read only with --allow-pickle
 PICKLED_MODELS = {
     "final": (PICKLED[MODEL], PICKLED[STATS]),
-    "best": ("best/best_model.zip", f"best/{PICKLED[STATS]}"),
+    "best": (f"best/{PICKLED_BEST}", f"best/{PICKLED[STATS]}"),
 }
 
 RERUN_ENVS = 4  # sub-envs logged with --rerun
@@ -163,9 +163,7 @@ def load_run(
     probe = vector_cls(num_envs=1, **cfg.env_kwargs)  # its observation follows its params
     box, action_space = probe.single_observation_space, probe.single_action_space
     probe.close()
-    # the policy reads its last frames, each with the exact observation after the reading
-    # where its critic was privileged (rl/privileged.py)
-    obs_shape = (box.shape[0] * (2 if cfg.privileged_critic else 1) * cfg.frame_stack,)
+    obs_shape = (policy_obs_dim(cfg, box.shape[0]),)
     if model_path.suffix == ".zip":
         return cfg, _pickled_policy(cfg, model_path, obs_shape, action_space.shape)
     saved.check_model(model_path, cfg.algorithm.name, cfg.env_id, obs_shape, action_space.shape)
@@ -207,6 +205,15 @@ def model_policy(
         from fluidsim_envs.wrappers.sb3 import SB3VecEnv
 
         _, stats = model_files(run_dir, which, allow_pickle)
+        pickled = run_dir / PICKLED_MODELS[which][1]
+        if not stats.is_file() and pickled.is_file() and allow_pickle:
+            stats = pickled  # a folder half converted: its statistics still SB3's
+        elif not stats.is_file() and pickled.is_file():
+            raise RunError(
+                f"{run_dir}: normalization is on and its statistics are still SB3's pickle "
+                f"{pickled.name}: convert the folder (python -m fluidsim_envs.rl.convert "
+                f"{run_dir} --allow-pickle) or pass --allow-pickle"
+            )
         if not stats.is_file():
             raise RunError(f"{run_dir}: normalization is on but {stats.name} is missing")
         load = saved.load_pickled_statistics if stats.suffix == ".pkl" else saved.load_statistics

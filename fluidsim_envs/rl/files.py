@@ -36,7 +36,8 @@ class RunError(RuntimeError):
 def atomic_path(path: str | Path) -> Iterator[Path]:
     """A temporary path beside ``path`` for the caller to write; when the block ends without
     an error it replaces ``path`` (atomically), and when it fails it is removed. The
-    temporary name keeps ``path``'s suffix: SB3 adds ``.zip`` to a model path without it."""
+    temporary name keeps ``path``'s suffix (a writer may add its own suffix to a path
+    without one)."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(
         dir=path.parent, prefix=f".{path.name}.", suffix=f"{PARTIAL}{path.suffix}"

@@ -56,16 +56,26 @@ def estimate(cfg, obs_dim: int, act_dim: int) -> Estimate:
     return Estimate(sub_envs * ENV_BYTES, buffer, what)
 
 
-def available_bytes(meminfo: Path = Path("/proc/meminfo")) -> int | None:
-    """The memory the kernel says new allocations can take (``MemAvailable``), or None where
-    it does not say (not Linux)."""
+def available_bytes(
+    meminfo: Path = Path("/proc/meminfo"), cgroup: Path = Path("/sys/fs/cgroup")
+) -> int | None:
+    """The memory new allocations can take: the kernel's ``MemAvailable``, or less where the
+    process's cgroup (a container) is limited below it; None where neither says (not
+    Linux)."""
+    found = []
     try:
         for line in meminfo.read_text().splitlines():
             if line.startswith("MemAvailable:"):
-                return int(line.split()[1]) * 1024
+                found.append(int(line.split()[1]) * 1024)
     except (OSError, ValueError, IndexError):
-        return None
-    return None
+        pass
+    try:  # cgroup v2: the limit ("max": none) less what the group uses already
+        limit = (cgroup / "memory.max").read_text().strip()
+        if limit != "max":
+            found.append(int(limit) - int((cgroup / "memory.current").read_text()))
+    except (OSError, ValueError):
+        pass
+    return min(found) if found else None
 
 
 def problem(cfg, obs_dim: int, act_dim: int, available: int | None) -> str | None:
@@ -81,7 +91,7 @@ def problem(cfg, obs_dim: int, act_dim: int, available: int | None) -> str | Non
         f"the run needs about {_gib(need.total)} of memory ({_gib(need.envs)} for {envs:,} "
         f"sub-envs: n_envs={cfg.n_envs:,} and eval.n_episodes; {_gib(need.buffer)} for "
         f"{need.buffer_what}), and this machine has {_gib(available)} available: lower "
-        "n_envs (or n_steps, buffer_size)"
+        f"n_envs (or algorithm.{'n_steps' if cfg.algorithm.name == 'ppo' else 'buffer_size'})"
     )
 
 

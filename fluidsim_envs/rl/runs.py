@@ -44,6 +44,7 @@ REPLAY = f"replay_buffer{saved.SUFFIX}"
 #: SB3's pickled files of each of those, which an older version wrote: read only behind
 #: --allow-pickle (:mod:`.saved`)
 PICKLED = {MODEL: "model.zip", STATS: "vecnormalize.pkl", REPLAY: "replay_buffer.pkl"}
+PICKLED_BEST = "best_model.zip"  # and best/'s statistics: PICKLED[STATS]
 EVAL_HISTORY_COLUMNS = (
     "timesteps",
     "mean_return",
@@ -148,8 +149,8 @@ def state_problem(restart: Restart, normalize: bool, replay: bool) -> str | None
     for path, kind in needed:
         if kind == "statistics" and not path.is_file():
             return f"its statistics {path.name} are missing"
-        try:
-            header, _ = saved.read_arrays(path, kind)
+        try:  # the header (safetensors checks then that the file holds all it declares)
+            header = saved.read_header(path, kind)
         except RunError as e:
             return f"{path.name} does not load: {str(e).removeprefix(f'{path}: ')}"
         if header.get("policy_only"):
@@ -381,7 +382,7 @@ class BestModel:
             path = self.folder / name
             if path.is_file():
                 try:
-                    saved.read_arrays(path, kind)
+                    saved.read_header(path, kind)
                 except RunError as e:
                     problem = problem or str(e)
         if problem is None:

@@ -10,9 +10,9 @@ YAML's safe loader; its env must be one of ours) and its weights loaded into it.
 SB3's own files (``model.zip``, ``vecnormalize.pkl``, ``replay_buffer.pkl``) are pickles: the
 zip's ``data`` carries cloudpickled objects and the statistics are a pickled ``VecNormalize``.
 Unpickling runs whatever the file asks for, so a run folder or zoo entry from someone else
-would be a program. They are read only by :func:`load_pickled_model` and
-:func:`load_pickled_statistics`, which the commands call behind ``--allow-pickle``, with a
-warning (``python -m fluidsim_envs.rl.convert`` turns such a folder into these files once).
+would be a program. They are read only by the ``load_pickled_*`` functions here, each
+after a warning, which the commands call behind ``--allow-pickle`` (``python -m
+fluidsim_envs.rl.convert --allow-pickle`` turns such a folder into these files once).
 
 Layouts, tensors named by a path and their container kept as a skeleton in the header:
 
@@ -134,6 +134,13 @@ def _flatten(value, name: str, arrays: dict[str, np.ndarray]):
 
 
 def _unflatten(skeleton, arrays: dict[str, np.ndarray], path: Path):
+    try:
+        return _unflatten_checked(skeleton, arrays, path)
+    except (TypeError, ValueError):  # a skeleton of the wrong shape: pairs not pairs, ...
+        raise NotOurs(f"{path}: damaged model header") from None
+
+
+def _unflatten_checked(skeleton, arrays: dict[str, np.ndarray], path: Path):
     import torch
 
     if not isinstance(skeleton, dict) or len(skeleton) not in (1, 2):
@@ -144,11 +151,11 @@ def _unflatten(skeleton, arrays: dict[str, np.ndarray], path: Path):
         array = arrays[skeleton["array"]]
         return torch.from_numpy(array.copy()) if skeleton.get("torch") else array
     if "pairs" in skeleton:
-        return {k: _unflatten(v, arrays, path) for k, v in skeleton["pairs"]}
+        return {k: _unflatten_checked(v, arrays, path) for k, v in skeleton["pairs"]}
     if "list" in skeleton:
-        return [_unflatten(v, arrays, path) for v in skeleton["list"]]
+        return [_unflatten_checked(v, arrays, path) for v in skeleton["list"]]
     if "tuple" in skeleton:
-        return tuple(_unflatten(v, arrays, path) for v in skeleton["tuple"])
+        return tuple(_unflatten_checked(v, arrays, path) for v in skeleton["tuple"])
     if "value" in skeleton:
         return skeleton["value"]
     raise NotOurs(f"{path}: damaged model header")
@@ -178,6 +185,7 @@ def save_model(model, path: Path, policy_only: bool = False) -> None:
         "action_shape": list(model.action_space.shape),
         "num_timesteps": int(model.num_timesteps),
         "episodes": int(model._episode_num),
+        "updates": int(getattr(model, "_n_updates", 0)),
         "policy_only": policy_only,
         "state_dicts": skeleton,
         "variables": tensors,
@@ -211,7 +219,9 @@ def model_header(path: Path) -> dict[str, Any]:
     return header
 
 
-def check_model(path: Path, algorithm: str, env_id: str, observation_shape, action_shape) -> None:
+def check_model(
+    path: Path, algorithm: str, env_id: str | None, observation_shape, action_shape
+) -> None:
     """A :class:`~.files.RunError` unless the model at ``path`` is of ``algorithm`` for those
     shapes (a run's ``config.yaml``'s, of its env ``env_id``)."""
     header = model_header(path)
@@ -222,9 +232,10 @@ def check_model(path: Path, algorithm: str, env_id: str, observation_shape, acti
         )
     shapes = (tuple(header.get("observation_shape", ())), tuple(header.get("action_shape", ())))
     if shapes != (tuple(observation_shape), tuple(action_shape)):
+        env = f"config.yaml's env {env_id}" if env_id else "config.yaml's env"
         raise RunError(
             f"{path}: the model was trained on observations {shapes[0]} and actions "
-            f"{shapes[1]}, but config.yaml's env {env_id} has {tuple(observation_shape)} and "
+            f"{shapes[1]}, but {env} has {tuple(observation_shape)} and "
             f"{tuple(action_shape)}: the model belongs to another env"
         )
 
@@ -235,6 +246,15 @@ def load_into(model, path: Path) -> None:
     header = model_header(path)
     if header.get("policy_only"):
         raise NotOurs(f"{path}: {POLICY_ONLY}")
+    check_model(path, type(model).__name__.lower(), None, model.observation_space.shape,
+                model.action_space.shape)  # fmt: skip
+    state_dicts, variables = model._get_torch_save_params()
+    theirs = (sorted(header["state_dicts"]), sorted(header.get("variables", {})))
+    if theirs != (sorted(state_dicts), sorted(variables)):  # names only from the model's own
+        raise NotOurs(
+            f"{path}: holds {theirs[0]} and {theirs[1]}, the config's model "
+            f"{sorted(state_dicts)} and {sorted(variables)}"
+        )
     _, arrays = read_arrays(path, "model")
     params = {n: _unflatten(s, arrays, path) for n, s in header["state_dicts"].items()}
     try:
@@ -245,6 +265,7 @@ def load_into(model, path: Path) -> None:
         raise NotOurs(f"{path}: does not fit the config's model ({e})") from None
     model.num_timesteps = header["num_timesteps"]
     model._episode_num = int(header.get("episodes", 0))
+    model._n_updates = int(header.get("updates", 0))
 
 
 def load_policy_weights(policy, path: Path) -> None:
@@ -325,16 +346,22 @@ def save_replay(buffer, path: Path) -> None:
 def load_replay(buffer, path: Path) -> None:
     """The replay buffer saved at ``path`` into ``buffer`` (built from the same config)."""
     header, arrays = read_arrays(path, "replay")
+    ours = {k for k in REPLAY_ARRAYS if getattr(buffer, k, None) is not None}
+    if set(arrays) != ours:
+        raise NotOurs(f"{path}: holds {sorted(arrays)}, the config's buffer {sorted(ours)}")
     for name, array in arrays.items():
-        if name not in REPLAY_ARRAYS or getattr(buffer, name, None) is None:
-            raise NotOurs(f"{path}: an array {name!r} the config's buffer does not have")
-        if array.shape != getattr(buffer, name).shape:
+        mine = getattr(buffer, name)
+        if array.shape != mine.shape or array.dtype != mine.dtype:
             raise NotOurs(
-                f"{path}: {name} of shape {array.shape}, the config's buffer "
-                f"{getattr(buffer, name).shape} (buffer_size or n_envs changed?)"
+                f"{path}: {name} of {array.dtype} {array.shape}, the config's buffer "
+                f"{mine.dtype} {mine.shape} (buffer_size or n_envs changed?)"
             )
+    pos, full = header.get("pos"), header.get("full")
+    if not (isinstance(pos, int) and 0 <= pos < buffer.buffer_size and isinstance(full, bool)):
+        raise NotOurs(f"{path}: damaged replay header (pos {pos!r}, full {full!r})")
+    for name, array in arrays.items():
         getattr(buffer, name)[...] = array
-    buffer.pos, buffer.full = int(header.get("pos", 0)), bool(header.get("full", False))
+    buffer.pos, buffer.full = pos, full
 
 
 # --------------------------------------------------------------------------------------------
@@ -351,6 +378,23 @@ def load_pickled_model(algorithm_cls, path: Path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # SB3's own warnings about versions
         return algorithm_cls.load(path, device="cpu")
+
+
+def load_pickled_replay(path: Path):
+    """A pickled replay buffer (SB3's ``replay_buffer.pkl``), after the warning."""
+    from stable_baselines3.common.save_util import load_from_pkl
+
+    pickle_warning(path)
+    return load_from_pkl(path)
+
+
+def load_pickled_vec_normalize(path: Path):
+    """A pickled ``VecNormalize`` without an env under it (to convert), after the warning."""
+    import pickle
+
+    pickle_warning(path)
+    with path.open("rb") as f:
+        return pickle.load(f)
 
 
 def load_pickled_statistics(path: Path, venv):

@@ -87,6 +87,7 @@ from .runs import (  # noqa: E402, F401  (CHECKPOINT_PREFIX ... are this module'
     read_run_meta,
     restart_point,
     save_state,
+    saved_states,
     trim_logs,
 )
 from .warm_start import warm_start  # noqa: E402
@@ -439,12 +440,17 @@ def env_spaces(env_id: str, env_kwargs: dict[str, Any]) -> tuple:
         env.close()
 
 
+def policy_obs_dim(cfg: TrainConfig, reading_dim: int) -> int:
+    """The width of what the policy reads: each stacked frame's reading, each with the exact
+    observation after it where the critic is privileged (rl/privileged.py)."""
+    return reading_dim * (2 if cfg.privileged_critic else 1) * cfg.frame_stack
+
+
 def _check_memory(cfg: TrainConfig) -> None:
     """A run the machine's available memory cannot hold: an error with the estimate and the
     keys that set it (:mod:`.memory`), before any env is built."""
     obs, act = env_spaces(cfg.env_id, cfg.env_kwargs)
-    # the policy's observation: each frame's reading, and the exact one where privileged
-    obs_dim = obs.shape[0] * (2 if cfg.privileged_critic else 1) * cfg.frame_stack
+    obs_dim = policy_obs_dim(cfg, obs.shape[0])
     why = memory.problem(cfg, obs_dim, act.shape[0], memory.available_bytes())
     if why is not None:
         raise RunError(why)
@@ -948,8 +954,10 @@ def main(argv: list[str] | None = None, prog: str = "fluidsim-train") -> int:
         if not (full or named):
             raise
         text = str(e) if named else f"no space left on the disk ({type(e).__name__}: {e})"
-        if full and run_dir is not None:
+        if full and run_dir is not None and saved_states(run_dir):
             text += f"; free space, then continue the run: {prog} --resume {run_dir}"
+        elif full:
+            text += "; free space, then start the run again (it had saved nothing to resume)"
         print(f"{prog}: error: {text}", file=sys.stderr)
         return 2
     return 0

@@ -36,8 +36,11 @@ def test_a_run_too_large_is_named(tmp_path):
     cfg = load_config("paper_airplane_v1_ppo")
     meminfo = tmp_path / "meminfo"
     meminfo.write_text("MemTotal:       24000000 kB\nMemAvailable:   20000000 kB\n")
-    available = memory.available_bytes(meminfo)
+    available = memory.available_bytes(meminfo, tmp_path / "no-cgroup")
     assert available == 20000000 * 1024
+    (tmp_path / "memory.max").write_text("8589934592\n")  # a container's 8 GiB, 1 GiB in use
+    (tmp_path / "memory.current").write_text("1073741824\n")
+    assert memory.available_bytes(meminfo, tmp_path) == 7 * 2**30
     assert memory.problem(cfg, 40, 3, available) is None  # the shipped config fits
     import dataclasses
 
@@ -45,4 +48,4 @@ def test_a_run_too_large_is_named(tmp_path):
     why = memory.problem(big, 40, 3, available)
     assert "n_envs=100,000,000" in why and "rollout buffer" in why and "19.1 GiB available" in why
     assert memory.problem(big, 40, 3, None) is None  # where the kernel does not say: no check
-    assert memory.available_bytes(tmp_path / "none") is None
+    assert memory.available_bytes(tmp_path / "none", tmp_path / "none") is None

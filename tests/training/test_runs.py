@@ -81,7 +81,7 @@ def fake_files(monkeypatch):
     """The saved files as the fakes below write them (a word each, not weights)."""
     monkeypatch.setattr(saved, "save_model", lambda model, path: model.save(path))
     monkeypatch.setattr(saved, "save_statistics", lambda stats, path: stats.save(path))
-    monkeypatch.setattr(saved, "read_arrays", lambda path, kind, prefix="": ({}, {}))
+    monkeypatch.setattr(saved, "read_header", lambda path, kind: {})
 
 
 class FakeModel:

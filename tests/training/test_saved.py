@@ -188,7 +188,9 @@ def test_convert_turns_trusted_pickles_into_numbers(run, tmp_path):
     assert isinstance(PPO.load(old / "model.zip"), PPO)
     shutil.rmtree(old / "checkpoints")
     said = []
-    assert convert.convert(old, remove=True, say=said.append) == 2
+    with pytest.raises(convert.RunError, match="allow_pickle=True"):
+        convert.convert(old, allow_pickle=False)
+    assert convert.convert(old, allow_pickle=True, remove=True, say=said.append) == 2
     assert not (old / "model.zip").exists() and not (old / "vecnormalize.pkl").exists()
     (_, a), (_, b) = evaluate_cli.load_run(run), evaluate_cli.load_run(old)
     for x, y in zip(a.state_dict().values(), b.state_dict().values(), strict=True):
