@@ -23,15 +23,11 @@ from fluidsim_envs.rl import train as train_cli
 from fluidsim_envs.rl.config import load_config
 from tests.tiny_run import train_tiny
 
-TINY = [
-    "total_timesteps=256",
-    "n_envs=4",
-    "algorithm.n_steps=64",
-    "algorithm.batch_size=64",
-    "eval.freq=0",
-    "checkpoint.freq=128",
-    "torch_threads=1",
-]
+# one rollout of 4 x 64 steps, then another, a checkpoint after each
+TINY = (
+    "total_timesteps=256 n_envs=4 algorithm.n_steps=64 algorithm.batch_size=64 eval.freq=0 "
+    "checkpoint.freq=128 torch_threads=1"
+).split()
 
 
 @pytest.fixture(scope="module")
