@@ -113,7 +113,8 @@ def markdown() -> str:
     episodes = min(int(r["episodes"]) for r in table)
     command = next((c[len("command: ") :] for c in comments if c.startswith("command: ")), "")
     lines += ["", f"At least {episodes:,} episodes a case (`{command}`); a corner is named by "
-              f"its knobs' ends in that order (l: low, h: high)."]  # fmt: skip
+              f"its knobs' ends in that order (l: low, h: high). No case may lose "
+              f"{LIMIT:.0%} of its episodes."]  # fmt: skip
     return "\n".join(lines)
 
 
