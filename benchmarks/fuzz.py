@@ -23,7 +23,9 @@ any case has a non-finite value or an unflagged runaway::
     python -m benchmarks.fuzz --env fluidsim/PaperAirplane-v1 --env fluidsim/BoatOnStep-v1 \
         --env fluidsim/SubmarineWake-v1 --env-steps 1e7 --out docs/fuzz_v1.csv  # v1 at hard
 
-``tests/scenes/test_fuzz.py`` runs :func:`run_case` at a small budget.
+``tests/scenes/test_fuzz.py`` runs :func:`run_case` at a small budget. :func:`run_witness`
+checks the flag against the same states stepped at a quarter of the step
+(``benchmarks/witness.py``).
 """
 
 from __future__ import annotations
@@ -181,6 +183,64 @@ def run_case(case: Case, env_steps: int, num_envs: int, seed: int = 0) -> dict:
     counts["seconds"] = time.perf_counter() - start
     counts["reach_m"] = reach
     venv.close()
+    return counts
+
+
+WITNESS_SPLIT = 4  # the witness steps dt / 4, four times as many substeps
+WITNESS_TOLERANCE_M = 1.0  # per action: farther apart than this, one run is wrong
+
+
+def run_witness(case: Case, env_steps: int, num_envs: int, seed: int = 0) -> dict:
+    """``case`` stepped beside an independent witness: before each action the witness (the
+    same env at dt / :data:`WITNESS_SPLIT` with that many times the substeps, the same
+    action period) takes the case's whole state (physics, task, generators), both take the
+    action, and their bodies' positions are compared. Farther apart than
+    :data:`WITNESS_TOLERANCE_M` with neither run flagging ``physics_diverged`` counts as
+    ``unflagged_disagreements``: a wrong step that the runaway flag let through."""
+    kwargs = case.kwargs()
+    substeps = kwargs.get("substeps", SCENES[case.env_id].params_cls().substeps)
+    fine = {**kwargs, "dt": kwargs["dt"] / WITNESS_SPLIT, "substeps": substeps * WITNESS_SPLIT}
+    with LIM.unchecked():
+        venvs = [
+            gym.make_vec(
+                case.env_id, num_envs=num_envs, vectorization_mode="vector_entry_point", **kw
+            )  # fmt: skip
+            for kw in (kwargs, fine)
+        ]
+    env, witness = (v.unwrapped for v in venvs)
+    ends = [np.zeros_like(e.sim.pos) for e in (env, witness)]
+    for e, end in zip((env, witness), ends, strict=True):
+        e.before_autoreset.append(lambda ended, info, reward, e=e, end=end: end.__setitem__(
+            ended, e.sim.pos[ended]))  # fmt: skip
+    adversary = Adversary(num_envs, env.single_action_space.shape[0], seed)
+    venvs[0].reset(seed=seed)
+    counts = dict(env_steps=0, unflagged_disagreements=0, max_disagreement_m=0.0,
+                  max_unflagged_disagreement_m=0.0)  # fmt: skip
+    period = env.params.dt * env.params.substeps
+    for _ in range(max(1, -(-int(env_steps) // num_envs))):
+        state = env.get_state()
+        witness.set_state(dataclasses.replace(state, params=witness.params))
+        action = adversary(period)
+        out = [v.step(action) for v in venvs]
+        pos = []
+        for e, end, (_, _, terminated, truncated, _) in zip((env, witness), ends, out, strict=True):
+            done = terminated | truncated
+            pos.append(np.where(done[:, None, None], end, e.sim.pos))
+        apart = np.sqrt(((pos[0] - pos[1]) ** 2).sum(axis=-1)).max(axis=1)
+        flagged = out[0][4]["physics_diverged"] | out[1][4]["physics_diverged"]
+        wrong = ~flagged & (apart > WITNESS_TOLERANCE_M)
+        counts["unflagged_disagreements"] += int(wrong.sum())
+        counts["max_disagreement_m"] = max(counts["max_disagreement_m"], float(apart.max()))
+        if wrong.any():
+            counts["max_unflagged_disagreement_m"] = max(
+                counts["max_unflagged_disagreement_m"], float(apart[wrong].max())
+            )
+        counts["env_steps"] += num_envs
+        done = out[0][2] | out[0][3]
+        if done.any():
+            adversary.restart(np.flatnonzero(done))
+    for v in venvs:
+        v.close()
     return counts
 
 

@@ -95,6 +95,7 @@ BLOCKS = (
     Block("docs/reliability.md", "fuzz-v1-table", "docs/fuzz_v1.csv", "report:fuzz_v1_markdown"),
     Block("docs/reliability.md", "kill-table", "docs/kill_resume.csv", "report:kill_markdown"),
     Block("docs/reliability.md", "ranges-table", "docs/ranges.csv", "ranges:markdown"),
+    Block("docs/reliability.md", "witness-table", "docs/fuzz_witness.csv", "witness:markdown"),
     Block("docs/study.md", "cost-table", "docs/study_cost.csv", "study_accuracy:cost_markdown"),
     Block(
         "docs/baselines.md", "planner-budget", "docs/study_planner.csv", "study_planner:markdown"

@@ -19,3 +19,26 @@ def test_fuzzed_env_stays_finite_and_flags_every_runaway(env_id, params):
     assert r["unflagged_runaways"] == 0
     # at the default step, inside the measured limit, no episode runs away
     assert r["diverged"] == 0, r
+
+
+@pytest.mark.parametrize("env_id", [i for i in SCENES if i.endswith("-v1")])
+def test_a_witness_at_a_quarter_step_agrees_or_the_flag_says_why(env_id):
+    """benchmarks/witness.py at a small budget: the witness takes the env's state before each
+    action (the two then differ by the step's error only, far under the tolerance), and no
+    wrong step goes unflagged, at hard's extremes and at a draw of every knob in its range."""
+    import numpy as np
+
+    from benchmarks.fuzz import WITNESS_TOLERANCE_M, run_witness
+    from benchmarks.witness import DrawCase, draw
+
+    integrator = SCENES[env_id].params_cls().integrator
+    knobs = tuple(draw(env_id, np.random.default_rng(3)).items())
+    if env_id.startswith("fluidsim/BoatOnStep"):  # a sea of any height, at a period it holds
+        knobs += (("sea_tp_s", 8.0),)
+    for case in (
+        Case(env_id, "extreme", "float64", integrator),
+        DrawCase(env_id, "nominal", "float64", integrator, knobs=knobs),
+    ):
+        r = run_witness(case, env_steps=3_200, num_envs=32, seed=7)
+        assert r["unflagged_disagreements"] == 0, r
+        assert 0.0 < r["max_disagreement_m"] < WITNESS_TOLERANCE_M, r
