@@ -82,6 +82,7 @@ from .runs import (  # noqa: E402, F401  (CHECKPOINT_PREFIX ... are this module'
     Restart,
     checkpoint_paths,
     checkpoint_stats,
+    checkpoints,
     final_paths,
     pickled_states,
     read_run_meta,
@@ -665,6 +666,15 @@ def _restart(run_dir: Path, cfg: TrainConfig) -> tuple[Restart, float]:
     whole again: temporary files of killed writes removed, a best model whose write a kill
     interrupted completed, the logs past the restart point dropped. Also returns the time
     ``monitor.csv`` had reached (its times go on from there)."""
+    try:  # a zoo entry: nothing of it is touched
+        zoo = saved.model_header(run_dir / MODEL).get("policy_only")
+    except RunError:
+        zoo = False
+    if zoo and not checkpoints(run_dir):
+        raise RunError(
+            f"{run_dir}: a zoo entry (its model {saved.POLICY_ONLY}): zoo entries are "
+            "read-only to --resume; train anew from its config.yaml with --run-dir"
+        )
     files.remove_partials(run_dir)
     restart = restart_point(run_dir, cfg.normalize.enabled, cfg.checkpoint.save_replay_buffer)
     if restart is None and pickled_states(run_dir):

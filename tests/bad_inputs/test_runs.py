@@ -557,6 +557,14 @@ def too_large() -> None:
             "--run-dir", folder() / "r", "--no-progress-bar")  # fmt: skip
 
 
+def zoo_entry() -> Path:
+    """A copy of a shipped zoo entry (its model: the policy's weights alone)."""
+    import shutil
+
+    zoo = Path(__file__).resolve().parents[2] / "zoo" / "PaperAirplane-v1-ppo"
+    return Path(shutil.copytree(zoo, folder() / "entry"))
+
+
 def sweep(*argv) -> None:
     from fluidsim_envs.rl import sweep as sweep_cli
 
@@ -570,6 +578,8 @@ FAULT_ROWS = [
         CliError, ("model.zip", "an SB3 pickle", "runs any code", "--allow-pickle")),
     Row("resume-pickled-states", resume(lambda: run_folder({"model.zip": GARBAGE})), CliError,
         ("SB3 pickles", "python -m fluidsim_envs.rl.convert", "--allow-pickle")),
+    Row("resume-zoo-entry", resume(zoo_entry), CliError,
+        ("a zoo entry", "holds a policy to act with", "read-only to --resume", "--run-dir")),
     Row("train-more-than-memory", too_large, CliError,
         ("n_envs=100,000", "GiB", "1.0 GiB available", "lower n_envs")),
     Row("sweep-search-of-another-algorithm",

@@ -163,7 +163,7 @@ def test_a_policy_only_file_is_not_a_state_to_resume(run, tmp_path, capsys):
     assert saved.model_header(entry / "model.safetensors")["policy_only"]
     evaluate_cli.load_run(entry)
     assert train_cli.main(["--resume", str(entry), "--no-progress-bar"]) == 2
-    assert "holds a policy to act with (a zoo entry), not a state" in capsys.readouterr().err
+    assert "zoo entries are read-only to --resume" in capsys.readouterr().err
 
 
 def test_convert_turns_trusted_pickles_into_numbers(run, tmp_path):
