@@ -92,6 +92,10 @@ class VHull:
     friction_length_m: float = 3.0  # ~ the mean wetted length lambda b planing (lambda ~ 1.7)
     roughness_cf: float = 0.0004  # the roughness allowance Savitsky (1964) adds
     one_sided_bottom: bool = False  # True: bottom plates push only when the water meets them
+    # past any speed or turn it makes on or in the water, each with room to spare (the fuzz's
+    # fastest, at full power in a steep sea: 22 m/s and 422 deg/s): a runaway
+    runaway_speed_mps: float = 60.0
+    runaway_rate_dps: float = 2000.0
     max_thrust_n: float = 4500.0  # ~150 hp outboard, static
     min_thrust_n: float = -1500.0  # astern
     rudder_area_m2: float = 0.2
@@ -322,6 +326,8 @@ class VHull:
             ),
             mass_kg=m,
             inertia_kgm2=[r(m * kx * kx), r(m * ky * ky), r(m * kz * kz)],
+            runaway_speed_mps=self.runaway_speed_mps,
+            runaway_rate_dps=self.runaway_rate_dps,
             groups=groups,
             plates=plates,
             buoyancy=buoyancy,

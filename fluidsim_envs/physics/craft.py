@@ -490,6 +490,11 @@ class Craft:
     shapes: tuple[Shape, ...] = ()
     restitution: float = 0.5
     friction: float = 0.5
+    # the speed and turn rate past which the craft has run away (the step flags it: ends its
+    # episode ``physics_diverged``), each well above what it reaches in flight; inf: none of
+    # its own, the fluid clamp alone (World.max_fluid_speed_mps)
+    runaway_speed_mps: float = math.inf
+    runaway_rate_dps: float = math.inf
     description: str = ""
     # named sets of samples, {name: [sample names]} (``Simulator.set_sample_scale``)
     groups: Any = ()
@@ -505,6 +510,11 @@ class Craft:
                 limits = "in [0, 1]" if key == "restitution" else ">= 0"
                 raise CraftError(f"{where}: {key} must be {limits}, got {value!r}")
             object.__setattr__(self, key, value)
+        for key in ("runaway_speed_mps", "runaway_rate_dps"):
+            value = getattr(self, key)
+            if not (isinstance(value, int | float) and not isinstance(value, bool) and value > 0):
+                raise CraftError(f"{where}: {key} must be a number > 0 (inf: none), got {value!r}")
+            object.__setattr__(self, key, float(value))
         tensor = _inertia_tensor(where, self.inertia_kgm2)
         tensor.setflags(write=False)
         object.__setattr__(self, "_tensor", tensor)
@@ -524,6 +534,11 @@ class Craft:
             object.__setattr__(self, key, self._parts(where, key, cls))
         self._check_references(where)
         object.__setattr__(self, "groups", self._check_groups(where, self.groups))
+
+    @property
+    def runaway(self) -> tuple[float, float]:
+        """(speed m/s, turn rate rad/s) past which the craft has run away (inf: none)."""
+        return self.runaway_speed_mps, math.radians(self.runaway_rate_dps)
 
     def _parts(self, where: str, key: str, cls: type) -> tuple:
         """Field ``key``: a list of ``cls`` or of tables of its fields, as a tuple of ``cls``;

@@ -126,6 +126,7 @@ from .state import (
     B_COM_SHIFT,
     B_INV_INERTIA,
     B_MASS,
+    B_RUNAWAY,
     B_SECOND_MOMENT,
     BLOCK,
     BODY,
@@ -1785,20 +1786,24 @@ def _flag_runaways(scr_blk, nb, n, e0, st, prm, steps, diverged):
     clamps keep every force finite, so an integrator past its stability limit runs away
     without ever producing a NaN. A body is a runaway when, over this call, it
 
-    - ends faster than the fluid samples' speed clamp (every sample saturated);
+    - ends faster than its craft's runaway speed (``B_RUNAWAY``), or than the fluid
+      samples' speed clamp (every sample saturated), whichever is lower;
     - moved farther than that speed allows in the call's time: within a call of several
-      steps a body can overshoot and come back below the clamp (rk2's midpoint velocity can
-      be far beyond it), the distance it jumped tells;
-    - spins with more rotational energy than its mass would hold at the clamp speed,
-      ``L . w > m vmax^2``: its samples then move far beyond the clamp from the turn alone.
+      steps a body can overshoot and come back below it (rk2's midpoint velocity can be far
+      beyond it), the distance it jumped tells;
+    - turns faster than its craft's runaway rate, or spins with more rotational energy than
+      its mass would hold at the clamp speed, ``L . w > m vmax^2``: its samples then move
+      far beyond the clamp from the turn alone.
 
     ``st`` holds the call's starting state, the block's scratch its end."""
-    vmax = prm[P_VMAX]
-    vmax2 = vmax * vmax
-    reach = vmax * prm[P_DT] * steps
-    reach2 = reach * reach * 1.0001  # the clamp's distance, and a rounding's worth beyond
+    clamp2 = prm[P_VMAX] * prm[P_VMAX]
     for b in range(nb):
         for i in range(n):
+            vmax = min(prm[P_VMAX], scr_blk[b, (BODY + B_RUNAWAY) * BLOCK + i])
+            vmax2 = vmax * vmax
+            reach = vmax * prm[P_DT] * steps
+            reach2 = reach * reach * 1.0001  # that speed's distance, and a rounding beyond
+            rate = scr_blk[b, (BODY + B_RUNAWAY + 1) * BLOCK + i]
             vx = scr_blk[b, (STATE + OV) * BLOCK + i]
             vy = scr_blk[b, (STATE + OV + 1) * BLOCK + i]
             vz = scr_blk[b, (STATE + OV + 2) * BLOCK + i]
@@ -1827,7 +1832,8 @@ def _flag_runaways(scr_blk, nb, n, e0, st, prm, steps, diverged):
             mass = scr_blk[b, (BODY + B_MASS) * BLOCK + i]
             runaway = vx * vx + vy * vy + vz * vz > vmax2
             runaway |= dx * dx + dy * dy + dz * dz > reach2
-            runaway |= spin > mass * vmax2
+            runaway |= spin > mass * clamp2
+            runaway |= w[0] * w[0] + w[1] * w[1] + w[2] * w[2] > rate * rate
             diverged[e0 + i] |= runaway
 
 

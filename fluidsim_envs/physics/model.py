@@ -266,10 +266,13 @@ class Data(NamedTuple):
 # packing a craft
 
 
-def body_rows(mass_kg: np.ndarray, inertia: np.ndarray, com_shift_m=None) -> np.ndarray:
+def body_rows(
+    mass_kg: np.ndarray, inertia: np.ndarray, com_shift_m=None, runaway=None
+) -> np.ndarray:
     """``BODY_FIELDS`` rows ``[n, NBODY]`` (float64) of masses ``[n]``, body inertia tensors
-    ``[n, 3, 3]`` and center-of-mass shifts ``[n, 3]`` (None: none): mass, inverse inertia,
-    second moment, shift."""
+    ``[n, 3, 3]``, center-of-mass shifts ``[n, 3]`` (None: none) and runaway limits
+    ``[n, 2]`` (speed m/s, rate rad/s; None: none): mass, inverse inertia, second moment,
+    shift, limits."""
     inertia = np.asarray(inertia, dtype=np.float64)
     inv = np.linalg.inv(inertia)
     trace = inertia[:, 0, 0] + inertia[:, 1, 1] + inertia[:, 2, 2]
@@ -277,7 +280,8 @@ def body_rows(mass_kg: np.ndarray, inertia: np.ndarray, com_shift_m=None) -> np.
     i, j = np.array([0, 1, 2, 0, 0, 1]), np.array([0, 1, 2, 1, 2, 2])  # xx yy zz xy xz yz
     mass = np.asarray(mass_kg, float)[:, None]
     shift = np.zeros((len(mass), 3)) if com_shift_m is None else com_shift_m
-    rows = np.concatenate([mass, inv[:, i, j], sec[:, i, j], shift], 1)
+    limits = np.full((len(mass), 2), np.inf) if runaway is None else runaway
+    rows = np.concatenate([mass, inv[:, i, j], sec[:, i, j], shift, limits], 1)
     assert rows.shape[1] == NBODY == sum(w for _, w in BODY_FIELDS)
     return rows
 
@@ -358,7 +362,9 @@ def pack(
             for t in c.thrusters
         )
     bodies = body_rows(
-        np.array([c.mass_kg for c in crafts]), np.stack([c.inertia_tensor for c in crafts])
+        np.array([c.mass_kg for c in crafts]),
+        np.stack([c.inertia_tensor for c in crafts]),
+        runaway=np.array([c.runaway for c in crafts]),
     ).astype(dtype)
     materials = np.asarray([CT.material_row(c) for c in crafts], dtype=np.float64)
     shape_table = _once([r for c in crafts for r in CT.shape_rows(c)], CT.NSHAPE, dtype)

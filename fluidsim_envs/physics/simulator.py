@@ -1035,7 +1035,10 @@ class Simulator:
         property is at the craft's value."""
         bd, model, dtype = self._bodies[b], self._model, self.dtype
         com = bd.com_m[ids]
-        model.body[ids, b] = M.body_rows(bd.mass_kg[ids], bd.inertia[ids], com).astype(dtype)
+        limits = np.tile(bd.craft.runaway, (ids.size, 1))
+        model.body[ids, b] = M.body_rows(bd.mass_kg[ids], bd.inertia[ids], com, limits).astype(
+            dtype
+        )
         com = com[:, None, :]  # [n, 1, 3]
         if bd.craft.shapes:
             table = np.repeat(bd.shapes[None], ids.size, axis=0)

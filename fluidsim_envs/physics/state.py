@@ -47,9 +47,12 @@ BODY_FIELDS = (
     # the center of mass's shift from the craft's (body frame, m): the force loops take each
     # sample's offset as the craft's offset minus this (0 for the craft's own balance)
     ("com_shift", 3),
+    # the speed (m/s) and turn rate (rad/s) past which the body has run away (the craft's,
+    # Craft.runaway_speed_mps / runaway_rate_dps; inf: only the fluid clamp says)
+    ("runaway", 2),
 )
 _BODY, NBODY = rows(BODY_FIELDS)
-B_MASS, B_INV_INERTIA, B_SECOND_MOMENT, B_COM_SHIFT = (_BODY[n] for n, _ in BODY_FIELDS)
+B_MASS, B_INV_INERTIA, B_SECOND_MOMENT, B_COM_SHIFT, B_RUNAWAY = (_BODY[n] for n, _ in BODY_FIELDS)
 
 MEMORY_FIELDS = (
     ("end", NSTATE),  # the state as the integrator's last step left it

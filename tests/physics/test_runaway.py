@@ -1,6 +1,7 @@
 """A finite runaway is flagged (Simulator.diverged): the clamps keep forces finite past an
 integrator's stability limit, so a blow-up shows as speed, distance or spin beyond what the
-fluid samples' speed clamp allows, not as a NaN (kernels._flag_runaways)."""
+fluid samples' speed clamp, or the craft's own runaway speed and rate, allow, not as a NaN
+(kernels._flag_runaways)."""
 
 import numpy as np
 
@@ -28,6 +29,24 @@ def test_spin_with_more_energy_than_the_mass_holds_at_the_clamp_speed_is_flagged
     # L . w = I w^2 against m vmax^2: with I = m = 1, the bound is w = vmax
     flags = _flags(np.zeros((2, 3)), [[0, 0, 0.99 * VMAX], [0, 0, 1.01 * VMAX]])
     np.testing.assert_array_equal(flags, [False, True])
+
+
+def test_a_craft_s_own_runaway_speed_and_rate_are_flagged_below_the_clamp():
+    """A craft that declares its runaway speed and turn rate is flagged past them, far under
+    the fluid clamp, and not just below them; a jump farther than its own speed allows in
+    the call is flagged too."""
+    craft = Craft(name="box", mass_kg=1.0, inertia_kgm2=(1.0, 1.0, 1.0),
+                  runaway_speed_mps=10.0, runaway_rate_dps=360.0)  # fmt: skip
+    sim = Simulator(craft, WORLD, num_envs=4, dt=0.01)
+    w = np.radians(360.0)
+    sim.reset(
+        lin_vel=np.array([[9.9, 0, 0], [10.1, 0, 0], [0, 0, 0], [0, 0, 0]], float),
+        ang_vel=np.array([[0, 0, 0], [0, 0, 0], [0, 0, 0.99 * w], [0, 0, 1.01 * w]], float),
+    )
+    sim.step(steps=4)
+    np.testing.assert_array_equal(sim.diverged, [False, True, False, True])
+    for name in ("paper_airplane", "uuv", "speedboat"):  # every craft an env flies declares
+        assert np.isfinite(Craft.load(name).runaway).all(), name
 
 
 def test_a_jump_farther_than_the_clamp_allows_in_one_call_is_flagged():
