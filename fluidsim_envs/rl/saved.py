@@ -302,6 +302,14 @@ def save_statistics(vec_normalize, path: Path) -> None:
     _write(path, arrays, {"kind": "statistics", "settings": settings})
 
 
+def _non_negative(value) -> bool:
+    """A finite number (or array of them) >= 0, not a boolean."""
+    if isinstance(value, bool) or not isinstance(value, int | float | np.ndarray):
+        return False
+    x = np.asarray(value, dtype=float)
+    return bool(np.isfinite(x).all() and (x >= 0).all())
+
+
 def _plain(value):
     return value.item() if isinstance(value, np.generic) else value
 
@@ -315,6 +323,11 @@ def load_statistics(path: Path, venv):
     settings = header.get("settings")
     if not isinstance(settings, dict) or set(settings) != set(_STATISTICS_SETTINGS):
         raise NotOurs(f"{path}: damaged statistics header")
+    for key, value in settings.items():  # flags, then finite non-negative numbers
+        flag = key.startswith("norm_")
+        ok = isinstance(value, bool) if flag else _non_negative(value)
+        if not ok:
+            raise NotOurs(f"{path}: statistics setting {key} = {value!r} is not a valid value")
     vec_normalize = VecNormalize(venv, **settings)
     for name in ("obs_rms", "ret_rms"):
         rms = getattr(vec_normalize, name)
@@ -323,6 +336,9 @@ def load_statistics(path: Path, venv):
             count = float(arrays[f"{name}/count"][0])
         except (KeyError, IndexError):
             raise NotOurs(f"{path}: damaged statistics ({name} missing)") from None
+        if not (np.isfinite(mean).all() and _non_negative(var) and count > 0):
+            raise NotOurs(f"{path}: damaged statistics ({name}: not finite, or a negative "
+                          "variance or count)")  # fmt: skip
         if mean.shape != rms.mean.shape or var.shape != rms.var.shape:
             raise NotOurs(
                 f"{path}: statistics of {name} for shape {mean.shape}, but the env's is "

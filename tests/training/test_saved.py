@@ -191,3 +191,39 @@ def test_convert_turns_trusted_pickles_into_numbers(run, tmp_path):
     (_, a), (_, b) = evaluate_cli.load_run(run), evaluate_cli.load_run(old)
     for x, y in zip(a.state_dict().values(), b.state_dict().values(), strict=True):
         assert torch.equal(x, y)
+
+
+@pytest.mark.parametrize(
+    ("change", "why"),
+    [
+        ({"settings": {"gamma": "0.99"}}, "gamma = '0.99'"),
+        ({"settings": {"clip_obs": -1.0}}, "clip_obs = -1.0"),
+        ({"settings": {"norm_obs": 1}}, "norm_obs = 1"),
+        ({"obs_rms/var": -1.0}, "negative variance"),
+        ({"obs_rms/count": float("nan")}, "not finite"),
+    ],
+)
+def test_crafted_statistics_are_refused_by_name(run, tmp_path, change, why):
+    """Statistics whose header or arrays a hand changed: an error that names what is wrong,
+    before a VecNormalize is built from them."""
+    from safetensors import safe_open
+    from safetensors.numpy import load_file, save_file
+
+    source = run / "vecnormalize.safetensors"
+    with safe_open(source, "numpy") as f:
+        header = json.loads(f.metadata()["fluidsim"])
+    arrays = load_file(source)
+    for key, value in change.items():
+        if key == "settings":
+            header["settings"].update(value)
+        else:
+            arrays[key] = np.full_like(arrays[key], value)
+    bad = tmp_path / "vecnormalize.safetensors"
+    save_file(arrays, bad, metadata={"fluidsim": json.dumps(header)})
+    cfg = train_cli.resolved(load_config(run / "config.yaml"))
+    venv = train_cli.make_env(cfg, 2, 0)
+    try:
+        with pytest.raises(saved.NotOurs, match=why):
+            saved.load_statistics(bad, venv.venv)
+    finally:
+        venv.close()
