@@ -188,15 +188,31 @@ def run_case(case: Case, env_steps: int, num_envs: int, seed: int = 0) -> dict:
 
 WITNESS_SPLIT = 4  # the witness steps dt / 4, four times as many substeps
 WITNESS_TOLERANCE_M = 1.0  # per action: farther apart than this, one run is wrong
+WITNESS_TOLERANCE_DEG = 30.0  # per action: turned apart by more than this, one run is wrong
+
+
+def _pose(sim) -> tuple[np.ndarray, np.ndarray]:
+    """The bodies' positions [E, B, 3] and unit quaternions [E, B, 4]."""
+    return sim.pos, sim.quat
+
+
+def _keep_pose(sim, ended: np.ndarray, end: tuple) -> None:
+    """The ended episodes' poses, kept before the autoreset replaces them."""
+    for kept, now in zip(end, _pose(sim), strict=True):
+        kept[ended] = now[ended]
 
 
 def run_witness(case: Case, env_steps: int, num_envs: int, seed: int = 0) -> dict:
     """``case`` stepped beside an independent witness: before each action the witness (the
     same env at dt / :data:`WITNESS_SPLIT` with that many times the substeps, the same
     action period) takes the case's whole state (physics, task, generators), both take the
-    action, and their bodies' positions are compared. Farther apart than
-    :data:`WITNESS_TOLERANCE_M` with neither run flagging ``physics_diverged`` counts as
-    ``unflagged_disagreements``: a wrong step that the runaway flag let through."""
+    action, and their bodies' positions and attitudes are compared. Farther apart than
+    :data:`WITNESS_TOLERANCE_M`, or turned apart by more than :data:`WITNESS_TOLERANCE_DEG`,
+    with neither run flagging ``physics_diverged``, counts as ``unflagged_disagreements``: a
+    wrong step that the runaway flag let through (attitudes are compared on actions that
+    end no episode: see below). Attitude matters on its own: a craft
+    whose turn runs away (angular momentum carried onto its light axis) can spin at ten
+    times any rate the flow gives it while its center still moves as the witness's does."""
     kwargs = case.kwargs()
     substeps = kwargs.get("substeps", SCENES[case.env_id].params_cls().substeps)
     fine = {**kwargs, "dt": kwargs["dt"] / WITNESS_SPLIT, "substeps": substeps * WITNESS_SPLIT}
@@ -208,33 +224,46 @@ def run_witness(case: Case, env_steps: int, num_envs: int, seed: int = 0) -> dic
             for kw in (kwargs, fine)
         ]
     env, witness = (v.unwrapped for v in venvs)
-    ends = [np.zeros_like(e.sim.pos) for e in (env, witness)]
+    ends = [(np.zeros_like(e.sim.pos), np.zeros_like(e.sim.quat)) for e in (env, witness)]
     for e, end in zip((env, witness), ends, strict=True):
-        e.before_autoreset.append(lambda ended, info, reward, e=e, end=end: end.__setitem__(
-            ended, e.sim.pos[ended]))  # fmt: skip
+        e.before_autoreset.append(lambda ended, info, reward, e=e, end=end: _keep_pose(
+            e.sim, ended, end))  # fmt: skip
     adversary = Adversary(num_envs, env.single_action_space.shape[0], seed)
     venvs[0].reset(seed=seed)
     counts = dict(env_steps=0, unflagged_disagreements=0, max_disagreement_m=0.0,
-                  max_unflagged_disagreement_m=0.0)  # fmt: skip
+                  max_disagreement_deg=0.0, max_unflagged_disagreement_m=0.0,
+                  max_unflagged_disagreement_deg=0.0)  # fmt: skip
     period = env.params.dt * env.params.substeps
     for _ in range(max(1, -(-int(env_steps) // num_envs))):
         state = env.get_state()
         witness.set_state(dataclasses.replace(state, params=witness.params))
         action = adversary(period)
         out = [v.step(action) for v in venvs]
-        pos = []
+        pose = []
         for e, end, (_, _, terminated, truncated, _) in zip((env, witness), ends, out, strict=True):
             done = terminated | truncated
-            pos.append(np.where(done[:, None, None], end, e.sim.pos))
-        apart = np.sqrt(((pos[0] - pos[1]) ** 2).sum(axis=-1)).max(axis=1)
-        flagged = out[0][4]["physics_diverged"] | out[1][4]["physics_diverged"]
-        wrong = ~flagged & (apart > WITNESS_TOLERANCE_M)
-        counts["unflagged_disagreements"] += int(wrong.sum())
-        counts["max_disagreement_m"] = max(counts["max_disagreement_m"], float(apart.max()))
-        if wrong.any():
-            counts["max_unflagged_disagreement_m"] = max(
-                counts["max_unflagged_disagreement_m"], float(apart[wrong].max())
+            pose.append(
+                [
+                    np.where(done[:, None, None], k, x)
+                    for k, x in zip(end, _pose(e.sim), strict=True)
+                ]
             )
+        apart = np.sqrt(((pose[0][0] - pose[1][0]) ** 2).sum(axis=-1)).max(axis=1)
+        cos = np.abs((pose[0][1] * pose[1][1]).sum(axis=-1)).clip(max=1.0)
+        turned = np.degrees(2.0 * np.arccos(cos)).max(axis=1)
+        # an action that ends its episode (a crash, touching the lead) is judged by where
+        # the event happened, not by the attitude a rigid bounce leaves after it: that
+        # depends on when within a step the body touched, and no reward or observation uses it
+        turned[out[0][2] | out[1][2]] = 0.0
+        flagged = out[0][4]["physics_diverged"] | out[1][4]["physics_diverged"]
+        wrong = ~flagged & ((apart > WITNESS_TOLERANCE_M) | (turned > WITNESS_TOLERANCE_DEG))
+        counts["unflagged_disagreements"] += int(wrong.sum())
+        for gap, unit in ((apart, "m"), (turned, "deg")):
+            counts[f"max_disagreement_{unit}"] = max(counts[f"max_disagreement_{unit}"],
+                                                     float(gap.max()))  # fmt: skip
+            if wrong.any():
+                key = f"max_unflagged_disagreement_{unit}"
+                counts[key] = max(counts[key], float(gap[wrong].max()))
         counts["env_steps"] += num_envs
         done = out[0][2] | out[0][3]
         if done.any():

@@ -24,14 +24,21 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 
 from benchmarks.common import DOCS, arguments, describe, read_csv, write_csv
-from benchmarks.fuzz import WITNESS_SPLIT, WITNESS_TOLERANCE_M, Case, run_witness
+from benchmarks.fuzz import (
+    WITNESS_SPLIT,
+    WITNESS_TOLERANCE_DEG,
+    WITNESS_TOLERANCE_M,
+    Case,
+    run_witness,
+)
 from benchmarks.ranges import knob_ranges, v1_envs
 from fluidsim_envs.scenes import SCENES
 from fluidsim_envs.scenes.limits import Bound, Span
 
 CSV = DOCS / "fuzz_witness.csv"
 HEADER = ("env", "case", "knobs", "env_steps", "unflagged_disagreements",
-          "max_disagreement_m", "max_unflagged_disagreement_m")  # fmt: skip
+          "max_disagreement_m", "max_disagreement_deg", "max_unflagged_disagreement_m",
+          "max_unflagged_disagreement_deg")  # fmt: skip
 
 
 @dataclasses.dataclass(frozen=True)
@@ -84,8 +91,8 @@ def markdown() -> str:
     comments, table = read_csv(CSV)
     lines = [
         "| env | cases | env-steps | unflagged disagreements | largest gap (m) "
-        "| largest unflagged gap (m) |",
-        "|---|---|---:|---:|---:|---:|",
+        "| largest turn apart (deg) | largest unflagged gap (m, deg) |",
+        "|---|---|---:|---:|---:|---:|---:|",
     ]
     for env in dict.fromkeys(r["env"] for r in table):
         for kind in ("nominal", "extreme", "draw"):
@@ -94,15 +101,15 @@ def markdown() -> str:
                 continue
             steps = sum(int(r["env_steps"]) for r in rows)
             wrong = sum(int(r["unflagged_disagreements"]) for r in rows)
-            gap = max(float(r["max_disagreement_m"]) for r in rows)
-            unflagged = max(float(r["max_unflagged_disagreement_m"]) for r in rows)
+            gap, turn, un_m, un_deg = (max(float(r[k]) for r in rows) for k in HEADER[5:])
             name = f"{len(rows)} draws" if kind == "draw" else kind
             lines.append(f"| {env.split('/')[1]} | {name} | {steps:,} | {wrong:,} | {gap:.3g} "
-                         f"| {unflagged:.3g} |")  # fmt: skip
+                         f"| {turn:.3g} | {un_m:.3g}, {un_deg:.3g} |")  # fmt: skip
     command = next((c[len("command: ") :] for c in comments if c.startswith("command: ")), "")
     lines += ["", f"The witness steps a quarter of the step ({WITNESS_SPLIT} times the "
-              f"substeps); a gap past {WITNESS_TOLERANCE_M:g} m in one action with neither "
-              f"run flagged is an unflagged disagreement (`{command}`)."]  # fmt: skip
+              f"substeps); a gap past {WITNESS_TOLERANCE_M:g} m, or attitudes turned apart by "
+              f"more than {WITNESS_TOLERANCE_DEG:g} deg, in one action with neither run "
+              f"flagged is an unflagged disagreement (`{command}`)."]  # fmt: skip
     return "\n".join(lines)
 
 
@@ -127,12 +134,12 @@ def main() -> None:
             print(f"{case.env_id} {kind}: refused by the env, skipped: {r}")
             continue
         rows.append((case.env_id, kind, knobs, r["env_steps"], r["unflagged_disagreements"],
-                     f"{r['max_disagreement_m']:.6g}",
-                     f"{r['max_unflagged_disagreement_m']:.6g}"))  # fmt: skip
+                     *(f"{r[k]:.6g}" for k in HEADER[5:])))  # fmt: skip
         failed += r["unflagged_disagreements"] > 0
         print(f"{case.env_id:28s} {kind:8s} {r['env_steps']:>10,} steps: "
               f"{r['unflagged_disagreements']} unflagged, largest gap "
-              f"{r['max_disagreement_m']:.3g} m", flush=True)  # fmt: skip
+              f"{r['max_disagreement_m']:.3g} m, {r['max_disagreement_deg']:.3g} deg",
+              flush=True)  # fmt: skip
     out = args.out if not args.quick or args.out != parser.get_default("out") else None
     if out is not None:
         write_csv(out, HEADER, rows, describe(False))

@@ -24,11 +24,12 @@ def test_fuzzed_env_stays_finite_and_flags_every_runaway(env_id, params):
 @pytest.mark.parametrize("env_id", [i for i in SCENES if i.endswith("-v1")])
 def test_a_witness_at_a_quarter_step_agrees_or_the_flag_says_why(env_id):
     """benchmarks/witness.py at a small budget: the witness takes the env's state before each
-    action (the two then differ by the step's error only, far under the tolerance), and no
+    action (the two then differ by the step's error only, far under the tolerances in
+    position and attitude), and no
     wrong step goes unflagged, at hard's extremes and at a draw of every knob in its range."""
     import numpy as np
 
-    from benchmarks.fuzz import WITNESS_TOLERANCE_M, run_witness
+    from benchmarks.fuzz import WITNESS_TOLERANCE_DEG, WITNESS_TOLERANCE_M, run_witness
     from benchmarks.witness import DrawCase, draw
 
     integrator = SCENES[env_id].params_cls().integrator
@@ -42,3 +43,4 @@ def test_a_witness_at_a_quarter_step_agrees_or_the_flag_says_why(env_id):
         r = run_witness(case, env_steps=3_200, num_envs=32, seed=7)
         assert r["unflagged_disagreements"] == 0, r
         assert 0.0 < r["max_disagreement_m"] < WITNESS_TOLERANCE_M, r
+        assert 0.0 < r["max_disagreement_deg"] < WITNESS_TOLERANCE_DEG, r
