@@ -354,6 +354,8 @@ class FluidVectorEnv(VectorEnv):
             info["_episode_terms"] = done
             info["episode_steps"] = self._elapsed.copy()
             info["_episode_steps"] = done
+            if "success" in info:  # Gymnasium's and SB3's name for it, at the episode's end
+                info["is_success"], info["_is_success"] = info["success"].copy(), done
             if self.autoreset:
                 info["final_info"] = dict(info)
                 info["_final_info"] = done

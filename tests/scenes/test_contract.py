@@ -236,6 +236,48 @@ def test_gym_make_s_time_limit_is_the_env_s(scene):
     venv.close()
 
 
+def test_is_success_at_the_episode_s_end(scene):
+    """Gymnasium's and SB3's ``is_success`` (what ``Monitor`` and ``EvalCallback`` read) is in
+    the info of each episode's last step, equal to the scene's ``success``; not before."""
+    env = gym.make(scene.id, max_episode_steps=3)
+    env.reset(seed=0)
+    infos = [env.step(np.zeros(n_actions(scene)))[4] for _ in range(3)]
+    assert "is_success" not in infos[0] and "is_success" not in infos[1]
+    assert infos[2]["is_success"] == infos[2]["success"]
+    venv = scene.vector_cls(num_envs=2, max_episode_steps=3)
+    venv.reset(seed=0)
+    for _ in range(3):
+        *_, info = venv.step(np.zeros((2, n_actions(scene))))
+    assert info["_is_success"].all()
+    np.testing.assert_array_equal(info["final_info"]["is_success"], info["final_info"]["success"])
+
+
+def test_the_sync_vector_mode_against_the_native_one(scene):
+    """What docs/environments.md says of ``gym.make_vec(..., vectorization_mode="sync")``:
+    Gymnasium seeds its sub-env i with ``seed + i`` (a single env's seed), so it flies, step
+    for step across episode ends, the native vector env reset with the list ``[seed + i]``
+    once it autoresets in the same step (``autoreset_mode=SAME_STEP``, the native env's
+    mode). The native env reset with the integer ``seed`` agrees with it in sub-env 0 only."""
+    from gymnasium.vector import AutoresetMode
+
+    n, steps = 3, 7
+    sync = gym.make_vec(scene.id, n, vectorization_mode="sync", max_episode_steps=3,
+                        vector_kwargs={"autoreset_mode": AutoresetMode.SAME_STEP})  # fmt: skip
+    native = gym.make_vec(scene.id, n, max_episode_steps=3)
+    one_seed = gym.make_vec(scene.id, n, max_episode_steps=3)
+    obs, _ = sync.reset(seed=5)
+    np.testing.assert_array_equal(obs, native.reset(seed=[5 + i for i in range(n)])[0])
+    other = one_seed.reset(seed=5)[0]
+    np.testing.assert_array_equal(obs[0], other[0])
+    assert not np.array_equal(obs[1:], other[1:])
+    for a in actions_for(scene, 1, steps, n):  # two episode ends
+        a_sync, a_native = sync.step(a), native.step(a)
+        for x, y in zip(a_sync[:4], a_native[:4], strict=True):
+            np.testing.assert_array_equal(x, y)
+    for v in (sync, native, one_seed):
+        v.close()
+
+
 def test_step_after_the_end_needs_a_reset(scene):
     env = scene.env_cls(max_episode_steps=2)
     with pytest.raises(RuntimeError, match="call reset first"):
