@@ -239,3 +239,17 @@ def read_csv(path: str | Path) -> tuple[list[str], list[dict]]:
     lines = Path(path).read_text().splitlines()
     comments = [ln[2:] for ln in lines if ln.startswith("# ")]
     return comments, list(csv.DictReader(ln for ln in lines if not ln.startswith("#")))
+
+
+def keep_others(out: Path, header: tuple, cells: list, measured: list[str]) -> tuple[list, list]:
+    """``cells`` (rows of the envs ``measured``, env first) with the other envs' rows kept
+    from ``out`` where it exists, and the note that says where those came from."""
+    if not out.is_file():
+        return cells, []
+    comments, kept = read_csv(out)
+    cells = cells + [[r[k] for k in header] for r in kept if r["env"] not in measured]
+    others = sorted({r[0] for r in cells} - set(measured))
+    if not others:
+        return cells, []
+    before = next((c[len("command: ") :] for c in comments if c.startswith("command: ")), "?")
+    return cells, [f"rows of {', '.join(others)} kept from the previous file ({before})"]

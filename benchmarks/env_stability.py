@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from benchmarks.common import arguments, describe, read_csv, write_csv
+from benchmarks.common import arguments, describe, keep_others, write_csv
 from benchmarks.fuzz import Case, run_case
 from fluidsim_envs.physics.kernels import INTEGRATORS
 from fluidsim_envs.scenes import SCENES
@@ -77,17 +77,9 @@ def bisect(
 def write(out: Path, rows: list, measured: list[str]) -> None:
     """``out``: ``rows`` (the envs ``measured``), and the other envs' rows kept from ``out``."""
     cells = [[f"{x:.6g}" if isinstance(x, float) else x for x in row] for row in rows]
-    if out.is_file():  # the envs not measured keep their rows
-        _, kept = read_csv(out)
-        cells += [[r[k] for k in HEADER] for r in kept if r["env"] not in measured]
+    cells, notes = keep_others(out, HEADER, cells, measured)
     order = list(INTEGRATORS)
     cells.sort(key=lambda r: (r[0][-2:], r[0], order.index(r[1])))
-    others = sorted({r[0] for r in cells} - set(measured))
-    notes = []
-    if others:  # and where they came from: the previous file's command
-        before = next((ln[2:].strip() for ln in out.read_text().splitlines()
-                       if ln.startswith("# command:")), "?")  # fmt: skip
-        notes = [f"rows of {', '.join(others)} kept from the previous file ({before})"]
     write_csv(out, HEADER, cells, describe(False) + notes)
 
 

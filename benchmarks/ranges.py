@@ -24,8 +24,9 @@ from __future__ import annotations
 import itertools
 import sys
 from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
 
-from benchmarks.common import DOCS, arguments, describe, write_csv
+from benchmarks.common import DOCS, arguments, describe, keep_others, write_csv
 from benchmarks.fuzz import run_case
 from fluidsim_envs.scenes import SCENES
 from fluidsim_envs.scenes.limits import Bound, Span
@@ -129,7 +130,8 @@ def _measure(job: tuple) -> dict:
 def main() -> None:
     parser = arguments(__doc__, "16 episodes a case", "ranges.csv")
     parser.add_argument("--episodes", type=int, default=256, help="per case (default 256)")
-    parser.add_argument("--env", action="append", choices=v1_envs(), help="only these")
+    parser.add_argument("--env", action="append", choices=v1_envs(),
+                        help="only these (the others' rows are kept from --out)")  # fmt: skip
     parser.add_argument("--jobs", type=int, default=1, help="processes (each case alone)")
     args = parser.parse_args()
     episodes = 16 if args.quick else args.episodes
@@ -146,8 +148,11 @@ def main() -> None:
             print(f"{env_id:28s} {knob:22s} {end:8s} {value!s:14s} diverged {rate:.2%} "
                   f"of {r['episodes']:,}", flush=True)  # fmt: skip
     out = args.out if not args.quick or args.out != parser.get_default("out") else None
-    if out is not None:
-        write_csv(out, HEADER, rows, describe(False))
+    if out is not None:  # an env not measured keeps its rows
+        order = v1_envs()
+        rows, notes = keep_others(Path(out), HEADER, rows, args.env or order)
+        rows.sort(key=lambda r: order.index(r[0]))  # stable: each env's cases in order
+        write_csv(out, HEADER, rows, describe(False) + notes)
         print(f"wrote {out}")
     print(f"{len(rows)} cases; {failed} at or over {LIMIT:.0%} divergence")
     sys.exit(1 if failed else 0)

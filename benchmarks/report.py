@@ -10,7 +10,9 @@ the page, the marker's name, the source the marker names and the function that r
 as ``module:function`` in this package (imported when called). A block lies between
 ``<!-- NAME: written by `python -m benchmarks.report` from SOURCE -->`` and
 ``<!-- /NAME -->``; the function returns the text between the two lines. :data:`PAGES` are
-pages written whole from a CSV by their benchmark (``bench_peers``), checked the same way.
+pages written whole from a CSV by their benchmark (``bench_peers``), checked the same way;
+:data:`PAGE_SETS` are folders of pages written whole (one page per env, ``env_pages``), a
+page there that its renderer no longer writes being out of date too.
 
 To add a table: write ``markdown()`` (or ``<what>_markdown()``) in the benchmark that writes
 the CSV, returning the table from the CSV alone (a note in brackets where the CSV is missing);
@@ -67,7 +69,10 @@ class Block:
 
 # every block this command writes, by page (one line each: keep it so, merges stay simple)
 BLOCKS = (
-    Block("README.md", "envs-table", "docs/envs.csv", "report:envs_markdown"),
+    Block(
+        "README.md", "front-table", "docs/envs.csv and docs/results.csv", "report:front_markdown"
+    ),
+    Block("docs/environments.md", "envs-table", "docs/envs.csv", "report:envs_markdown"),
     Block("docs/training.md", "ppo-results", "docs/eval_*_ppo.csv", "report:results_markdown"),
     Block("docs/environments.md", "dart-glide", "docs/dart_glide.csv", "report:dart_markdown"),
     Block("docs/environments.md", "params-table", "each scene's RANGES", "report:params_markdown"),
@@ -226,15 +231,20 @@ BLOCKS = (
         "study_model_cost:dart_markdown",
     ),
     Block("docs/seed_map.md", "seed-claims", "docs/study_*.csv", "seed_claims:markdown"),
-    Block("README.md", "results-table", "docs/results.csv", "results:markdown"),
-    Block("README.md", "zoo-table", "zoo/*/evaluation.csv", "zoo:markdown"),
     Block("README.md", "zoo-gifs", "docs/zoo_*.gif", "zoo:gifs_markdown"),
+    Block("docs/zoo.md", "zoo-table", "zoo/*/evaluation.csv", "env_pages:zoo_markdown"),
+    Block("docs/zoo.md", "zoo-gifs", "docs/zoo_*.gif", "env_pages:zoo_gifs_markdown"),
 )
 # pages written whole by their benchmark from its CSV: page -> renderer (``module:function``)
 PAGES = {
     "docs/ablation.md": "ablation:page",
     "docs/bench_peers.md": "bench_peers:page",
     "docs/results.md": "results:page",
+}
+# folders of pages written whole from the registry: folder -> renderer (``module:function``,
+# returning {page: text}); the folder's every *.md is the renderer's
+PAGE_SETS = {
+    "docs/envs": "env_pages:pages",
 }
 
 # docs/dart_glide.csv's phugoid sources, as the table names them
@@ -333,6 +343,41 @@ def envs_markdown() -> str:
     return markdown(rows())
 
 
+def front_markdown() -> str:
+    """The README's table: each v1 env (task, observation and action sizes) and, at each
+    level, its best trained policy's IQM return normalized to its best scripted pilot's
+    (docs/results.csv: 0 random, 1 that pilot), with the 95% interval and the runs."""
+    from benchmarks import results
+
+    _, table = read_csv(results.CSV)
+    levels = list(dict.fromkeys(r["level"] for r in table))
+    envs = {r["env_id"]: r for r in rows()}
+    lines = [
+        "| env | task | obs | actions | " + " | ".join(levels) + " |",
+        "|---|---|---:|---|" + "---|" * len(levels),
+    ]
+    for env in dict.fromkeys(r["env"] for r in table):
+        cells = []
+        for level in levels:
+            here = [r for r in table if (r["env"], r["level"]) == (env, level)]
+            baselines = (*results.BASELINES, *results.LEGACY.values())
+            trained = [r for r in here if r["policy"] not in baselines]
+            if not trained:
+                cells.append("n/a")
+                continue
+            best = max(trained, key=lambda r: float(r["normalized_iqm"]))
+            lo, mid, hi = (float(best[f"normalized_iqm{t}"]) for t in ("_lo", "", "_hi"))
+            cells.append(
+                f"{best['policy']} ({best['runs']} runs): **{mid:.2f}** [{lo:.2f}, {hi:.2f}]"
+            )
+        e = envs[f"fluidsim/{env}"]
+        lines.append(
+            f"| `{e['env_id']}` | {e['summary']} | {e['observations']} | {e['actions']}: "
+            f"{e['action_names'].replace(' ', ', ')} | " + " | ".join(cells) + " |"
+        )
+    return "\n".join(lines)
+
+
 def markdown(table: list[dict[str, str]]) -> str:
     """The README's table: one row per env."""
     titles = " | ".join(title for title, _, _ in README_POLICIES)
@@ -382,44 +427,52 @@ def results_markdown() -> str:
 
 def params_markdown() -> str:
     """Every env parameter: its default and the values it may take (scenes/limits.py)."""
-    import dataclasses
-
-    from fluidsim_envs.physics.kernels import INTEGRATORS
     from fluidsim_envs.scenes import SCENES
-    from fluidsim_envs.scenes import limits as LIM
 
     lines = []
     for env_id, scene in SCENES.items():
         own = env_id.split("/")[1]
-        cls = scene.params_cls
-        steps = ", ".join(f"{m} {dt:g}" for m, dt in LIM.DT_LIMIT_S.get(own, {}).items())
-        lines += [f"**{own}** (`{cls.__name__}`)", "", "| parameter | default | allowed |"]
-        lines.append("|---|---|---|")
-        for f in dataclasses.fields(cls):
-            rule = cls.RANGES.get(f.name) or getattr(cls, "KNOB_RANGES", {}).get(f.name)
-            if f.name == "difficulty":
-                allowed = "easy, standard, hard"
-            elif f.name == "actuators":
-                allowed = "True, False (None: the level's)"
-            elif rule is not None:
-                allowed = rule.text()
-            elif f.name == "integrator":
-                allowed = ", ".join(sorted(INTEGRATORS))
-            elif f.name == "dtype":
-                allowed = "float32, float64"
-            elif f.name in getattr(cls, "CHOICES", {}):
-                allowed = ", ".join(cls.CHOICES[f.name])
-            elif isinstance(f.default, bool):
-                allowed = "True, False"
-            else:
-                allowed = "see the class docstring"
-            if f.name == "dt" and steps:
-                allowed += f"; at most (s): {steps}"
-            if f.default is None and rule is not None:
-                allowed += " (None: the level's)"
-            lines.append(f"| `{f.name}` | `{f.default!r}` | {allowed} |")
-        lines.append("")
+        lines += [f"**{own}** (`{scene.params_cls.__name__}`)", "", params_table(scene), ""]
     return "\n".join(lines).rstrip()
+
+
+def params_table(scene) -> str:
+    """One scene's parameters (a :class:`~fluidsim_envs.scenes.Scene`): each one's default and
+    the values it may take, the step limits of its integrators beside ``dt``."""
+    import dataclasses
+
+    from fluidsim_envs.physics.kernels import INTEGRATORS
+    from fluidsim_envs.scenes import limits as LIM
+
+    cls = scene.params_cls
+    steps = ", ".join(
+        f"{m} {dt:g}" for m, dt in LIM.DT_LIMIT_S.get(scene.id.split("/")[1], {}).items()
+    )
+    lines = ["| parameter | default | allowed |", "|---|---|---|"]
+    for f in dataclasses.fields(cls):
+        rule = cls.RANGES.get(f.name) or getattr(cls, "KNOB_RANGES", {}).get(f.name)
+        if f.name == "difficulty":
+            allowed = "easy, standard, hard"
+        elif f.name == "actuators":
+            allowed = "True, False (None: the level's)"
+        elif rule is not None:
+            allowed = rule.text()
+        elif f.name == "integrator":
+            allowed = ", ".join(sorted(INTEGRATORS))
+        elif f.name == "dtype":
+            allowed = "float32, float64"
+        elif f.name in getattr(cls, "CHOICES", {}):
+            allowed = ", ".join(cls.CHOICES[f.name])
+        elif isinstance(f.default, bool):
+            allowed = "True, False"
+        else:
+            allowed = "see the class docstring"
+        if f.name == "dt" and steps:
+            allowed += f"; at most (s): {steps}"
+        if f.default is None and rule is not None:
+            allowed += " (None: the level's)"
+        lines.append(f"| `{f.name}` | `{f.default!r}` | {allowed} |")
+    return "\n".join(lines)
 
 
 def _v1_modules():
@@ -433,6 +486,13 @@ def _v1_modules():
         for env_id, scene in SCENES.items()
         if scene.version == 1
     ]
+
+
+def level_cell(value) -> str:
+    """A knob's value as the level tables print it (a range as ``low to high``)."""
+    if isinstance(value, bool) or isinstance(value, str):
+        return str(value)
+    return f"{value[0]:g} to {value[1]:g}" if isinstance(value, tuple) else f"{value:g}"
 
 
 def levels_markdown() -> str:
@@ -449,18 +509,13 @@ def levels_markdown() -> str:
     head = " | ".join(f"{e.split('/')[1]} {lv}" for e, _ in modules for lv in LEVELS[1:])
     lines = [f"| knob | easy | {head} |", "|---|---" + "|---" * 2 * len(modules) + "|"]
 
-    def cell(v):
-        if isinstance(v, bool) or isinstance(v, str):
-            return str(v)
-        return f"{v[0]:g} to {v[1]:g}" if isinstance(v, tuple) else f"{v:g}"
-
     for knob, default in base.items():
         cells = []
         for _, m in modules:
             own = dataclasses.asdict(m.KNOBS())
             for lv in LEVELS[1:]:
-                cells.append(cell({**own, **m.LEVELS[lv]}[knob]) if knob in own else "-")
-        lines.append(f"| `{knob}` | {cell(default)} | " + " | ".join(cells) + " |")
+                cells.append(level_cell({**own, **m.LEVELS[lv]}[knob]) if knob in own else "-")
+        lines.append(f"| `{knob}` | {level_cell(default)} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
@@ -593,7 +648,25 @@ def pages() -> dict[Path, str]:
     for page, render in PAGES.items():
         module, function = render.split(":")
         out[ROOT / page] = getattr(importlib.import_module(f"benchmarks.{module}"), function)()
+    for render in PAGE_SETS.values():
+        module, function = render.split(":")
+        written = getattr(importlib.import_module(f"benchmarks.{module}"), function)()
+        out.update({ROOT / page: text for page, text in written.items()})
     return out
+
+
+def orphans(written: dict[Path, str]) -> list[Path]:
+    """The pages in a :data:`PAGE_SETS` folder that its renderer no longer writes."""
+    return [
+        path
+        for folder in PAGE_SETS
+        for path in sorted((ROOT / folder).glob("*.md"))
+        if path not in written
+    ]
+
+
+def _reads(path: Path) -> str | None:
+    return path.read_text() if path.is_file() else None
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -610,22 +683,31 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{b.page:24s} {b.name:22s} {b.source:34s} {b.render}")
         for page, render in PAGES.items():
             print(f"{page:24s} {'(whole page)':22s} {'':34s} {render}")
+        for folder, render in PAGE_SETS.items():
+            print(
+                f"{folder + '/*.md':24s} {'(whole pages)':22s} {'the scene registry':34s} {render}"
+            )
         return 0
     table = rows()
     written = pages()
     if args.check:
         _, on_disk = read_csv(CSV) if CSV.is_file() else ([], [])
         checks = [("docs/envs.csv", on_disk == table)]
-        checks += [(p.relative_to(ROOT), text == p.read_text()) for p, text in written.items()]
+        checks += [(p.relative_to(ROOT), text == _reads(p)) for p, text in written.items()]
+        checks += [(p.relative_to(ROOT), False) for p in orphans(written)]
         stale = [str(name) for name, ok in checks if not ok]
         if stale:
             print(f"out of date: {', '.join(stale)}; run {WRITER}")
             return 1
         return 0
     write_csv(CSV, COLUMNS, ([r[c] for c in COLUMNS] for r in table))
-    changed = [p for p, text in written.items() if text != p.read_text()]
+    changed = [p for p, text in written.items() if text != _reads(p)]
     for path in changed:
+        path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(written[path])
+    for path in orphans(written):  # a scene no longer registered
+        path.unlink()
+        changed.append(path)
     names = ", ".join(str(p.relative_to(ROOT)) for p in changed) or "nothing changed"
     print(f"written: {CSV.relative_to(ROOT)}; {names}")
     return 0

@@ -801,7 +801,7 @@ def page() -> str:
 
 <!-- written by `python -m benchmarks.results` from docs/results*.csv: do not edit -->
 
-Each shipped v1 config (`fluidsim_envs/configs/<config>.yaml`) is trained with seeds 0 to
+Each shipped v1 config (`configs/<config>.yaml`) is trained with seeds 0 to
 {SEEDS - 1}. Each run's final model, acting deterministically, and the baselines fly the same
 {EPISODES} episodes (seed {EVAL_SEED}) at each difficulty level ({", ".join(LEVELS)}): three
 scripted pilots (the scene's classical controller with its gains tuned on this v1 env at

@@ -101,7 +101,10 @@ def markdown() -> str:
                 continue
             steps = sum(int(r["env_steps"]) for r in rows)
             wrong = sum(int(r["unflagged_disagreements"]) for r in rows)
-            gap, turn, un_m, un_deg = (max(float(r[k]) for r in rows) for k in HEADER[5:])
+            # (a table written before attitudes were compared: nan in their columns)
+            gap, turn, un_m, un_deg = (
+                max(float(r.get(k) or "nan") for r in rows) for k in HEADER[5:]
+            )
             name = f"{len(rows)} draws" if kind == "draw" else kind
             lines.append(f"| {env.split('/')[1]} | {name} | {steps:,} | {wrong:,} | {gap:.3g} "
                          f"| {turn:.3g} | {un_m:.3g}, {un_deg:.3g} |")  # fmt: skip

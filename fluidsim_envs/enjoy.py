@@ -79,18 +79,24 @@ def make_env(folder: Path, overrides: dict, frames: bool, rerun: str | None):
 
 def fly(venv, policy, episodes: int, seed: int, on_frame=None, say=print) -> list[dict]:
     """``episodes`` episodes one after another (the first reset seeded), each frame to
-    ``on_frame`` (returning False stops); returns each episode's return, length, success."""
+    ``on_frame`` (returning False stops): every control step's, an episode's last one drawn
+    before the same-step autoreset replaces it; returns each episode's return, length,
+    success."""
     obs, _ = venv.reset(seed=seed)
     results, running, steps = [], 0.0, 0
+    native, last = venv.unwrapped, []  # the ended episode's frame, drawn before the reset
+    if on_frame is not None:
+        native.before_autoreset.append(lambda ended, info, reward: last.append(native.render()))
     if on_frame is not None and on_frame(venv.render()[0]) is False:
         return results
     while len(results) < episodes:
         obs, reward, terminated, truncated, info = venv.step(policy(obs))
         running += float(reward[0])
         steps += 1
-        if on_frame is not None and on_frame(venv.render()[0]) is False:
+        done = bool(terminated[0] or truncated[0])
+        if on_frame is not None and on_frame((last.pop() if done else venv.render())[0]) is False:
             break
-        if terminated[0] or truncated[0]:
+        if done:
             if hasattr(policy, "reset"):  # a policy with memory starts the next episode anew
                 policy.reset(terminated | truncated)
             success = info.get("final_info", {}).get("success")
@@ -101,6 +107,9 @@ def fly(venv, policy, episodes: int, seed: int, on_frame=None, say=print) -> lis
             won = "" if success is None else ("  success" if success[0] else "  no success")
             say(f"episode {len(results)}: return {running:.3f}, {steps} steps{won}")
             running, steps = 0.0, 0
+            more = len(results) < episodes
+            if more and on_frame is not None and on_frame(venv.render()[0]) is False:
+                break  # the next episode's first frame
     return results
 
 
@@ -195,7 +204,15 @@ def enjoy(
     speed: float = 1.0,
     allow_pickle: bool = False,
 ) -> list[dict]:
-    """Fly the folder's policy (see the module docstring); returns the episodes' results."""
+    """Fly the folder's policy (see the module docstring); returns the episodes' results.
+    ``folder``: a run folder, a zoo entry's folder, or a zoo entry's name (the package's
+    copy: :mod:`fluidsim_envs.zoo`)."""
+    from fluidsim_envs import zoo
+
+    try:
+        folder = zoo.path(folder)
+    except zoo.ZooError:
+        pass  # not an entry's name: load_policy names what the folder lacks
     if episodes < 1:
         raise EnjoyError(f"--episodes must be at least 1, got {episodes}")
     if stride < 1 or (width is not None and width < 8):
@@ -229,21 +246,34 @@ def enjoy(
     return results
 
 
-def main(argv: list[str] | None = None) -> int:
-    from fluidsim_envs.play import NoDisplay
-    from fluidsim_envs.rl.config import ConfigError
-    from fluidsim_envs.rl.evaluate import parse_env_overrides
-    from fluidsim_envs.rl.extras import require
-    from fluidsim_envs.rl.files import RunError
-
-    prog = "python -m fluidsim_envs.enjoy"
+def build_parser(prog: str = "python -m fluidsim_envs.enjoy") -> argparse.ArgumentParser:
+    """The command line's parser (built without the extras: ``--help`` works without them)."""
     parser = argparse.ArgumentParser(prog=prog, description="Watch a trained policy fly.")
-    parser.add_argument("folder", type=Path, help="a zoo entry (zoo/<env>-<algo>) or run folder")
-    parser.add_argument("--episodes", type=int, default=1)
+    parser.add_argument(
+        "folder",
+        type=Path,
+        help="a zoo entry's name (PaperAirplane-v1-ppo) or folder (zoo/<env>-<algo>), or a run "
+        "folder",
+    )
+    parser.add_argument(
+        "--episodes", type=int, default=1, help="episodes to fly, one after another (default 1)"
+    )
     parser.add_argument("--seed", type=int, default=0, help="the first episode's seed")
-    parser.add_argument("--env", metavar="KEY=VALUE", nargs="+", default=[], help="env parameters")
+    parser.add_argument(
+        "--env",
+        metavar="KEY=VALUE",
+        nargs="+",
+        default=[],
+        help="env parameters over the folder's config (values read as YAML)",
+    )
     parser.add_argument("--rerun", metavar="FILE.rrd", help="record the episodes for Rerun")
-    parser.add_argument("--video", metavar="FILE.mp4", help="write the episodes as MP4 or .gif")
+    parser.add_argument(
+        "--video",
+        metavar="FILE.mp4",
+        help="write the episodes as MP4 (moviepy: the play extra) or, for a name ending "
+        ".gif, a GIF; without --video or --rerun they play in a window (pygame: the play "
+        "extra)",
+    )
     parser.add_argument("--stride", type=int, default=1, help="--video keeps every Nth frame")
     parser.add_argument("--width", type=int, help="--video's width in pixels (default: the env's)")
     parser.add_argument(
@@ -255,6 +285,17 @@ def main(argv: list[str] | None = None) -> int:
         help="fly SB3's pickled model.zip and vecnormalize.pkl (a folder of an older version): "
         "unpickling runs any code the files carry, so only for files you trust",
     )
+    return parser
+
+
+def main(argv: list[str] | None = None, prog: str = "python -m fluidsim_envs.enjoy") -> int:
+    from fluidsim_envs.play import NoDisplay
+    from fluidsim_envs.rl.config import ConfigError
+    from fluidsim_envs.rl.evaluate import parse_env_overrides
+    from fluidsim_envs.rl.extras import require
+    from fluidsim_envs.rl.files import RunError
+
+    parser = build_parser(prog)
     args = parser.parse_args(argv)
     try:
         require("train", prog)

@@ -199,20 +199,30 @@ def _draw(pygame, screen, font, flight: Flight, scale: float, paused: bool) -> N
     pygame.display.flip()
 
 
-def main(argv: list[str] | None = None) -> int:
+def build_parser(prog: str = "python -m fluidsim_envs.play") -> argparse.ArgumentParser:
+    """The command line's parser (built without pygame: ``--help`` works without it)."""
+    parser = argparse.ArgumentParser(prog=prog, description="Fly an env from the keyboard.")
+    parser.add_argument("env_id", help="e.g. fluidsim/PaperAirplane-v1")
+    parser.add_argument(
+        "--env",
+        metavar="KEY=VALUE",
+        nargs="+",
+        default=[],
+        help="env parameters (values read as YAML)",
+    )
+    parser.add_argument("--seed", type=int, help="the first episode's seed (default: random)")
+    parser.add_argument("--rerun", metavar="FILE.rrd", help="record the flight for Rerun")
+    parser.add_argument(
+        "--scale", type=float, default=1.0, help="window size over the frame's (default 1)"
+    )
+    return parser
+
+
+def main(argv: list[str] | None = None, prog: str = "python -m fluidsim_envs.play") -> int:
     from fluidsim_envs.rl.config import ConfigError, parse_assignment
     from fluidsim_envs.rl.extras import require
 
-    parser = argparse.ArgumentParser(
-        prog="python -m fluidsim_envs.play", description="Fly an env from the keyboard."
-    )
-    parser.add_argument("env_id", help="e.g. fluidsim/PaperAirplane-v1")
-    parser.add_argument("--env", metavar="KEY=VALUE", nargs="+", default=[], help="env parameters")
-    parser.add_argument("--seed", type=int, help="the first episode's seed")
-    parser.add_argument("--rerun", metavar="FILE.rrd", help="record the flight for Rerun")
-    parser.add_argument("--scale", type=float, default=1.0, help="window size over the frame's")
-    args = parser.parse_args(argv)
-    prog = "python -m fluidsim_envs.play"
+    args = build_parser(prog).parse_args(argv)
     try:
         kwargs = dict(parse_assignment(item, "--env") for item in args.env)
         if not args.scale > 0:

@@ -89,3 +89,20 @@ def test_the_window_shows_every_frame(run, monkeypatch):
     monkeypatch.setattr(enjoy, "window", counting)
     results = enjoy.enjoy(run, episodes=1, seed=4, realtime=False, say=lambda line: None)
     assert len(shown) == results[0]["length"] + 1 and len(set(shown)) == 1
+
+
+def test_an_episode_s_frames_end_on_its_own_last_state(run):
+    """Episode after episode: each one's first frame, one per action, its last drawn before
+    the same-step autoreset (not the next episode's start, which comes next on its own)."""
+    import numpy as np
+
+    env_id, venv = enjoy.make_env(run, {}, frames=True, rerun=None)
+    _, policy = enjoy.load_policy(run, venv)
+    frames = []
+    results = enjoy.fly(venv, policy, 2, seed=4, on_frame=frames.append, say=lambda line: None)
+    first = results[0]["length"] + 1
+    assert len(frames) == first + results[1]["length"] + 1
+    venv.reset(seed=4)  # the first episode again: its start
+    np.testing.assert_array_equal(frames[0], venv.render()[0])
+    assert not np.array_equal(frames[first - 1], frames[first])  # its end, then the next start
+    venv.close()

@@ -964,7 +964,8 @@ class Simulator:
                 have none (:meth:`set_thrust_scale`).
             efficiency: >= 0, broadcasts to ``[n]``: the factor on each plate's
                 ``efficiency``, which must stay within [0, 1].
-            env_ids, body: as in :meth:`set_mass_properties`.
+            env_ids: as in :meth:`set_mass_properties`.
+            body: as in :meth:`set_mass_properties`.
         """
         what = "set_sample_scale"
         ids, bd = self._env_ids(what, env_ids), self._body(what, body)

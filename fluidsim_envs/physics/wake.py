@@ -96,8 +96,9 @@ class WakeField:
     """The flow around a submarine moving through still water (see the module docstring).
 
     Args:
-        length_m, radius_m: the hull, a prolate spheroid centered on the submarine's center
+        length_m: the hull's length: a prolate spheroid centered on the submarine's center
             of mass, axis along its body x (``length_m >= 2 radius_m``).
+        radius_m: the hull's radius.
         screws: 1 (one vortex on the axis) or 2 (a counter-rotating pair).
         screw_spacing_m: distance between the two screws (default: one radius).
         screw_x_m: body-x position of the screws (default: the stern, ``-length/2``).
@@ -118,7 +119,8 @@ class WakeField:
             spheroid's down to a tenth of a radius off the hull; 8 on this default hull is
             as good from two radii out (0.5%) at a third of the cost
             (tests/physics/test_wake.py).
-        displacement, vortices: switch those parts on or off (turbulence: ``noise=0``).
+        displacement: switch the displacement flow on or off.
+        vortices: switch the screws' vortices on or off (turbulence: ``noise=0``).
         model: ``"exact"`` (the default) evaluates every closed form at every point.
             ``"table"`` is the seed's spatial field taken literally, the same flow for less:
             the displacement flow (of ``dipoles`` dipoles) is read from a table in the hull's

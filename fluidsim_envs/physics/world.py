@@ -29,7 +29,8 @@ class World:
         central_gravity_m3s2: GM (>= 0) of a point mass at the world origin pulling every
             body with ``-GM x / |x|^3`` besides the uniform gravity (0, the default: none): an
             orbit, the test problem of geometric integration, for the study's Kepler problem.
-        air_density_kgm3, water_density_kgm3: fluid densities (> 0).
+        air_density_kgm3: the air's density (> 0).
+        water_density_kgm3: the water's density (> 0).
         water: whether there is water below z = 0 (otherwise air everywhere, no buoyancy).
         wind_mps: uniform air velocity (world frame).
         current_mps: uniform water velocity (world frame).

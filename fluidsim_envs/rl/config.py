@@ -1,5 +1,5 @@
 """Training configs: YAML files (one per env x algorithm; the shipped ones in
-``fluidsim_envs/configs/``, found by name) loaded with a safe YAML loader that refuses a key
+``configs/``, found by name) loaded with a safe YAML loader that refuses a key
 given twice (:class:`UniqueKeyLoader`) into frozen dataclasses. The keys are
 Stable-Baselines3's own hyperparameter names, grouped in sections; rl-zoo3 cannot load these
 files (its hyperparameter files are keyed by env id, with policy kwargs as Python strings).

@@ -28,9 +28,12 @@ class MissingExtra(ImportError):
     """An optional dependency is not installed; the message names the ``pip install``."""
 
 
-def require(extra: str, who: str) -> None:
-    """Raise :class:`MissingExtra` unless every module of ``extra`` can be imported."""
-    missing = [m for m in EXTRAS[extra] if importlib.util.find_spec(m) is None]
+def require(extra: str, who: str, modules: tuple[str, ...] | None = None) -> None:
+    """Raise :class:`MissingExtra` unless every module of ``extra`` can be imported, or with
+    ``modules`` those of the extra's packages that ``who`` imports (``fluidsim-enjoy --video``:
+    moviepy, which the ``play`` extra installs beside pygame)."""
+    wanted = EXTRAS[extra] if modules is None else modules
+    missing = [m for m in wanted if importlib.util.find_spec(m) is None]
     if missing:
         raise MissingExtra(
             f"{who} needs {', '.join(missing)} (the {extra!r} extra): "

@@ -12,7 +12,7 @@ The distributions: ``uniform`` and ``loguniform`` (floats in ``[low, high]``), `
 ``logint`` (integers, both ends included), ``choice`` (any YAML values). Every key must name
 a config field (``env_kwargs.*`` an env parameter), and both ends of each range and every
 choice must make a valid config: an unknown key, an empty range or a value the config refuses
-is an error that names it. ``fluidsim_envs/configs/search/`` ships a space per algorithm,
+is an error that names it. ``configs/search/`` ships a space per algorithm,
 found by name (``--search ppo``). The seed is not searched: ``fluidsim-sweep --seeds N``
 repeats each trial over seeds.
 

@@ -26,9 +26,12 @@ folder as ``fluidsim-train`` writes it.
 - Ray: an embedded local Ray by default (nothing to start; every core of this machine),
   a running cluster with ``--address`` (``ray start --head`` on one machine, ``ray start
   --address=HEAD:6379`` on the others; each needs this package installed and the sweep folder
-  at the same path, e.g. on NFS). Each trial takes ``--cpus-per-trial`` cores: numba's
-  threads run on that many, torch's on ``--torch-threads`` (default 1: two torch threads in
-  a Ray worker trained a 2-CPU trial at a third of the speed, docs/training.md).
+  at the same path, e.g. on NFS). Whether the head wants Ray's token (token authentication:
+  ``RAY_AUTH_MODE=token``, or a head started where a token exists) is asked before Ray
+  connects (:func:`check_token`): a sweep that would send none, or one the head refuses, is
+  an error in one line that says what to set. Each trial takes ``--cpus-per-trial`` cores:
+  numba's threads run on that many, torch's on ``--torch-threads`` (default 1: two torch
+  threads in a Ray worker trained a 2-CPU trial at a third of the speed, docs/training.md).
 
 The sweep folder holds ``sweep.yaml`` (everything needed to resume: the base config, the
 space, the settings), ``runs/<trial>/`` (the run folders), ``tune/`` (Ray Tune's experiment
@@ -266,6 +269,72 @@ def check_address(address: str, timeout_s: float = 5.0) -> None:
             f"there with `ray start --head --port={port}`, or leave --address out to run on "
             "this machine alone"
         ) from None
+    if not address.startswith("ray://"):  # Ray Client's server is not the GCS: Ray says
+        check_token(address, timeout_s)
+
+
+#: the environment variable that turns Ray's token authentication on (ray >= 2.52)
+AUTH_MODE = "RAY_AUTH_MODE"
+#: how to get the head's token onto this machine, said by each token error
+_TOKEN_HOWTO = (
+    "the head's token (`ray get-auth-token` there prints it) in ~/.ray/auth_token, in "
+    "RAY_AUTH_TOKEN or in a file named by RAY_AUTH_TOKEN_PATH (docs/training.md, On a cluster)"
+)
+
+
+def ray_token() -> tuple[str | None, str]:
+    """This machine's Ray token (None: none) and where it was looked for, in Ray's order:
+    ``RAY_AUTH_TOKEN``, the file ``RAY_AUTH_TOKEN_PATH`` names, ``~/.ray/auth_token``
+    (Ray trims whitespace, and so does this)."""
+    if os.environ.get("RAY_AUTH_TOKEN", "").strip():
+        return os.environ["RAY_AUTH_TOKEN"].strip(), "RAY_AUTH_TOKEN"
+    named = os.environ.get("RAY_AUTH_TOKEN_PATH")
+    path = Path(named) if named else Path.home() / ".ray" / "auth_token"
+    try:
+        token = path.read_text().strip()
+    except OSError:
+        return None, str(path)
+    return token or None, str(path)
+
+
+def check_token(address: str, timeout_s: float = 5.0) -> None:
+    """A one-line error when the head at ``address`` wants Ray's token and this process
+    would not send it (``RAY_AUTH_MODE`` is not ``token``; Ray turns it on by itself only for
+    a cluster it finds with ``auto``, never for an address given), or sends one the head
+    refuses. Asked once over the GCS's gRPC (its ``GetClusterId``, unauthenticated unless the
+    mode is ``token``): Ray's own connect would retry for a while, print a screen of
+    ``InvalidAuthToken`` lines, then fail without saying what to set. Anything else the
+    head answers is left to Ray."""
+    try:
+        import grpc  # Ray's own dependency
+    except ImportError:
+        return
+    mode = os.environ.get(AUTH_MODE, "").strip().lower()
+    token, where = ray_token() if mode == "token" else (None, "")
+    if mode == "token" and token is None:
+        raise SweepError(
+            f"--address {address}: {AUTH_MODE}=token is set here but no token was found "
+            f"(in RAY_AUTH_TOKEN or {where}): put {_TOKEN_HOWTO}"
+        )
+    metadata = [("authorization", f"Bearer {token}")] if token else []
+    with grpc.insecure_channel(address) as channel:
+        ask = channel.unary_unary("/ray.rpc.NodeInfoGcsService/GetClusterId")
+        try:
+            ask(b"", timeout=timeout_s, metadata=metadata)  # an empty GetClusterIdRequest
+            return
+        except grpc.RpcError as e:
+            if e.code() != grpc.StatusCode.UNAUTHENTICATED:
+                return
+    if token is None:
+        raise SweepError(
+            f"--address {address}: the Ray head there wants a token (Ray's token "
+            f"authentication): set {AUTH_MODE}=token where fluidsim-sweep runs, with "
+            f"{_TOKEN_HOWTO}"
+        )
+    raise SweepError(
+        f"--address {address}: the Ray head there refused this machine's token (from "
+        f"{where}): put {_TOKEN_HOWTO}"
+    )
 
 
 def start_ray(address: str | None) -> None:
@@ -286,9 +355,16 @@ def start_ray(address: str | None) -> None:
         ray.init(num_cpus=os.cpu_count(), **quiet)
         return
     check_address(address)
+    refused: tuple[type[Exception], ...] = (ConnectionError, RuntimeError, ValueError)
+    try:
+        from ray.exceptions import AuthenticationError  # ray >= 2.52: token authentication
+
+        refused += (AuthenticationError,)
+    except ImportError:
+        pass
     try:
         ray.init(address=address, **quiet)
-    except (ConnectionError, RuntimeError, ValueError) as e:
+    except refused as e:
         raise SweepError(f"--address {address}: Ray could not connect ({e})") from None
 
 
@@ -434,6 +510,12 @@ def _plan(sweep: Sweep, cpus: int, concurrent: int, resume: bool) -> str:
 
 
 def parse_args(argv: list[str] | None, prog: str) -> argparse.Namespace:
+    return build_parser(prog).parse_args(argv)
+
+
+def build_parser(prog: str) -> argparse.ArgumentParser:
+    """The command line's parser (this module imports Ray only where a sweep runs, so
+    ``fluidsim-sweep --help`` works without the sweep extra)."""
     from .config import shipped_configs
 
     example = next(iter(shipped_configs()))
@@ -442,7 +524,8 @@ def parse_args(argv: list[str] | None, prog: str) -> argparse.Namespace:
         description="Train a config over seeds, or search its hyperparameters, on Ray Tune.",
         epilog=f"Examples: {prog} {example} --seeds 5; {prog} {example} --search ppo "
         "--trials 16. A cluster: `ray start --head` on one machine, `ray start "
-        "--address=HEAD:6379` on the others, then --address HEAD:6379.",
+        "--address=HEAD:6379` on the others, then --address HEAD:6379 (with Ray's token "
+        "authentication: RAY_AUTH_MODE=token and the head's token on every machine).",
     )
     parser.add_argument("config", nargs="?", help="a config YAML file or a shipped config's name")
     add_overrides_argument(parser, "override config keys for every trial (as fluidsim-train --set)")
@@ -454,7 +537,11 @@ def parse_args(argv: list[str] | None, prog: str) -> argparse.Namespace:
         help="a search space file, or a shipped one's name (ppo, sac)",
     )
     parser.add_argument("--trials", type=int, help="configs to sample from --search (default 8)")
-    parser.add_argument("--address", help="a running Ray cluster's HOST:PORT (default: local)")
+    parser.add_argument(
+        "--address",
+        help="a running Ray cluster's HOST:PORT (default: local); a head with token "
+        "authentication needs RAY_AUTH_MODE=token here and its token (docs/training.md)",
+    )
     parser.add_argument("--cpus-per-trial", type=int, default=1, help="cores a trial takes")
     parser.add_argument(
         "--torch-threads",
@@ -495,7 +582,7 @@ def parse_args(argv: list[str] | None, prog: str) -> argparse.Namespace:
         help="do not start a search with the config itself (its first trial by default: "
         "the config the search must beat, run in the same sweep)",
     )
-    return parser.parse_args(argv)
+    return parser
 
 
 def sweep_from_args(args: argparse.Namespace, command: list[str]) -> Sweep:

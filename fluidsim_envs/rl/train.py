@@ -3,7 +3,7 @@
     fluidsim-train paper_airplane_ppo [--set key=value ...] [--run-dir DIR] [--resume RUN]
 
 (also ``python -m fluidsim_envs.rl.train`` and ``python training/train.py``). The config is a
-YAML file or the name of a shipped one (``fluidsim_envs/configs/``). The run prints what it
+YAML file or the name of a shipped one (``configs/``). The run prints what it
 will do, a line per evaluation, and at the end the commands that evaluate, replay and chart
 it. The run folder holds everything needed to replay or continue the run:
 

@@ -199,7 +199,8 @@ class FluidVectorEnv(VectorEnv):
 
     @property
     def last_action(self) -> np.ndarray:
-        """The last step's actions [E, n], clipped to [-1, 1] (read-only; zeros before any)."""
+        """The last step's actions [E, n], clipped to [-1, 1] (read-only; zeros at an
+        episode's start, before its first action)."""
         return _read_only(self._act)
 
     @property
@@ -495,6 +496,10 @@ class FluidVectorEnv(VectorEnv):
         return self._pool.reshape(self.num_envs, k, n)[ids, at]
 
     def _start(self, ids: np.ndarray) -> None:
+        # no action yet, nor the last episode's controls (what a viewer draws of the new
+        # episode); the scene's start may set its own
+        self._act[ids] = 0.0
+        self.sim.center_actuators(ids)
         self._draw_reset(ids, self._draws(ids))
         self._elapsed[ids] = 0
         self._episodes[ids] += 1

@@ -278,6 +278,20 @@ def test_the_sync_vector_mode_against_the_native_one(scene):
         v.close()
 
 
+def test_a_reset_draws_the_new_episode_not_the_last_action(scene):
+    """After steps and ``reset(seed=0)`` the frame (its HUD included) is a fresh env's at
+    ``reset(seed=0)``: no action of the episode before shows."""
+    used = scene.vector_cls(num_envs=1, render_mode="rgb_array")
+    used.reset(seed=0)
+    for _ in range(2):
+        used.step(np.ones((1, n_actions(scene))))
+    used.reset(seed=0)
+    assert not used.last_action.any()
+    fresh = scene.vector_cls(num_envs=1, render_mode="rgb_array")
+    fresh.reset(seed=0)
+    np.testing.assert_array_equal(used.render(), fresh.render())
+
+
 def test_step_after_the_end_needs_a_reset(scene):
     env = scene.env_cls(max_episode_steps=2)
     with pytest.raises(RuntimeError, match="call reset first"):
