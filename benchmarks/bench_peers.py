@@ -491,7 +491,7 @@ def markdown(machine: list[str], rows: list[dict], csv_name: str) -> str:
     L.append("")
     L.append(
         f"Written by `python -m benchmarks.bench_peers` (`--quick` for a shorter run); numbers "
-        f"from `docs/{csv_name}`, chart `docs/bench_peers.png`. One run on this machine (its "
+        f"from [{csv_name}]({csv_name}), [chart](bench_peers.png). One run on this machine (its "
         "load average at the start below: anything else running lowers the absolute rates, "
         "most the 2-thread rows); what is compared was measured side by side in that run."
     )

@@ -61,7 +61,7 @@ EXTREMES = {
     "fluidsim/SubmarineWake-v0": {
         "lead_speed_mps": (4.0, 5.0),
         "lead_turn_deg_s": (-10.0, 10.0),
-        "circulation": 3.0,
+        "circulation": 2.0,
         "noise": 1.0,
         "wake_dipoles": 32,
     },

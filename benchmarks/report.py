@@ -73,6 +73,7 @@ BLOCKS = (
         "README.md", "front-table", "docs/envs.csv and docs/results.csv", "report:front_markdown"
     ),
     Block("docs/environments.md", "envs-table", "docs/envs.csv", "report:envs_markdown"),
+    Block("docs/data.md", "data-files", "docs/*.csv", "report:data_markdown"),
     Block("docs/training.md", "ppo-results", "docs/eval_*_ppo.csv", "report:results_markdown"),
     Block("docs/environments.md", "dart-glide", "docs/dart_glide.csv", "report:dart_markdown"),
     Block("docs/environments.md", "params-table", "each scene's RANGES", "report:params_markdown"),
@@ -341,6 +342,20 @@ def _interval(mean: str, lo: str, hi: str, percent: bool) -> str:
 def envs_markdown() -> str:
     """The README's table of envs (:func:`rows`)."""
     return markdown(rows())
+
+
+def data_markdown() -> str:
+    """Every table under docs/ (linked) with the command its ``# command:`` line names."""
+    lines = ["| table | written by |", "|---|---|"]
+    for path in sorted(DOCS.glob("*.csv")):
+        comments, _ = read_csv(path)
+        command = next((c[len("command: ") :] for c in comments if c.startswith("command: ")), "")
+        lines.append(
+            f"| [{path.name}]({path.name}) | "
+            + (f"`{command}`" if command else "(its page says)")
+            + " |"
+        )
+    return "\n".join(lines)
 
 
 def front_markdown() -> str:

@@ -166,7 +166,7 @@ def window(env_id: str, fps: float):
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     import pygame
 
-    pygame.init()
+    pygame.display.init()  # not pygame.init(): no mixer, no audio driver looked for
     state: dict = {}
     clock = pygame.time.Clock()
 

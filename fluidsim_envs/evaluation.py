@@ -80,7 +80,7 @@ def first_episodes(
             out["length"][newly] = final["episode_steps"][newly]
             out.setdefault("truncated", np.zeros(E, dtype=bool))[newly] = truncated[newly]
             for key, value in final.items():
-                if key.startswith("_"):  # Gymnasium's masks, not results
+                if key.startswith("_") or key == "is_success":  # masks; success's alias
                     continue
                 if isinstance(value, np.ndarray) and value.shape == (E,):
                     out.setdefault(key, np.zeros(E, dtype=value.dtype))[newly] = value[newly]

@@ -3,13 +3,13 @@
     python -m fluidsim_envs.play fluidsim/PaperAirplane-v1 [--env KEY=VALUE ...] [--seed N]
                                  [--rerun FLIGHT.rrd] [--scale 1.5]
 
-The window shows the env's own ``rgb_array`` frames at its action rate (real time), with
-each control's position and the episode's return and time drawn over them. Each scene maps
-its three actions to keys (its ``Scene.keys``, printed at the start): a control surface moves
-while its key is held and springs back to neutral when released; a throttle or thruster
-stays where it was left. R starts a new episode, P pauses, Esc or closing the window
-quits. ``--rerun`` records the flight for the Rerun viewer as ``fluidsim-evaluate --rerun``
-records a policy's.
+The window shows the env's own ``rgb_array`` frames at its action rate (real time), with each
+control's position and the episode's return and time in a panel under them (the frame, its own
+readout included, stays clear). Each scene maps its three actions to keys (its ``Scene.keys``,
+printed at the start): a control surface moves while its key is held and springs back to
+neutral when released; a throttle or thruster stays where it was left. R starts a new episode,
+P pauses, Esc or closing the window quits. ``--rerun`` records the flight for the Rerun viewer
+as ``fluidsim-evaluate --rerun`` records a policy's.
 
 Where there is no display (a server, a container, ssh without X forwarding) it says so and
 exits with status 2, naming what works there instead.
@@ -24,6 +24,9 @@ import sys
 import numpy as np
 
 from fluidsim_envs.scenes.keys import Axis
+
+PANEL = (245, 245, 245)  # the background of play's own lines, under the frame
+LINE_PX = 20  # their spacing
 
 
 class NoDisplay(RuntimeError):
@@ -145,10 +148,13 @@ def play(
     env = make_env(env_id, env_kwargs or {}, rerun)
     flight = Flight(env, keymap(env_id))
     try:
-        pygame.init()
+        pygame.display.init()  # not pygame.init(): no mixer, no audio driver looked for
+        pygame.font.init()
         flight.reset(seed)
         frame = env.render()[0]
-        size = (int(frame.shape[1] * scale), int(frame.shape[0] * scale))
+        # play's own lines in a panel under the frame: the env's HUD stays clear
+        panel = 8 + LINE_PX * (len(flight.hud()) + 1)
+        size = (int(frame.shape[1] * scale), int(frame.shape[0] * scale) + panel)
         try:
             screen = pygame.display.set_mode(size)
         except pygame.error as e:
@@ -190,12 +196,14 @@ def _loop(pygame, screen, font, clock, flight: Flight, scale, max_steps, keys) -
 def _draw(pygame, screen, font, flight: Flight, scale: float, paused: bool) -> None:
     frame = np.ascontiguousarray(flight.env.render()[0][:, :, :3])
     surface = pygame.surfarray.make_surface(frame.swapaxes(0, 1))
+    height = int(frame.shape[0] * scale)
     if scale != 1.0:
-        surface = pygame.transform.smoothscale(surface, screen.get_size())
+        surface = pygame.transform.smoothscale(surface, (screen.get_width(), height))
+    screen.fill(PANEL)
     screen.blit(surface, (0, 0))
     lines = flight.hud() + (["PAUSED (P)"] if paused else [])
     for i, text in enumerate(line for line in lines if line):
-        screen.blit(font.render(text, True, (10, 10, 10), (245, 245, 245)), (8, 8 + 20 * i))
+        screen.blit(font.render(text, True, (10, 10, 10), PANEL), (8, height + 4 + LINE_PX * i))
     pygame.display.flip()
 
 

@@ -69,3 +69,25 @@ def test_a_headless_flight_applies_the_keys_and_records(monkeypatch, tmp_path):
     assert throttle == 1.0 and rudder == 0.0 and tabs == 0.0
     assert flight.steps == 2 * rate and flight.episode_return != 0.0
     assert rrd.stat().st_size > 0
+
+
+def test_play_s_lines_sit_under_the_frame_not_over_it(monkeypatch):
+    """The window is the env's frame, untouched (its own readout included), with play's
+    lines in a panel below it."""
+    import numpy as np
+
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
+    shown = []
+    real = play._draw
+
+    def keep(pygame, screen, font, flight, scale, paused):
+        real(pygame, screen, font, flight, scale, paused)
+        frame = flight.env.render()[0][:, :, :3]
+        shown.append((pygame.surfarray.array3d(screen).swapaxes(0, 1), frame))
+
+    monkeypatch.setattr(play, "_draw", keep)
+    play.play("fluidsim/PaperAirplane-v1", seed=3, max_steps=2, keys=lambda step: set())
+    window, frame = shown[-1]
+    assert window.shape[0] > frame.shape[0] and window.shape[1] == frame.shape[1]
+    np.testing.assert_array_equal(window[: frame.shape[0]], frame)
+    assert (window[frame.shape[0] :] != play.PANEL).any()  # the lines are drawn there

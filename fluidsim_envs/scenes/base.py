@@ -100,6 +100,7 @@ class FluidVectorEnv(VectorEnv):
     }
     Params: type
     obs_dim: int
+    observation_layout: tuple[tuple[str, str, str], ...]  # (name, unit, description) a column
     reward_terms: tuple[str, ...]
     # the rgb_array viewer: View(env) with frame(env_index) -> [H, W, 3] uint8, made on the
     # first render() and owning whatever it keeps between frames
@@ -142,7 +143,8 @@ class FluidVectorEnv(VectorEnv):
         n_act = len(self.action_names)
         self.single_action_space = gym.spaces.Box(-1.0, 1.0, (n_act,), np.float32)
         self.action_space = batch_space(self.single_action_space, E)
-        self.single_observation_space = gym.spaces.Box(-np.inf, np.inf, (self.obs_dim,), np.float32)
+        low, high = self._observation_bounds()
+        self.single_observation_space = gym.spaces.Box(low, high, (self.obs_dim,), np.float32)
         self.observation_space = batch_space(self.single_observation_space, E)
 
         self._rngs: list[np.random.Generator | None] = [None] * E
@@ -478,6 +480,17 @@ class FluidVectorEnv(VectorEnv):
         return tuple(self.view.frame(i) for i in range(self.num_envs))
 
     # ---- internals ------------------------------------------------------------------------
+
+    def _observation_bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """[-1, 1] for a column of unit "1" (a sine or cosine, a direction's component, an
+        actuator's normalized position, a wetted fraction) that no instrument reads (a
+        reading's noise has no bound); unbounded elsewhere (speeds, distances: the runaway
+        flag ends an episode before they leave the model, but no closed bound holds)."""
+        unit = np.array([u == "1" for _, u, _ in self.observation_layout[: self.obs_dim]])
+        if self.sensors is not None:
+            unit &= ~self.sensors.read_by
+        high = np.where(unit, 1.0, np.inf).astype(np.float32)
+        return -high, high
 
     def _seed(self, sequences) -> None:
         self._rngs = [np.random.Generator(np.random.PCG64(s)) for s in sequences]

@@ -137,3 +137,17 @@ def test_the_site_builds_strictly(tmp_path):
     )  # fmt: skip
     assert done.returncode == 0, done.stdout + done.stderr
     assert (tmp_path / "envs" / "BoatOnStep" / "index.html").is_file()
+
+
+def test_every_file_under_docs_is_reachable_from_the_index():
+    """Each page is in the nav (above); each other file (a table, a figure, a script) is
+    linked from a page, so that the site reaches it."""
+    linked = set()
+    for page in PAGES:
+        for target in links(page.read_text()):
+            path = target.split("#", 1)[0].split("?", 1)[0]
+            if path and not re.match(r"[a-z][a-z0-9+.-]*:", path, flags=re.I):
+                linked.add((page.parent / path).resolve())
+    files = [p for p in DOCS.rglob("*") if p.is_file() and p.suffix != ".md"]
+    unreached = sorted(str(p.relative_to(DOCS)) for p in files if p.resolve() not in linked)
+    assert not unreached, f"linked from no page: {unreached}"

@@ -292,6 +292,22 @@ def test_a_reset_draws_the_new_episode_not_the_last_action(scene):
     np.testing.assert_array_equal(used.render(), fresh.render())
 
 
+def test_observations_keep_to_the_space_s_bounds(scene):
+    """The space bounds a column where physics does (unit "1": sines, cosines, a direction's
+    components, normalized positions, fractions; none that an instrument reads, whose noise
+    has no bound) and every observation keeps to them, saturating actions included."""
+    venv = scene.vector_cls(num_envs=16)
+    space = venv.single_observation_space
+    bounded = np.isfinite(space.high)
+    units = [u for _, u, _ in venv.observation_layout[: venv.obs_dim]]
+    assert bounded.any() and all(units[j] == "1" for j in np.flatnonzero(bounded))
+    obs, _ = venv.reset(seed=0)
+    rng = np.random.default_rng(0)
+    for _ in range(200):
+        assert ((obs >= space.low) & (obs <= space.high)).all()
+        obs, *_ = venv.step(np.sign(rng.normal(size=(16, n_actions(scene)))))
+
+
 def test_step_after_the_end_needs_a_reset(scene):
     env = scene.env_cls(max_episode_steps=2)
     with pytest.raises(RuntimeError, match="call reset first"):

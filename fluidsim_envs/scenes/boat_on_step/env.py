@@ -146,6 +146,7 @@ class BoatOnStepVectorEnv(FluidVectorEnv):
 
     Params = BoatOnStepParams
     View = BoatOnStepView
+    observation_layout = OBSERVATION  # (name, unit, description) per column
     obs_dim = len(OBSERVATION)
     reward_terms = REWARD_TERMS
     action_names = ("throttle", "rudder", "trim_tabs")

@@ -204,6 +204,7 @@ class BoatOnStepV1VectorEnv(Version1, BoatOnStepVectorEnv):
 
     Params = BoatOnStepV1Params
     reward_terms = REWARD_TERMS
+    observation_layout = OBSERVATION_V1
     obs_dim = len(OBSERVATION_V1)
     plan = PLAN
     state_fields = BoatOnStepVectorEnv.state_fields + V1_STATE

@@ -118,6 +118,7 @@ class PaperAirplaneVectorEnv(FluidVectorEnv):
 
     Params = PaperAirplaneParams
     View = PaperAirplaneView
+    observation_layout = OBSERVATION  # (name, unit, description) per column
     obs_dim = len(OBSERVATION)
     reward_terms = REWARD_TERMS
     action_names = ("aileron", "elevator", "rudder")

@@ -163,6 +163,7 @@ class PaperAirplaneV1VectorEnv(Version1, PaperAirplaneVectorEnv):
     """PaperAirplane-v1 for N darts at once; documented on :class:`PaperAirplaneV1Env`."""
 
     Params = PaperAirplaneV1Params
+    observation_layout = OBSERVATION_V1
     obs_dim = len(OBSERVATION_V1)
     plan = PLAN
     state_fields = (

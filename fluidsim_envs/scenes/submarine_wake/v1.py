@@ -170,6 +170,7 @@ class SubmarineWakeV1VectorEnv(Version1, SubmarineWakeVectorEnv):
     """SubmarineWake-v1 for N vehicles at once; documented on :class:`SubmarineWakeV1Env`."""
 
     Params = SubmarineWakeV1Params
+    observation_layout = OBSERVATION_V1
     obs_dim = len(OBSERVATION_V1)
     plan = PLAN
     state_fields = (
