@@ -252,4 +252,6 @@ def keep_others(out: Path, header: tuple, cells: list, measured: list[str]) -> t
     if not others:
         return cells, []
     before = next((c[len("command: ") :] for c in comments if c.startswith("command: ")), "?")
-    return cells, [f"rows of {', '.join(others)} kept from the previous file ({before})"]
+    older = [c for c in comments if c.startswith("rows of ")]  # where those came from
+    note = f"rows of {', '.join(others)} kept from the previous file ({before})"
+    return cells, [note + (f"; before it: {'; '.join(older)}" if older else "")]

@@ -62,6 +62,8 @@ def bisect(
         case = Case(env_id, "extreme", "float64", integrator, dt)
         return run_case(case, env_steps, num_envs)["diverged"] == 0
 
+    if math.isnan(bound):  # its v0 held at no step tried: nor can it, flying v0's craft
+        return math.nan, math.nan, runs
     cls = SCENES[env_id].params_cls
     lo, hi = cls().dt / 8, min(cls.RANGES["dt"].hi, bound)
     if not stable(lo):

@@ -275,14 +275,16 @@ def run_witness(case: Case, env_steps: int, num_envs: int, seed: int = 0) -> dic
 
 def cases(quick: bool) -> list[Case]:
     """Every env x nominal/extreme x dtype at its default integrator and dt, and, for each
-    integrator, extreme parameters at half and all of its limit (float64)."""
+    integrator with a limit, extreme parameters at half and all of it (float64)."""
     out = []
     for env_id, scene in SCENES.items():
         default = scene.params_cls().integrator
         for params in ("nominal", "extreme"):
             for dtype in ("float64", "float32"):
                 out.append(Case(env_id, params, dtype, default))
-        integrators = [default] if quick else sorted(LIM.DT_LIMIT_S[env_id.split("/")[1]])
+        limits = LIM.DT_LIMIT_S[env_id.split("/")[1]]
+        # an integrator that held at no step tried (nan) is refused by the env at any step
+        integrators = [default] if quick else sorted(i for i in limits if limits[i] == limits[i])
         for integrator in integrators:
             for fraction in (0.5, 1.0):
                 dt = fraction * dt_limit(env_id, integrator)

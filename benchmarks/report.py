@@ -460,8 +460,9 @@ def params_table(scene) -> str:
     from fluidsim_envs.scenes import limits as LIM
 
     cls = scene.params_cls
-    steps = ", ".join(
-        f"{m} {dt:g}" for m, dt in LIM.DT_LIMIT_S.get(scene.id.split("/")[1], {}).items()
+    steps = ", ".join(  # nan: it held at no step tried, refused at any
+        f"{m} {'none' if dt != dt else f'{dt:g}'}"
+        for m, dt in LIM.DT_LIMIT_S.get(scene.id.split("/")[1], {}).items()
     )
     lines = ["| parameter | default | allowed |", "|---|---|---|"]
     for f in dataclasses.fields(cls):

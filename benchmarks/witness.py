@@ -10,7 +10,7 @@ range (``benchmarks/ranges.py``: per craft), each a case of its own (a draw whos
 steeper than linear theory is refused by the env and skipped, said). Writes
 ``docs/fuzz_witness.csv``::
 
-    python -m benchmarks.witness --env-steps 1e7 --jobs 2    # the published table
+    python -m benchmarks.witness --env-steps 1e8 --jobs 2    # the published table
     python -m benchmarks.witness --quick                     # a few seconds a case, printed
 """
 

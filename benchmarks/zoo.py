@@ -69,8 +69,10 @@ GIF = {"PaperAirplane": (2, 1.0), "SubmarineWake": (20, 10.0), "BoatOnStep": (40
 #: mean return within this fraction, its success rate within this many episodes. Measured
 #: between a rocketlake (AVX-512) and the CPU the PPO entries were first evaluated on, over
 #: their 256 episodes: 3.2e-4 on the boat's trained return (the last bits carried as far as
-#: one gate missed or not), under 1e-6 on the dart and the UUV; no success changed.
-OTHER_CPU_RETURN_REL = 1e-3
+#: one gate missed or not), under 1e-6 on the dart and the UUV; no success changed. The
+#: boat's entry of today (seed 4, znver4) on a rocketlake: 2.2e-3 and one episode's success
+#: (one run of gates flown otherwise), at the commit before and after issue 46's changes alike.
+OTHER_CPU_RETURN_REL = 5e-3
 OTHER_CPU_SUCCESS_EPISODES = 2
 
 

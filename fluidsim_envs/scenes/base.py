@@ -487,10 +487,12 @@ class FluidVectorEnv(VectorEnv):
         reading's noise has no bound); unbounded elsewhere (speeds, distances: the runaway
         flag ends an episode before they leave the model, but no closed bound holds)."""
         unit = np.array([u == "1" for _, u, _ in self.observation_layout[: self.obs_dim]])
-        if self.sensors is not None:
-            unit &= ~self.sensors.read_by
-        high = np.where(unit, 1.0, np.inf).astype(np.float32)
+        high = np.where(unit & ~self._read_by_instrument(), 1.0, np.inf).astype(np.float32)
         return -high, high
+
+    def _read_by_instrument(self) -> np.ndarray:
+        """[obs_dim] bool: the columns an instrument reads (none without sensors)."""
+        return np.zeros(self.obs_dim, dtype=bool)
 
     def _seed(self, sequences) -> None:
         self._rngs = [np.random.Generator(np.random.PCG64(s)) for s in sequences]
