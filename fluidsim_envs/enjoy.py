@@ -120,13 +120,16 @@ def write_video(
     stride: int = 1,
     width: int | None = None,
     speed: float = 1.0,
-) -> None:
+) -> int:
     """An MP4 (moviepy) or, for ``.gif``, an animated GIF (Pillow) of every ``stride``-th
-    frame, played at ``speed`` times real time (``fps * speed / stride`` frames a second),
-    scaled to ``width`` pixels when given."""
+    frame and the last, played at ``speed`` times real time (``fps * speed / stride`` frames
+    a second), scaled to ``width`` pixels when given; returns how many frames it holds."""
     from PIL import Image
 
+    last = frames[-1]
     frames = frames[::stride]
+    if frames[-1] is not last:  # the episode's end is always shown
+        frames.append(last)
     fps = fps * speed / stride
     if width is not None:
         h, w = frames[0].shape[:2]
@@ -145,7 +148,7 @@ def write_video(
             loop=0,
             optimize=True,
         )
-        return
+        return len(frames)
     try:
         from moviepy import ImageSequenceClip
     except ImportError as e:
@@ -155,6 +158,7 @@ def write_video(
         ) from e
     clip = ImageSequenceClip([np.asarray(f[:, :, :3]) for f in frames], fps=fps)
     clip.write_videofile(path, logger=None)
+    return len(frames)
 
 
 def window(env_id: str, fps: float):
@@ -236,8 +240,7 @@ def enjoy(
             on_frame = window(env_id, fps if realtime else 0)
         results = fly(venv, policy, episodes, seed, on_frame, say)
         if video is not None:
-            write_video(frames, video, fps, stride, width, speed)
-            kept = len(frames[::stride])
+            kept = write_video(frames, video, fps, stride, width, speed)
             say(f"wrote {video} ({kept} frames at {fps * speed / stride:g} per second)")
         if rerun is not None:
             say(f"recorded: rerun {rerun}")
