@@ -18,6 +18,7 @@ import dataclasses
 import importlib
 import inspect
 import re
+from pathlib import Path
 
 from .common import DOCS
 from .report import WRITER, level_cell, params_table, scene_slug
@@ -131,12 +132,7 @@ def pictures(env: str, slug: str, up: str = "") -> list[str]:
     the page to docs/)."""
     from .zoo import GIF_WIDTH
 
-    lines = []
-    for gif in sorted(DOCS.glob(f"zoo_{env}-*.gif")):
-        entry = gif.stem[4:]
-        lines.append(
-            f'![{entry}, flown by its zoo policy]({up}{gif.name}){{ width="{GIF_WIDTH}" }}'
-        )
+    lines = [moving(gif, up, GIF_WIDTH) for gif in sorted(DOCS.glob(f"zoo_{env}-*.gif"))]
     frames = DOCS / f"frames_{slug}.png"
     if frames.is_file():
         lines.append(
@@ -261,14 +257,23 @@ def zoo_markdown() -> str:
     return re.sub(r"\[(`zoo/[^`]+`)\]\(zoo/[^)]+\)", r"\1", zoo.markdown())
 
 
+def moving(gif: Path, up: str, width: int) -> str:
+    """A zoo entry's episode: its video (every control step, real time) where there is one,
+    with its GIF linked; else the GIF as an image."""
+    entry, video = gif.stem[4:], gif.with_suffix(".mp4")
+    if not video.is_file():
+        return f'![{entry}, flown by its zoo policy]({up}{gif.name}){{ width="{width}" }}'
+    return (
+        f'<video src="{up}{video.name}" width="{width}" controls loop muted playsinline>'
+        f"</video>\n\n{entry}, flown by its zoo policy, every control step in real time "
+        f"([GIF]({up}{gif.name}))"
+    )
+
+
 def zoo_gifs_markdown() -> str:
-    """Each zoo entry's GIF (docs/zoo_<entry>.gif) as a Markdown image."""
+    """Each zoo entry's episode (:func:`moving`)."""
     from .zoo import GIF_WIDTH, ZOO
 
     gifs = [DOCS / f"zoo_{f.name}.gif" for f in sorted(ZOO.glob("*"))]
-    lines = [
-        f'![{g.stem[4:]}, flown by its zoo policy]({g.name}){{ width="{GIF_WIDTH}" }}'
-        for g in gifs
-        if g.is_file()
-    ]
-    return "\n".join(lines) if lines else "(no zoo GIFs yet: `python -m benchmarks.zoo`)"
+    lines = [moving(g, "", GIF_WIDTH) for g in gifs if g.is_file()]
+    return "\n\n".join(lines) if lines else "(no zoo GIFs yet: `python -m benchmarks.zoo`)"

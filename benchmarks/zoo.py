@@ -155,13 +155,20 @@ def publish(config: str) -> None:
 
 
 def draw_gif(folder: Path) -> Path:
-    """docs/zoo_<entry>.gif: the entry's policy on one episode (seed :data:`EVAL_SEED`)."""
+    """docs/zoo_<entry>.gif: the entry's policy on one episode (seed :data:`EVAL_SEED`), a
+    frame every :data:`GIF` stride (a GIF of every step of a minute's episode runs to
+    megabytes); and docs/zoo_<entry>.mp4, the same episode at every control step in real
+    time (the docs site plays it)."""
     gif = DOCS / f"zoo_{folder.name}.gif"
     cmd = [sys.executable, "-m", "fluidsim_envs.enjoy", str(folder), "--seed", str(EVAL_SEED)]
-    stride, speed = GIF[folder.name.split("-")[0]]
-    cmd += ["--video", str(gif), "--stride", str(stride), "--speed", str(speed)]
     cmd += ["--width", str(GIF_WIDTH)]
-    subprocess.run(cmd, check=True, cwd=ROOT)
+    stride, speed = GIF[folder.name.split("-")[0]]
+    subprocess.run(
+        [*cmd, "--video", str(gif), "--stride", str(stride), "--speed", str(speed)],
+        check=True,
+        cwd=ROOT,
+    )
+    subprocess.run([*cmd, "--video", str(gif.with_suffix(".mp4"))], check=True, cwd=ROOT)
     return gif
 
 
