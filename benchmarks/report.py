@@ -33,6 +33,7 @@ from __future__ import annotations
 import argparse
 import functools
 import importlib
+import math
 import re
 import sys
 from dataclasses import dataclass
@@ -461,7 +462,7 @@ def params_table(scene) -> str:
 
     cls = scene.params_cls
     steps = ", ".join(  # nan: it held at no step tried, refused at any
-        f"{m} {'none' if dt != dt else f'{dt:g}'}"
+        f"{m} {'refused' if math.isnan(dt) else f'{dt:g}'}"
         for m, dt in LIM.DT_LIMIT_S.get(scene.id.split("/")[1], {}).items()
     )
     lines = ["| parameter | default | allowed |", "|---|---|---|"]

@@ -77,16 +77,30 @@ def make_env(folder: Path, overrides: dict, frames: bool, rerun: str | None):
     return cfg.env_id, venv
 
 
-def fly(venv, policy, episodes: int, seed: int, on_frame=None, say=print) -> list[dict]:
+def fly(
+    venv, policy, episodes: int, seed: int, on_frame=None, say=print, on_end=None
+) -> list[dict]:
     """``episodes`` episodes one after another (the first reset seeded), each frame to
     ``on_frame`` (returning False stops): every control step's, an episode's last one drawn
-    before the same-step autoreset replaces it; returns each episode's return, length,
-    success."""
+    before the same-step autoreset replaces it, after which ``on_end()`` is called; returns
+    each episode's return, length, success. ``venv``: a native vector env of one sub-env
+    that resets in the same step (or a wrapper of one)."""
+    native, last = venv.unwrapped, []  # the ended episode's frame, drawn before the reset
+    if on_frame is not None and not getattr(native, "autoreset", False):
+        raise EnjoyError(f"{type(native).__name__}: frames need a vector env that autoresets")
+    hook = lambda ended, info, reward: last.append(native.render())  # noqa: E731
+    if on_frame is not None:
+        native.before_autoreset.append(hook)
+    try:
+        return _fly(venv, policy, episodes, seed, on_frame, say, on_end, last)
+    finally:
+        if hook in native.before_autoreset:
+            native.before_autoreset.remove(hook)
+
+
+def _fly(venv, policy, episodes, seed, on_frame, say, on_end, last) -> list[dict]:
     obs, _ = venv.reset(seed=seed)
     results, running, steps = [], 0.0, 0
-    native, last = venv.unwrapped, []  # the ended episode's frame, drawn before the reset
-    if on_frame is not None:
-        native.before_autoreset.append(lambda ended, info, reward: last.append(native.render()))
     if on_frame is not None and on_frame(venv.render()[0]) is False:
         return results
     while len(results) < episodes:
@@ -97,6 +111,8 @@ def fly(venv, policy, episodes: int, seed: int, on_frame=None, say=print) -> lis
         if on_frame is not None and on_frame((last.pop() if done else venv.render())[0]) is False:
             break
         if done:
+            if on_end is not None:
+                on_end()
             if hasattr(policy, "reset"):  # a policy with memory starts the next episode anew
                 policy.reset(terminated | truncated)
             success = info.get("final_info", {}).get("success")
@@ -120,16 +136,18 @@ def write_video(
     stride: int = 1,
     width: int | None = None,
     speed: float = 1.0,
+    ends: tuple[int, ...] = (),
 ) -> int:
     """An MP4 (moviepy) or, for ``.gif``, an animated GIF (Pillow) of every ``stride``-th
-    frame and the last, played at ``speed`` times real time (``fps * speed / stride`` frames
-    a second), scaled to ``width`` pixels when given; returns how many frames it holds."""
+    frame and each episode's last (``ends``, and the last frame), played at ``speed`` times
+    real time (``fps * speed / stride`` frames a second), scaled to ``width`` pixels when
+    given; returns how many frames it holds."""
     from PIL import Image
 
-    last = frames[-1]
-    frames = frames[::stride]
-    if frames[-1] is not last:  # the episode's end is always shown
-        frames.append(last)
+    # every stride-th frame, and each episode's last (``ends``: their indices) and the very
+    # last: an episode's end is always shown
+    keep = sorted({*range(0, len(frames), stride), *ends, len(frames) - 1})
+    frames = [frames[i] for i in keep]
     fps = fps * speed / stride
     if width is not None:
         h, w = frames[0].shape[:2]
@@ -233,14 +251,16 @@ def enjoy(
         _, policy = load_policy(folder, venv.unwrapped if rerun else venv, allow_pickle)
         fps = venv.metadata["render_fps"]
         frames: list[np.ndarray] = []
-        on_frame = None
+        ends: list[int] = []  # each episode's last frame, kept whatever the stride
+        on_frame = on_end = None
         if video is not None:
             on_frame = frames.append
+            on_end = lambda: ends.append(len(frames) - 1)  # noqa: E731
         elif shown:
             on_frame = window(env_id, fps if realtime else 0)
-        results = fly(venv, policy, episodes, seed, on_frame, say)
+        results = fly(venv, policy, episodes, seed, on_frame, say, on_end)
         if video is not None:
-            kept = write_video(frames, video, fps, stride, width, speed)
+            kept = write_video(frames, video, fps, stride, width, speed, tuple(ends))
             say(f"wrote {video} ({kept} frames at {fps * speed / stride:g} per second)")
         if rerun is not None:
             say(f"recorded: rerun {rerun}")

@@ -99,11 +99,16 @@ def test_an_episode_s_frames_end_on_its_own_last_state(run):
 
     env_id, venv = enjoy.make_env(run, {}, frames=True, rerun=None)
     _, policy = enjoy.load_policy(run, venv)
-    frames = []
-    results = enjoy.fly(venv, policy, 2, seed=4, on_frame=frames.append, say=lambda line: None)
+    ended = []  # the ended state's frame, drawn by a hook of our own
+    venv.before_autoreset.append(lambda *args: ended.append(venv.render()[0]))
+    frames, ends = [], []
+    results = enjoy.fly(venv, policy, 2, seed=4, on_frame=frames.append, say=lambda line: None,
+                        on_end=lambda: ends.append(len(frames) - 1))  # fmt: skip
     first = results[0]["length"] + 1
-    assert len(frames) == first + results[1]["length"] + 1
+    assert len(frames) == first + results[1]["length"] + 1 and ends == [first - 1, len(frames) - 1]
+    for i, frame in zip(ends, ended, strict=True):
+        np.testing.assert_array_equal(frames[i], frame)
+    assert len(venv.before_autoreset) == 1  # fly's own hook is gone: ours alone is left
     venv.reset(seed=4)  # the first episode again: its start
     np.testing.assert_array_equal(frames[0], venv.render()[0])
-    assert not np.array_equal(frames[first - 1], frames[first])  # its end, then the next start
     venv.close()

@@ -27,7 +27,6 @@ Loading needs the ``train`` extra (SB3 and torch build the policy).
 
 from __future__ import annotations
 
-import builtins
 import csv
 import dataclasses
 from collections.abc import Callable
@@ -44,8 +43,10 @@ class ZooError(LookupError):
     """No such entry, or a folder that is not one; the message names it."""
 
 
-def list() -> builtins.list[str]:  # noqa: A001  (the zoo's own word for it)
-    """The entries' names, sorted."""
+def names() -> list[str]:
+    """The entries' names, sorted (:func:`list` too)."""
+    if not ENTRIES.is_dir():  # a checkout without symbolic links: the link is a text file
+        raise ZooError(f"{ENTRIES} is not a folder of entries (a checkout needs its links)")
     return sorted(p.name for p in ENTRIES.iterdir() if (p / "config.yaml").is_file())
 
 
@@ -55,12 +56,15 @@ def path(name: str | Path) -> Path:
     folder = Path(name)
     if folder.is_dir() and (folder / "config.yaml").is_file():
         return folder
-    if folder.name in list() and folder.parent in (Path("."), Path("zoo")):
+    known = names()
+    if folder.name in known and folder.parent in (Path("."), Path("zoo")):
         return ENTRIES / folder.name
     raise ZooError(
-        f"{str(name)!r} is neither a zoo entry ({', '.join(list())}) nor a folder with a "
-        "config.yaml"
+        f"{str(name)!r} is neither a zoo entry ({', '.join(known)}) nor a folder with a config.yaml"
     )
+
+
+list = names  # noqa: A001  (the zoo's word for it: zoo.list())
 
 
 @dataclasses.dataclass(frozen=True, eq=False)

@@ -111,10 +111,9 @@ class SubmarineWakeParams:
         # a wake's vortices and turbulence stronger than these move the water faster than the
         # lead itself, which no submarine's wake does: beyond them the UUV's rate damping
         # stiffens past the default step's stability limit (benchmarks/env_stability.py).
-        # Circulation stops at 2: at 3 (a fast lead, full turbulence) rk2 at the default step
-        # carries the vortex's spin onto the UUV's light roll axis and runs away, which the
-        # witness at a quarter step shows and the UUV's runaway rate now flags (limit 0.041 s,
-        # under the default 0.05); at 2 it holds past 0.06 s
+        # Circulation stops at 2: beyond it (a fast lead, full turbulence) rk2 at the default
+        # step carries the vortex's spin onto the UUV's light roll axis and runs away (the
+        # witness at a quarter step shows it, the UUV's runaway rate flags it)
         "circulation": Bound(0.0, 2.0),
         "noise": Bound(0.0, 1.0),
         "wake_dipoles": Bound(1, 32, integer=True),
