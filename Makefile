@@ -40,13 +40,13 @@ lint: $(STAMP)
 	$(BIN)/ruff format --check .
 
 # the main job: a PPO pilot for PaperAirplane-v1 trained briefly (the shipped config, cut to
-# 2M steps: its first million imitates the scripted pilot), evaluated against the scripted
-# pilots and random (not the planner: minutes more; docs/results.md has it), its episodes
-# written to a Rerun recording
+# 1M PPO steps after its warm start, which fits the policy to the tuned pilot first),
+# evaluated against the scripted pilots and random (not the planner: minutes more;
+# docs/results.md has it), its episodes written to a Rerun recording
 DEMO_RUN ?= runs/demo
 demo: $(WARM)
 	$(BIN)/fluidsim-train paper_airplane_v1_ppo \
-		--set total_timesteps=2000000 --run-dir $(DEMO_RUN) --no-progress-bar
+		--set total_timesteps=1000000 --run-dir $(DEMO_RUN) --no-progress-bar
 	$(BIN)/fluidsim-evaluate $(DEMO_RUN) --episodes 256 --no-planner \
 		--rerun $(DEMO_RUN)/episodes.rrd
 

@@ -361,37 +361,46 @@ def data_markdown() -> str:
 
 def front_markdown() -> str:
     """The README's table: each v1 env (task, observation and action sizes) and, at each
-    level, its best trained policy's IQM return normalized to its best scripted pilot's
-    (docs/results.csv: 0 random, 1 that pilot), with the 95% interval and the runs."""
+    level, its best trained policy (the highest IQM return over its runs) beside its best
+    scripted pilot (the highest mean return), from docs/results.csv: the IQM and the mean
+    over runs, each with its 95% interval, and the worst run."""
     from benchmarks import results
 
     _, table = read_csv(results.CSV)
-    levels = list(dict.fromkeys(r["level"] for r in table))
     envs = {r["env_id"]: r for r in rows()}
+    baselines = (*results.BASELINES, *results.LEGACY.values())
     lines = [
-        "| env | task | obs | actions | " + " | ".join(levels) + " |",
-        "|---|---|---:|---|" + "---|" * len(levels),
+        "| env | task | obs | actions | level | best trained: IQM return [95% CI] "
+        "| its mean [95% CI] | its worst run | best pilot: mean return [95% CI] |",
+        "|---|---|---:|---|---|---|---|---|---|",
     ]
     for env in dict.fromkeys(r["env"] for r in table):
-        cells = []
-        for level in levels:
-            here = [r for r in table if (r["env"], r["level"]) == (env, level)]
-            baselines = (*results.BASELINES, *results.LEGACY.values())
-            trained = [r for r in here if r["policy"] not in baselines]
-            if not trained:
-                cells.append("n/a")
-                continue
-            best = max(trained, key=lambda r: float(r["normalized_iqm"]))
-            lo, mid, hi = (float(best[f"normalized_iqm{t}"]) for t in ("_lo", "", "_hi"))
-            cells.append(
-                f"{best['policy']} ({best['runs']} runs): **{mid:.2f}** [{lo:.2f}, {hi:.2f}]"
-            )
         e = envs[f"fluidsim/{env}"]
-        lines.append(
-            f"| `{e['env_id']}` | {e['summary']} | {e['observations']} | {e['actions']}: "
-            f"{e['action_names'].replace(' ', ', ')} | " + " | ".join(cells) + " |"
+        first = (
+            f"`{e['env_id']}` | {e['summary']} | {e['observations']} | {e['actions']}: "
+            f"{e['action_names'].replace(' ', ', ')}"
         )
+        for level in dict.fromkeys(r["level"] for r in table if r["env"] == env):
+            here = [r for r in table if (r["env"], r["level"]) == (env, level)]
+            trained = [r for r in here if r["policy"] not in baselines]
+            pilots = [r for r in here if r["policy"] in results.PILOTS]
+            if not trained or not pilots:
+                continue
+            best = max(trained, key=lambda r: float(r["iqm"]))
+            pilot = max(pilots, key=lambda r: float(r["mean"]))
+            lines.append(
+                f"| {first} | {level} | {best['policy']} ({best['runs']} runs): "
+                f"**{_ci(best, 'iqm')}** | {_ci(best, 'mean')} | "
+                f"{float(best['worst']):.1f} ({best['worst_run']}) | "
+                f"{pilot['policy']}: {_ci(pilot, 'mean')} |"
+            )
+            first = " | | | "
     return "\n".join(lines)
+
+
+def _ci(row: dict[str, str], key: str) -> str:
+    """``row[key] [lo, hi]`` to one decimal."""
+    return f"{float(row[key]):.1f} [{float(row[key + '_lo']):.1f}, {float(row[key + '_hi']):.1f}]"
 
 
 def markdown(table: list[dict[str, str]]) -> str:
